@@ -1,0 +1,75 @@
+# EasyIDP for QGIS: one entry point. Run as root on Debian 12 (apt is used when QGIS is missing).
+#   make demo   build the demo data and run every tool on it through qgis_process
+#   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs
+#   make bench  benchmarks against easyidp 2.0.4 and GDAL (minutes; not part of test)
+SHELL := /bin/bash
+ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
+PY_SYS := /usr/bin/python3
+VENV := $(ROOT)/.venv
+VENV_CORE := $(ROOT)/.venv-core
+VENV_REF := $(ROOT)/.venv-ref
+# The plugin folder must be named easyidp_toolbox: .plugins/easyidp_toolbox links to this tree.
+PLUGINS := $(ROOT)/.plugins
+export QT_QPA_PLATFORM := offscreen
+export PROJ_DATA := /usr/share/proj
+export PYTHONDONTWRITEBYTECODE := 1
+DEMO_DIR ?= $(ROOT)/demo_output
+
+.PHONY: env env-ref test test-core test-core-current test-qgis demo bench clean
+
+env: $(VENV)/.done $(VENV_CORE)/.done
+
+/usr/bin/qgis_process.bin:
+	@echo "== installing QGIS from Debian (about a minute)"
+	apt-get update -qq
+	DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
+	    qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip >/dev/null
+
+$(PLUGINS)/easyidp_toolbox:
+	mkdir -p $(PLUGINS) && ln -sfn $(ROOT) $@
+
+$(VENV)/.done: requirements/qgis.txt /usr/bin/qgis_process.bin | $(PLUGINS)/easyidp_toolbox
+	@echo "== creating $(VENV) (QGIS interpreter, numpy < 2)"
+	@test -x $(VENV)/bin/python || $(PY_SYS) -m venv --system-site-packages $(VENV)
+	$(VENV)/bin/pip install -q --disable-pip-version-check -r requirements/qgis.txt
+	echo $(PLUGINS) > $$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
+	touch $@
+
+$(VENV_CORE)/.done: requirements/current.txt /usr/bin/qgis_process.bin | $(PLUGINS)/easyidp_toolbox
+	@echo "== creating $(VENV_CORE) (current stack: numpy 2.x, newest releases, no QGIS)"
+	@test -x $(VENV_CORE)/bin/python || $(PY_SYS) -m venv $(VENV_CORE)
+	$(VENV_CORE)/bin/pip install -q --disable-pip-version-check -U -r requirements/current.txt
+	echo $(PLUGINS) > $$($(VENV_CORE)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
+	touch $@
+
+env-ref: $(VENV_REF)/.done
+
+$(VENV_REF)/.done: requirements/reference.txt /usr/bin/qgis_process.bin
+	@echo "== creating $(VENV_REF) (easyidp 2.0.4, the reference; never imported by the plugin)"
+	@test -x $(VENV_REF)/bin/python || $(PY_SYS) -m venv $(VENV_REF)
+	$(VENV_REF)/bin/pip install -q --disable-pip-version-check -r requirements/reference.txt
+	touch $@
+
+test: env
+	$(MAKE) --no-print-directory test-core test-core-current test-qgis
+
+test-core:
+	@echo "== core tests, QGIS environment (numpy 1.26)"
+	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:pytest_qgis -p no:cacheprovider tests/core
+
+test-core-current:
+	@echo "== core tests, current stack (numpy 2.x)"
+	cd $(ROOT) && $(VENV_CORE)/bin/python -m pytest -q -p no:cacheprovider tests/core
+
+test-qgis:
+	@echo "== QGIS tests (real QGIS offscreen, and qgis_process runs)"
+	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:cacheprovider --qgis_disable_gui tests/qgis
+
+demo: env
+	$(VENV)/bin/python -m easyidp_toolbox.scripts.demo $(DEMO_DIR)
+
+bench: env env-ref
+	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
+
+clean:
+	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR)

@@ -1,0 +1,128 @@
+"""Crop many ROIs out of a GeoTIFF (DOM, DSM, multispectral) in one sweep over its tiles or strips.
+
+Each output is a GeoTIFF on the source's pixel grid, cut to the ROI's bounding box (clipped to
+the raster), with the source's CRS and a mask of the pixels outside the ROI:
+
+* one band (DSM) and multiband (multispectral): outside pixels set to nodata, the source's or,
+  when it has none, a declared one (-32767 for floats, the type's maximum for unsigned integers,
+  its minimum for signed ones);
+* RGB: an alpha band is added (255 inside, 0 outside);
+* RGBA: the existing alpha is combined with the ROI mask.
+"""
+import os
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from .errors import Cancelled, InputError
+from .geotiff import GeoTiff, open_geotiff
+from .geotiff_write import write_geotiff
+from .naming import unique_names
+from .progress import as_progress
+from .raster_sweep import sweep_windows, thread_pool
+from .roi import ROISet
+from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
+
+MAX_PENDING_WRITES = 64
+
+
+@dataclass
+class CropResult:
+    files: List[str] = field(default_factory=list)
+    names: List[str] = field(default_factory=list)        # ROI name of each file
+    skipped: Dict[str, str] = field(default_factory=dict)  # ROI name -> reason
+    nodata: Optional[float] = None
+
+
+def declared_nodata(tif: GeoTiff):
+    """(value, text) of the nodata written to crops of ``tif``: its own, or a sensible one."""
+    if tif.nodata is not None:
+        return tif.nodata, tif.nodata_text
+    dt = tif.dtype
+    if dt.kind == "f":
+        value = -32767.0
+    elif dt.kind == "u":
+        value = float(np.iinfo(dt).max)
+    else:
+        value = float(np.iinfo(dt).min)
+    return value, repr(value) if dt.kind == "f" else str(int(value))
+
+
+def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touched: bool = False,
+                        raster_crs=None, progress=None, is_cancelled=None,
+                        workers: Optional[int] = None) -> CropResult:
+    """Crop every ROI out of ``raster`` into ``output_folder/<name>.tif``.
+
+    ``rois`` are reprojected to the raster CRS when they differ (``raster_crs`` overrides the
+    CRS read from the GeoKeys). ROIs that miss the raster are listed in ``result.skipped``; if
+    none overlaps, :class:`ROIError` is raised. File names are the ROI names made safe and
+    unique. The input is never overwritten; every file is written atomically, so a cancelled or
+    failed run leaves only complete files.
+    """
+    prog = as_progress(progress, is_cancelled)
+    tif = open_geotiff(raster, crs=raster_crs)
+    rois = rois_in_raster_crs(rois, tif)
+    placed, skipped = place_rois(tif, rois, all_touched)
+    require_overlap(placed, skipped, rois, tif)
+
+    os.makedirs(output_folder, exist_ok=True)
+    src_real = os.path.realpath(raster)
+    reserved = []
+    if os.path.dirname(src_real) == os.path.realpath(output_folder):
+        reserved.append(os.path.splitext(os.path.basename(src_real))[0])
+    stems = unique_names(reserved + [p.roi.name for p in placed])[len(reserved):]
+    paths = [os.path.join(output_folder, s + ".tif") for s in stems]
+    if any(os.path.realpath(p) == src_real for p in paths):  # case-insensitive file systems
+        raise InputError(f"An output would overwrite the input raster {raster}: choose another "
+                         "output folder.")
+
+    nodata, nodata_text = declared_nodata(tif)
+    kind = tif.kind
+    result = CropResult(skipped=skipped, nodata=None if kind == "rgb" else nodata)
+    pending = []
+
+    def finish(k: int, arr: np.ndarray) -> None:
+        p = placed[k]
+        outside = ~p.mask
+        gt = tif.window_geotransform(p.window.row, p.window.col)
+        if kind == "rgb":
+            alpha = np.where(p.mask, 255, 0).astype(np.uint8)[..., None]
+            arr[outside] = 0
+            job = (paths[k], np.concatenate([arr, alpha], axis=2), tif, gt, None, True, (2,))
+        elif kind == "rgba":
+            arr[outside, tif.alpha_band] = 0
+            extras = (0,) * (tif.bands - 4) + (2,) if tif.bands >= 4 and tif.photometric == 2 else \
+                (0,) * (tif.bands - 2) + (2,)
+            job = (paths[k], arr, tif, gt, tif.nodata_text, tif.photometric == 2, extras)
+        else:
+            arr[outside] = nodata
+            job = (paths[k], arr, tif, gt, nodata_text, False, ())
+        pending.append((k, pool.submit(write_geotiff, *job)))
+        while len(pending) > MAX_PENDING_WRITES:
+            _collect(pending.pop(0))
+
+    def _collect(item) -> None:
+        k, fut = item
+        result.files.append(fut.result())
+        result.names.append(placed[k].roi.name)
+
+    with thread_pool(workers) as pool:
+        try:
+            sweep_windows(tif, [p.window for p in placed], finish, prog, pool)
+        except (Cancelled, Exception):
+            for k, fut in pending:
+                fut.cancel()
+            for k, fut in pending:
+                if not fut.cancelled():
+                    try:
+                        _collect((k, fut))
+                    except Exception:
+                        pass
+            raise
+        for item in pending:
+            _collect(item)
+    order = sorted(range(len(result.files)), key=lambda j: result.files[j])
+    result.files = [result.files[j] for j in order]
+    result.names = [result.names[j] for j in order]
+    return result

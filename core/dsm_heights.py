@@ -1,0 +1,199 @@
+"""Heights for ROIs from a DSM GeoTIFF: per vertex, or one statistic per polygon.
+
+Heights are in the DSM's own vertical reference and units. Nodata pixels are ignored; a vertex
+or polygon without any valid pixel gets NaN and is reported, never 0.
+"""
+from dataclasses import dataclass, field
+from typing import Callable, Dict, List, Optional
+
+import numpy as np
+
+from .errors import InputError
+from .geotiff import GeoTiff, open_geotiff
+from .progress import as_progress
+from .raster_sweep import Window, sweep_windows, thread_pool
+from .roi import ROI, ROISet
+from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
+
+STATISTICS = ("mean", "median", "min", "max", "percentile")
+SAMPLING = ("nearest", "bilinear")
+
+
+@dataclass
+class HeightResult:
+    """``values[i]``: for per-polygon mode a float; for per-vertex mode a list (per part) of lists
+    (per ring) of (n,) arrays, aligned with ``rois[i].parts`` as given (in the ROIs' own CRS)."""
+    values: List[object]
+    missing: Dict[str, str] = field(default_factory=dict)  # ROI name -> why it has no height
+
+
+def _valid(tif: GeoTiff, arr: np.ndarray) -> np.ndarray:
+    ok = np.isfinite(arr) if arr.dtype.kind == "f" else np.ones(arr.shape, bool)
+    if tif.nodata is not None:
+        ok &= arr != np.asarray(tif.nodata, dtype=arr.dtype)
+    return ok
+
+
+def _single_band(tif: GeoTiff) -> None:
+    if tif.bands != 1:
+        raise InputError(f"The DSM {tif.path} has {tif.bands} bands; a DSM must have exactly one "
+                         "(heights). Choose the elevation raster.")
+
+
+def sample_points(dsm, x: np.ndarray, y: np.ndarray, method: str = "bilinear", progress=None,
+                  is_cancelled=None, pool=None) -> np.ndarray:
+    """DSM heights at map points (x, y) in the DSM's CRS; NaN outside the raster or on nodata.
+
+    ``nearest``: the pixel containing the point. ``bilinear``: interpolation between the four
+    nearest pixel centres, with the weights of nodata neighbours dropped (NaN if all are nodata).
+    ``dsm`` is a path or an opened :class:`GeoTiff`.
+    """
+    if method not in SAMPLING:
+        raise ValueError(f"sampling must be one of {SAMPLING}, not {method!r}")
+    tif = dsm if isinstance(dsm, GeoTiff) else open_geotiff(dsm)
+    _single_band(tif)
+    col, row = tif.map_to_pixel(np.ravel(x), np.ravel(y))
+    out = np.full(col.shape, np.nan)
+    if method == "nearest":
+        c0, r0 = np.floor(col).astype(np.int64), np.floor(row).astype(np.int64)
+        span = 1
+    else:
+        c0, r0 = np.floor(col - 0.5).astype(np.int64), np.floor(row - 0.5).astype(np.int64)
+        span = 2
+    # windows of span x span pixels, clipped to the raster; points fully outside keep NaN
+    wc0, wr0 = np.clip(c0, 0, tif.width - 1), np.clip(r0, 0, tif.height - 1)
+    wc1, wr1 = np.clip(c0 + span, 1, tif.width), np.clip(r0 + span, 1, tif.height)
+    inside = (col >= 0) & (col <= tif.width) & (row >= 0) & (row <= tif.height)
+    idx = np.flatnonzero(inside & (wc1 > wc0) & (wr1 > wr0))
+    windows = [Window(int(wr0[i]), int(wc0[i]), int(wr1[i] - wr0[i]), int(wc1[i] - wc0[i])) for i in idx]
+
+    def consume(k: int, arr: np.ndarray) -> None:
+        i = idx[k]
+        vals = arr[..., 0].astype(np.float64)
+        ok = _valid(tif, arr[..., 0])
+        if method == "nearest":
+            out[i] = vals[0, 0] if ok[0, 0] else np.nan
+            return
+        fc, fr = col[i] - 0.5 - c0[i], row[i] - 0.5 - r0[i]
+        wts = np.outer([1 - fr, fr], [1 - fc, fc])
+        # the window was clipped at the raster edge: align weights with the pixels present
+        rs = slice(wr0[i] - r0[i], wr0[i] - r0[i] + arr.shape[0])
+        cs = slice(wc0[i] - c0[i], wc0[i] - c0[i] + arr.shape[1])
+        w = wts[rs, cs] * ok
+        out[i] = float((w * np.where(ok, vals, 0)).sum() / w.sum()) if w.sum() > 0 else np.nan
+
+    prog = as_progress(progress, is_cancelled)
+    if windows:
+        if pool is None:
+            with thread_pool() as p:
+                sweep_windows(tif, windows, consume, prog, p)
+        else:
+            sweep_windows(tif, windows, consume, prog, pool)
+    return out.reshape(np.shape(x))
+
+
+def polygon_statistic(values: np.ndarray, statistic: str, percentile: float = 50.0) -> float:
+    """One statistic of the valid heights of a polygon."""
+    if statistic == "mean":
+        return float(values.mean())
+    if statistic == "median":
+        return float(np.median(values))
+    if statistic == "min":
+        return float(values.min())
+    if statistic == "max":
+        return float(values.max())
+    if statistic == "percentile":
+        return float(np.percentile(values, percentile))
+    raise ValueError(f"statistic must be one of {STATISTICS}, not {statistic!r}")
+
+
+def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = "mean",
+                percentile: float = 50.0, buffer: float = 0.0, sampling: str = "bilinear",
+                dsm_crs=None, progress=None, is_cancelled=None) -> HeightResult:
+    """Heights of ROIs from a DSM.
+
+    ``mode="vertex"``: the DSM sampled at every vertex (``sampling`` nearest or bilinear); with
+    ``buffer`` > 0, the ``statistic`` of the valid pixels whose centres lie within ``buffer``
+    (map units of the DSM CRS) of the vertex instead.
+    ``mode="polygon"``: the ``statistic`` (mean, median, min, max, percentile) of the valid
+    pixels whose centres are inside the polygon grown (``buffer`` > 0) or shrunk (< 0) by
+    ``buffer``. ROIs in another CRS are reprojected to the DSM's for sampling; vertex heights
+    stay aligned with the ROIs' own vertices.
+    """
+    if mode not in ("vertex", "polygon"):
+        raise ValueError(f"mode must be 'vertex' or 'polygon', not {mode!r}")
+    if statistic not in STATISTICS:
+        raise ValueError(f"statistic must be one of {STATISTICS}, not {statistic!r}")
+    if statistic == "percentile" and not 0 <= percentile <= 100:
+        raise ValueError(f"percentile must be between 0 and 100, not {percentile}")
+    prog = as_progress(progress, is_cancelled)
+    tif = open_geotiff(dsm, crs=dsm_crs)
+    _single_band(tif)
+    local = rois_in_raster_crs(rois, tif)
+    missing: Dict[str, str] = {}
+    if mode == "vertex":
+        xy = np.concatenate([r for roi in local for r in roi.rings])
+        z = vertex_heights(tif, xy[:, 0], xy[:, 1], sampling, buffer, statistic, percentile, prog)
+        values, k = [], 0
+        for roi in local:
+            parts = []
+            for part in roi.parts:
+                parts.append([z[k + sum(len(r) for r in part[:j]):k + sum(len(r) for r in part[:j + 1])]
+                              for j in range(len(part))])
+                k += sum(len(r) for r in part)
+            values.append(parts)
+            if np.isnan(np.concatenate([r for p in parts for r in p])).any():
+                missing[roi.name] = "some vertices fall outside the DSM or on nodata"
+        return HeightResult(values, missing)
+    placed, skipped = place_rois(tif, local, buffer=buffer)
+    require_overlap(placed, skipped, local, tif)
+    missing.update(skipped)
+    values: List[object] = [np.nan] * len(local)
+
+    def consume(k: int, arr: np.ndarray) -> None:
+        p = placed[k]
+        a = arr[..., 0]
+        sel = p.mask & _valid(tif, a)
+        if sel.any():
+            values[p.index] = polygon_statistic(a[sel].astype(np.float64), statistic, percentile)
+        else:
+            missing[p.roi.name] = "all DSM pixels inside it are nodata"
+
+    with thread_pool() as pool:
+        sweep_windows(tif, [p.window for p in placed], consume, prog, pool)
+    return HeightResult(values, missing)
+
+
+def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear",
+                   buffer: float = 0.0, statistic: str = "mean", percentile: float = 50.0,
+                   progress=None, is_cancelled=None) -> np.ndarray:
+    """Heights at points (x, y) in the DSM CRS: sampled (``buffer`` <= 0), or the ``statistic``
+    of the valid pixels whose centres lie within ``buffer`` map units of each point. NaN where
+    there is no valid pixel."""
+    tif = dsm if isinstance(dsm, GeoTiff) else open_geotiff(dsm)
+    prog = as_progress(progress, is_cancelled)
+    if buffer <= 0:
+        return sample_points(tif, x, y, sampling, prog)
+    _single_band(tif)
+    x, y = np.ravel(np.asarray(x, float)), np.ravel(np.asarray(y, float))
+    t = np.linspace(0, 2 * np.pi, 33)[:-1]
+    grow = buffer / np.cos(np.pi / 32)  # polygon circumscribing the disc
+    discs = [ROI(str(k), [[np.column_stack([xk + grow * np.cos(t), yk + grow * np.sin(t)])]])
+             for k, (xk, yk) in enumerate(zip(x, y))]
+    placed, _ = place_rois(tif, ROISet(discs, None))
+    out = np.full(x.shape, np.nan)
+
+    def consume(k: int, arr: np.ndarray) -> None:
+        p = placed[k]
+        w = p.window
+        cc, rr = np.meshgrid(np.arange(w.cols) + w.col + 0.5, np.arange(w.rows) + w.row + 0.5)
+        mx, my = tif.pixel_to_map(cc, rr)
+        a = arr[..., 0]
+        sel = (np.hypot(mx - x[p.index], my - y[p.index]) <= buffer) & _valid(tif, a)
+        if sel.any():
+            out[p.index] = polygon_statistic(a[sel].astype(np.float64), statistic, percentile)
+
+    if placed:
+        with thread_pool() as pool:
+            sweep_windows(tif, [p.window for p in placed], consume, prog, pool)
+    return out

@@ -1,0 +1,239 @@
+"""GeoTIFF metadata and segment (tile or strip) decoding, with tifffile.
+
+Georeferencing follows GDAL: the affine geotransform ``(c, a, b, f, d, e)`` maps the pixel
+*corner* (col, row) to map coordinates ``x = c + a*col + b*row``, ``y = f + d*col + e*row``;
+pixel (0, 0) is the top-left corner of the top-left pixel, its centre is (0.5, 0.5).
+Rotated geotransforms (b or d non-zero) are refused with a clear message.
+"""
+import logging
+import os
+from dataclasses import dataclass, field
+from typing import Dict, Optional, Tuple
+
+import numpy as np
+import tifffile
+from pyproj import CRS
+
+from .errors import InputError
+
+# GeoTIFF and GDAL private tags
+TAG_PIXEL_SCALE = 33550
+TAG_TIEPOINT = 33922
+TAG_TRANSFORMATION = 34264
+TAG_GEOKEYS = 34735
+TAG_GEODOUBLES = 34736
+TAG_GEOASCII = 34737
+TAG_GDAL_METADATA = 42112
+TAG_GDAL_NODATA = 42113
+
+EXTRASAMPLE_ALPHA = (1, 2)  # associated, unassociated
+
+
+@dataclass
+class GeoTiff:
+    """What the engine needs to know about one GeoTIFF (first IFD). Open files via :func:`open_geotiff`."""
+
+    path: str
+    width: int
+    height: int
+    bands: int
+    dtype: np.dtype
+    geotransform: Tuple[float, float, float, float, float, float]  # GDAL order (c, a, b, f, d, e)
+    crs: Optional[CRS]
+    nodata: Optional[float]
+    nodata_text: Optional[str]
+    alpha_band: Optional[int]          # 0-based band index of an alpha extra sample
+    photometric: int
+    planar_separate: bool
+    tiled: bool
+    block_height: int                  # tile height, or rows per strip
+    block_width: int                   # tile width, or image width for strips
+    compression: str
+    geo_tags: Dict[int, tuple] = field(default_factory=dict)  # raw GeoKey tags to copy to outputs
+    _page: object = field(default=None, repr=False)
+
+    # ---- layout -----------------------------------------------------------------------------
+    @property
+    def blocks_down(self) -> int:
+        return -(-self.height // self.block_height)
+
+    @property
+    def blocks_across(self) -> int:
+        return -(-self.width // self.block_width)
+
+    @property
+    def kind(self) -> str:
+        """'rgb', 'rgba', 'single' (DSM and other one-band rasters) or 'multiband'."""
+        if self.alpha_band is not None:
+            return "rgba"
+        if self.bands == 3 and self.photometric == 2 and self.dtype == np.uint8:
+            return "rgb"
+        return "single" if self.bands == 1 else "multiband"
+
+    # ---- pixel <-> map ----------------------------------------------------------------------
+    def pixel_to_map(self, col, row):
+        """Map (x, y) of pixel coordinates (col, row); (0.5, 0.5) is the first pixel's centre."""
+        c, a, _, f, _, e = self.geotransform
+        return c + a * np.asarray(col, float), f + e * np.asarray(row, float)
+
+    def map_to_pixel(self, x, y):
+        """Pixel coordinates (col, row), float, corner origin, of map points (x, y)."""
+        c, a, _, f, _, e = self.geotransform
+        return (np.asarray(x, float) - c) / a, (np.asarray(y, float) - f) / e
+
+    def window_geotransform(self, row0: int, col0: int):
+        """Geotransform of a crop whose top-left pixel is (row0, col0) of this raster."""
+        c, a, b, f, d, e = self.geotransform
+        return (c + a * col0, a, b, f + e * row0, d, e)
+
+    # ---- data -------------------------------------------------------------------------------
+    def block_index(self, block_row: int, block_col: int, band: int = 0) -> int:
+        per_band = self.blocks_down * self.blocks_across
+        return (band * per_band if self.planar_separate else 0) + block_row * self.blocks_across + block_col
+
+    def read_block(self, fd: int, block_row: int, block_col: int) -> np.ndarray:
+        """Decode one tile or strip: array (rows, cols, bands), clipped to the image edge.
+
+        ``fd`` is an ``os.open`` descriptor of :attr:`path` (``os.pread`` is thread-safe).
+        """
+        page = self._page
+        bands = range(self.bands) if self.planar_separate else (0,)
+        parts = []
+        for band in bands:
+            index = self.block_index(block_row, block_col, band)
+            offset, count = page.dataoffsets[index], page.databytecounts[index]
+            data = os.pread(fd, count, offset) if count else b""
+            if count and len(data) < count:
+                raise InputError(f"{self.path} is truncated: block {index} ends past the end of the "
+                                 "file. Re-export or re-download the raster.")
+            try:
+                seg, _, shape = page.decode(data or None, index, jpegtables=page.jpegtables)
+            except Exception as exc:
+                raise InputError(f"{self.path} is corrupt: block {index} cannot be decoded "
+                                 f"({type(exc).__name__}: {exc}). Re-export the raster.") from None
+            if seg is None:  # sparse block: GDAL reads it as nodata (or 0)
+                fill = self.nodata if self.nodata is not None else 0
+                seg = np.full(shape, fill, dtype=self.dtype)
+            parts.append(seg.reshape(seg.shape[-3:]))
+        block = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
+        r0, c0 = block_row * self.block_height, block_col * self.block_width
+        return block[: min(self.block_height, self.height - r0), : min(self.block_width, self.width - c0)]
+
+
+def open_geotiff(path: str, crs=None) -> GeoTiff:
+    """Read the metadata of a GeoTIFF. ``crs`` (anything pyproj accepts) overrides the GeoKeys.
+
+    Raises :class:`InputError` for a missing file, a file that is not a TIFF, a TIFF without
+    georeferencing, or a rotated geotransform.
+    """
+    if not os.path.isfile(path):
+        raise InputError(f"Raster not found: {path}")
+    log = logging.getLogger("tifffile")
+    level = log.level
+    log.setLevel(logging.ERROR)  # tifffile warns on GDAL_NODATA values it cannot cast; we parse it
+    try:
+        tif = tifffile.TiffFile(path)
+        page = tif.pages.first if hasattr(tif.pages, "first") else tif.pages[0]
+        tags = page.tags
+    except Exception as exc:
+        raise InputError(f"{path} is not a readable GeoTIFF ({type(exc).__name__}: {exc}). "
+                         "Convert it with gdal_translate (QGIS: Raster ▸ Conversion ▸ Translate) to "
+                         "GeoTIFF.") from None
+    finally:
+        log.setLevel(level)
+    page.tags  # noqa: B018 (parsed now, while the file is open)
+    geo_tags = {code: tags[code].value for code in
+                (TAG_GEOKEYS, TAG_GEODOUBLES, TAG_GEOASCII, TAG_GDAL_METADATA) if code in tags}
+    geokeys = _geokeys(tif, page)
+    gt = _geotransform(path, tags, geokeys)
+    nodata_text = tags[TAG_GDAL_NODATA].value.strip("\x00 ") if TAG_GDAL_NODATA in tags else None
+    nodata = _parse_nodata(nodata_text, page.dtype)
+    extras = tuple(int(v) for v in (page.extrasamples or ()))
+    alpha = None
+    if extras and extras[-1] in EXTRASAMPLE_ALPHA:
+        alpha = page.samplesperpixel - 1
+    if crs is not None:
+        from .crs import as_crs
+        crs = as_crs(crs, f"CRS of {path}")
+    else:
+        crs = crs_from_geokeys(geokeys)
+    info = GeoTiff(
+        path=path, width=int(page.imagewidth), height=int(page.imagelength),
+        bands=int(page.samplesperpixel), dtype=np.dtype(page.dtype), geotransform=gt, crs=crs,
+        nodata=nodata, nodata_text=nodata_text, alpha_band=alpha, photometric=int(page.photometric),
+        planar_separate=int(page.planarconfig) == 2 and page.samplesperpixel > 1,
+        tiled=bool(page.is_tiled),
+        block_height=int(page.tilelength if page.is_tiled else min(page.rowsperstrip, page.imagelength)),
+        block_width=int(page.tilewidth if page.is_tiled else page.imagewidth),
+        compression=page.compression.name if hasattr(page.compression, "name") else str(page.compression),
+        geo_tags=geo_tags, _page=page,
+    )
+    if page.imagedepth > 1:
+        raise InputError(f"{path} is a volumetric TIFF; only 2-D rasters are supported.")
+    return info
+
+
+def _geokeys(tif, page) -> dict:
+    try:
+        return dict(tif.geotiff_metadata or {}) if page.index == 0 else {}
+    except Exception:
+        return {}
+
+
+def _geotransform(path, tags, geokeys):
+    if TAG_TRANSFORMATION in tags:
+        m = np.asarray(tags[TAG_TRANSFORMATION].value, float).reshape(4, 4)
+        a, b, c, d, e, f = m[0, 0], m[0, 1], m[0, 3], m[1, 0], m[1, 1], m[1, 3]
+    elif TAG_PIXEL_SCALE in tags and TAG_TIEPOINT in tags:
+        sx, sy = tags[TAG_PIXEL_SCALE].value[:2]
+        tp = tags[TAG_TIEPOINT].value
+        if len(tp) > 6:
+            raise InputError(f"{path} is georeferenced by {len(tp) // 6} ground control points, not "
+                             "a geotransform. Warp it first (QGIS: Raster ▸ Projections ▸ Warp).")
+        i, j, x, y = tp[0], tp[1], tp[3], tp[4]
+        a, b, d, e = sx, 0.0, 0.0, -sy
+        c, f = x - i * sx, y + j * sy
+    else:
+        raise InputError(f"{path} has no georeferencing (no GeoTIFF ModelTiepoint/ModelPixelScale or "
+                         "ModelTransformation tags). Georeference it first (QGIS: Raster ▸ "
+                         "Georeferencer) or assign a world file with gdal_translate.")
+    if b != 0.0 or d != 0.0:
+        raise InputError(f"{path} has a rotated geotransform (rotation terms {b:g}, {d:g}); rotated "
+                         "rasters are not supported. Warp it north-up first (QGIS: Raster ▸ "
+                         "Projections ▸ Warp, or gdalwarp).")
+    if a == 0.0 or e == 0.0:
+        raise InputError(f"{path} has a zero pixel size in its georeferencing.")
+    if int(geokeys.get("GTRasterTypeGeoKey", 1)) == 2:  # PixelIsPoint: GDAL shifts by half a pixel
+        c, f = c - a / 2, f - e / 2
+    return (float(c), float(a), float(b), float(f), float(d), float(e))
+
+
+def _parse_nodata(text: Optional[str], dtype) -> Optional[float]:
+    if not text:
+        return None
+    try:
+        value = float(text)
+    except ValueError:
+        return None
+    if np.dtype(dtype).kind == "f":
+        return float(np.asarray(value).astype(dtype))  # e.g. 3.4028234663852886e+38 → float32 max
+    return value
+
+
+def crs_from_geokeys(keys: dict) -> Optional[CRS]:
+    """pyproj CRS from parsed GeoKeys: EPSG projected/geographic codes, or an ESRI PE string."""
+    for key in ("ProjectedCSTypeGeoKey", "GeographicTypeGeoKey"):
+        code = keys.get(key)
+        if code is not None and 1024 <= int(code) < 32767:
+            try:
+                return CRS.from_epsg(int(code))
+            except Exception:
+                pass
+    for key in ("PCSCitationGeoKey", "GTCitationGeoKey", "GeogCitationGeoKey"):
+        text = str(keys.get(key, ""))
+        if "ESRI PE String = " in text:
+            try:
+                return CRS.from_wkt(text.split("ESRI PE String = ", 1)[1])
+            except Exception:
+                pass
+    return None

@@ -1,0 +1,68 @@
+"""Writing cropped GeoTIFFs: georeferencing copied from the source, deflate-compressed, atomic."""
+import os
+import tempfile
+from typing import Optional, Sequence, Tuple
+
+import numpy as np
+import tifffile
+
+from .geotiff import (TAG_GDAL_METADATA, TAG_GDAL_NODATA, TAG_GEOASCII, TAG_GEODOUBLES, TAG_GEOKEYS,
+                      TAG_PIXEL_SCALE, TAG_TIEPOINT, GeoTiff)
+
+DEFLATE_LEVEL = 6  # GDAL's default ZLEVEL
+
+
+def geotiff_tags(src: GeoTiff, geotransform, nodata_text: Optional[str]) -> list:
+    """tifffile ``extratags`` for a north-up geotransform, the source's GeoKeys and a nodata."""
+    c, a, _, f, _, e = geotransform
+    tags = [(TAG_PIXEL_SCALE, "d", 3, (a, -e, 0.0), True),
+            (TAG_TIEPOINT, "d", 6, (0.0, 0.0, 0.0, c, f, 0.0), True)]
+    g = src.geo_tags
+    if TAG_GEOKEYS in g:
+        keys = list(g[TAG_GEOKEYS])
+        # the crop is always PixelIsArea: the source's half-pixel shift is already in the geotransform
+        for k in range(4, len(keys), 4):
+            if keys[k] == 1025:  # GTRasterTypeGeoKey
+                keys[k + 3] = 1
+        tags.append((TAG_GEOKEYS, "H", len(keys), keys, True))
+    if TAG_GEODOUBLES in g:
+        tags.append((TAG_GEODOUBLES, "d", len(g[TAG_GEODOUBLES]), g[TAG_GEODOUBLES], True))
+    if TAG_GEOASCII in g:
+        tags.append((TAG_GEOASCII, "s", 0, g[TAG_GEOASCII], True))
+    if TAG_GDAL_METADATA in g:
+        tags.append((TAG_GDAL_METADATA, "s", 0, g[TAG_GDAL_METADATA], True))
+    if nodata_text is not None:
+        tags.append((TAG_GDAL_NODATA, "s", 0, nodata_text, True))
+    return tags
+
+
+def write_geotiff(path: str, data: np.ndarray, src: GeoTiff, geotransform,
+                  nodata_text: Optional[str] = None, rgb: bool = False,
+                  extrasamples: Sequence[int] = ()) -> str:
+    """Write ``data`` (rows, cols, bands) to ``path`` atomically (temp file, then rename).
+
+    ``rgb``: photometric RGB (the first three bands), else min-is-black; ``extrasamples``:
+    TIFF ExtraSamples codes of the bands after the colour bands (2 = unassociated alpha).
+    """
+    rows, cols, bands = data.shape
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(prefix=".easyidp-", suffix=".tif.part", dir=folder)
+    os.close(fd)
+    try:
+        kw = {}
+        if rows * cols > 1024 * 1024:
+            kw["tile"] = (256, 256)
+        else:
+            kw["rowsperstrip"] = max(1, 65536 // max(1, cols * bands * data.dtype.itemsize))
+        tifffile.imwrite(
+            tmp, data if bands > 1 else data[..., 0],
+            photometric="rgb" if rgb else "minisblack", planarconfig="contig",
+            extrasamples=tuple(extrasamples) or None,
+            compression="zlib", compressionargs={"level": DEFLATE_LEVEL},
+            extratags=geotiff_tags(src, geotransform, nodata_text), metadata=None, **kw)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        raise
+    return path

@@ -1,0 +1,113 @@
+"""Regions of interest: named polygons or multipolygons in one CRS.
+
+``ROI.parts`` is a list of polygons, each a list of rings ``[exterior, hole, ...]``; a ring is an
+open (n, 2) float64 array of map coordinates (x, y) = (easting, northing) or (lon, lat).
+"""
+from dataclasses import dataclass, field
+from typing import Callable, Iterator, List, Optional, Sequence, Tuple
+
+import numpy as np
+from pyproj import CRS
+
+from . import geometry
+from .crs import as_crs, same_crs, transform_xy
+from .errors import ROIError
+
+
+@dataclass
+class ROI:
+    name: str
+    parts: List[List[np.ndarray]]
+    attributes: dict = field(default_factory=dict)
+
+    @property
+    def rings(self) -> List[np.ndarray]:
+        """All rings of all parts (even-odd inside-ness over them is the polygon)."""
+        return [ring for part in self.parts for ring in part]
+
+    @property
+    def bounds(self) -> Tuple[float, float, float, float]:
+        """(xmin, ymin, xmax, ymax)."""
+        allxy = np.concatenate(self.rings)
+        return (float(allxy[:, 0].min()), float(allxy[:, 1].min()),
+                float(allxy[:, 0].max()), float(allxy[:, 1].max()))
+
+    @property
+    def area(self) -> float:
+        return geometry.area(self.rings)
+
+    def map_xy(self, fn: Callable[[np.ndarray], np.ndarray]) -> "ROI":
+        """A copy with ``fn`` ((n, 2) → (n, 2)) applied to every ring."""
+        return ROI(self.name, [[fn(r) for r in part] for part in self.parts], dict(self.attributes))
+
+    def validate(self) -> "ROI":
+        """Raise :class:`ROIError` naming this ROI if it is empty or not a valid polygon."""
+        if not self.parts or not any(len(p) for p in self.parts):
+            raise ROIError(f"ROI {self.name!r} has an empty geometry: remove the feature or draw it.")
+        for ring in self.rings:
+            if not np.all(np.isfinite(ring)):
+                raise ROIError(f"ROI {self.name!r} has non-finite coordinates.")
+            if len(ring) < 3 or abs(geometry.ring_area(ring)) == 0.0:
+                raise ROIError(f"ROI {self.name!r} has a ring with no area (fewer than 3 distinct "
+                               "vertices or all on one line): fix or remove the feature.")
+        bad = geometry.self_intersections(self.rings)
+        if bad:
+            x, y = bad[0]
+            raise ROIError(f"ROI {self.name!r} is not a valid polygon: its boundary crosses itself "
+                           f"near ({x:.6g}, {y:.6g}). Repair it (QGIS: Vector geometry ▸ Fix "
+                           "geometries) and run again.")
+        return self
+
+
+def roi_from_coordinates(name: str, geom_type: str, coordinates, attributes=None) -> ROI:
+    """An ROI from GeoJSON-style ``Polygon`` or ``MultiPolygon`` coordinates (z is dropped)."""
+    if geom_type == "Polygon":
+        polys = [coordinates]
+    elif geom_type == "MultiPolygon":
+        polys = coordinates
+    else:
+        raise ROIError(f"ROI {name!r} is a {geom_type}, not a polygon: ROIs must be polygons or "
+                       "multipolygons (buffer points or lines first).")
+    parts = []
+    for poly in polys or []:
+        rings = [geometry.close_ring(np.asarray(r, dtype=np.float64)) for r in poly if len(r)]
+        if rings:
+            parts.append(rings)
+    return ROI(str(name), parts, dict(attributes or {}))
+
+
+class ROISet(Sequence[ROI]):
+    """An ordered collection of ROIs sharing one CRS (None when unknown)."""
+
+    def __init__(self, rois: Sequence[ROI], crs=None):
+        self.rois: List[ROI] = list(rois)
+        self.crs: Optional[CRS] = as_crs(crs, "ROI CRS")
+
+    def __getitem__(self, i):
+        return self.rois[i]
+
+    def __len__(self) -> int:
+        return len(self.rois)
+
+    def __iter__(self) -> Iterator[ROI]:
+        return iter(self.rois)
+
+    @property
+    def names(self) -> List[str]:
+        return [r.name for r in self.rois]
+
+    def to_crs(self, crs) -> "ROISet":
+        """The ROIs reprojected vertex by vertex into ``crs``."""
+        crs = as_crs(crs)
+        if self.crs is None:
+            raise ROIError("The ROIs have no CRS: set one on the layer before using it.")
+        if same_crs(self.crs, crs):
+            return ROISet(self.rois, crs)
+        return ROISet([r.map_xy(lambda xy: transform_xy(self.crs, crs, xy)) for r in self.rois], crs)
+
+    def validate(self) -> "ROISet":
+        if not self.rois:
+            raise ROIError("The ROI layer has no features.")
+        for r in self.rois:
+            r.validate()
+        return self

@@ -1,0 +1,113 @@
+"""ROIs on a raster's pixel grid: reprojection, pixel windows and masks (shared by crop and stats)."""
+import math
+from dataclasses import dataclass
+from typing import List, Optional, Tuple
+
+import numpy as np
+
+from . import geometry
+from .crs import same_crs
+from .errors import InputError, ROIError
+from .geotiff import GeoTiff
+from .raster_sweep import Window
+from .roi import ROI, ROISet
+
+
+@dataclass
+class PixelROI:
+    """An ROI in pixel coordinates of one raster, with its clipped window and mask."""
+    index: int                 # position in the ROI set
+    roi: ROI
+    window: Window
+    mask: np.ndarray           # (rows, cols) bool, True inside
+
+
+def rois_in_raster_crs(rois: ROISet, tif: GeoTiff) -> ROISet:
+    """The ROIs validated and reprojected to the raster's CRS (ROIs without a CRS are taken as is)."""
+    rois.validate()
+    if rois.crs is None or same_crs(rois.crs, tif.crs):
+        return rois
+    if tif.crs is None:
+        raise InputError(f"The CRS of {tif.path} cannot be read from its GeoKeys, so the ROIs "
+                         f"({rois.crs.name}) cannot be reprojected to it. Give the raster's CRS.")
+    return rois.to_crs(tif.crs)
+
+
+def _window_of(tif: GeoTiff, rings_px, grow: float) -> Optional[Window]:
+    allxy = np.concatenate(rings_px)
+    x0, y0 = allxy.min(axis=0) - grow
+    x1, y1 = allxy.max(axis=0) + grow
+    c0, r0 = max(math.floor(x0), 0), max(math.floor(y0), 0)
+    c1, r1 = min(math.ceil(x1), tif.width), min(math.ceil(y1), tif.height)
+    if c1 <= c0 or r1 <= r0:
+        return None
+    return Window(r0, c0, r1 - r0, c1 - c0)
+
+
+def to_pixels(tif: GeoTiff, roi: ROI) -> List[np.ndarray]:
+    """The ROI's rings in pixel coordinates (col, row), corner origin."""
+    out = []
+    for ring in roi.rings:
+        c, r = tif.map_to_pixel(ring[:, 0], ring[:, 1])
+        out.append(np.column_stack([c, r]))
+    return out
+
+
+def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: float = 0.0,
+               ) -> Tuple[List[PixelROI], dict]:
+    """Windows and masks of the ROIs on the raster grid; ROIs that miss it are returned as skipped.
+
+    The window of an ROI is the bounding box of its pixels (so no all-outside rows or columns).
+
+    A pixel is inside when its centre is inside the polygon (or, with ``all_touched``, when the
+    polygon touches it). ``buffer`` (map units) grows (> 0) or shrinks (< 0) the polygon: a pixel
+    is inside when its centre is within ``buffer`` of the polygon (or inside and further than
+    ``-buffer`` from its boundary).
+    Returns (placed ROIs, {name: reason} for the ROIs skipped).
+    """
+    placed, skipped = [], {}
+    px_size = abs(tif.geotransform[1])
+    grow_px = max(buffer, 0.0) / px_size
+    for i, roi in enumerate(rois):
+        rings = to_pixels(tif, roi)
+        win = _window_of(tif, rings, grow_px)
+        if win is None:
+            skipped[roi.name] = "outside the raster"
+            continue
+        shifted = [r - (win.col, win.row) for r in rings]
+        if buffer == 0.0:
+            mask = geometry.rasterize(shifted, (win.rows, win.cols), all_touched)
+        else:
+            cc, rr = np.meshgrid(np.arange(win.cols) + 0.5, np.arange(win.rows) + 0.5)
+            inside = geometry.points_in_rings(cc, rr, shifted)
+            dist = geometry.distance_to_rings(cc, rr, shifted) * px_size
+            mask = (inside | (dist <= buffer)) if buffer > 0 else (inside & (dist > -buffer))
+        if not mask.any():
+            skipped[roi.name] = ("contains no pixel centre of the raster (it is smaller than a "
+                                 "pixel or lies on the edge); use all-touched to include it")
+            continue
+        rows = np.flatnonzero(mask.any(axis=1))
+        cols = np.flatnonzero(mask.any(axis=0))
+        mask = mask[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
+        win = Window(win.row + int(rows[0]), win.col + int(cols[0]), mask.shape[0], mask.shape[1])
+        placed.append(PixelROI(i, roi, win, mask))
+    return placed, skipped
+
+
+def require_overlap(placed, skipped, rois: ROISet, tif: GeoTiff) -> None:
+    """Raise a clear :class:`ROIError` when no ROI overlaps the raster."""
+    if placed:
+        return
+    c, a, _, f, _, e = tif.geotransform
+    ext = (c, f + e * tif.height, c + a * tif.width, f)
+    allxy = np.concatenate([r for roi in rois for r in roi.rings])
+    rext = (*allxy.min(axis=0), *allxy.max(axis=0))
+    crs = tif.crs.name if tif.crs is not None else "the raster CRS"
+    raise ROIError(
+        f"None of the {len(rois)} ROIs overlaps the raster {tif.path}. Raster extent "
+        f"{_fmt(ext)}, ROI extent {_fmt(rext)} (both in {crs}). Check that the ROI layer and the "
+        "raster cover the same area and that the ROI layer's CRS is set correctly.")
+
+
+def _fmt(e) -> str:
+    return "({:.3f}, {:.3f}) – ({:.3f}, {:.3f})".format(*e)

@@ -1,0 +1,5 @@
+"""One module per Processing tool; ALGORITHMS lists the classes the provider registers."""
+from .crop_raster_by_rois import CropRasterByROIs
+from .roi_heights_from_dsm import ROIHeightsFromDSM
+
+ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM]

@@ -1,0 +1,152 @@
+"""Processing tool: ROI heights from DSM (easyidp:roiheightsfromdsm)."""
+import math
+
+import numpy as np
+from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry, QgsLineString,
+                       QgsMultiPolygon, QgsPolygon, QgsProcessing, QgsProcessingException,
+                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer, QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
+
+from ..layers import crs_string, geotiff_source, rois_from_source
+from .base import EasyIDPAlgorithm
+
+MODES = [("polygon", "Per polygon: one statistic of the DSM pixels inside"),
+         ("vertex", "Per vertex: the DSM height at each vertex")]
+STATS = ["mean", "median", "min", "max", "percentile"]
+SAMPLING = ["bilinear", "nearest"]
+
+
+class ROIHeightsFromDSM(EasyIDPAlgorithm):
+    ROIS = "ROIS"
+    DSM = "DSM"
+    MODE = "MODE"
+    STATISTIC = "STATISTIC"
+    PERCENTILE = "PERCENTILE"
+    BUFFER = "BUFFER"
+    SAMPLING = "SAMPLING"
+    OUTPUT = "OUTPUT"
+
+    NAME = "roiheightsfromdsm"
+    DISPLAY = "ROI heights from DSM"
+    GROUP = "Heights"
+    GROUP_ID = "heights"
+    HELP = (
+        "Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as "
+        "the attribute 'height' (in the DSM's units and vertical reference). The result is the "
+        "ROI layer as PolygonZ, ready for backward projection into raw photos.\n\n"
+        "Per polygon: the statistic (mean, median, min, max or a percentile, e.g. 90 for canopy "
+        "top, 5 for ground) of the DSM pixels whose centres are inside the ROI, grown by a "
+        "positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets "
+        "that height.\n"
+        "Per vertex: the DSM height at each vertex (bilinear or nearest pixel), or, with a buffer, "
+        "the statistic of the pixels within the buffer distance of the vertex; 'height' is then "
+        "the mean of the vertex heights.\n\n"
+        "Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) height "
+        "and NaN Z, and is listed in the log; it never gets 0.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+        self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.MODE, self.tr("Mode"), options=[self.tr(m[1]) for m in MODES], defaultValue=0))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.STATISTIC, self.tr("Statistic"), options=STATS, defaultValue=0))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.PERCENTILE, self.tr("Percentile (for the 'percentile' statistic)"),
+            QgsProcessingParameterNumber.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.BUFFER, self.tr("Buffer (DSM map units; negative shrinks the polygon)"),
+            QgsProcessingParameterNumber.Double, defaultValue=0.0))
+        p = QgsProcessingParameterEnum(self.SAMPLING, self.tr("Vertex sampling"),
+                                       options=SAMPLING, defaultValue=0)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT, self.tr("ROIs with heights"), QgsProcessing.TypeVectorPolygon))
+
+    def run(self, parameters, context, feedback):
+        from ...core.crs import as_crs, transform_xy
+        from ...core.dsm_heights import roi_heights, vertex_heights
+        from ...core.geotiff import open_geotiff
+
+        source = self.parameterAsSource(parameters, self.ROIS, context)
+        rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback)
+        layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
+        dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
+        mode = MODES[self.parameterAsEnum(parameters, self.MODE, context)][0]
+        stat = STATS[self.parameterAsEnum(parameters, self.STATISTIC, context)]
+        pct = self.parameterAsDouble(parameters, self.PERCENTILE, context)
+        buffer = self.parameterAsDouble(parameters, self.BUFFER, context)
+        sampling = SAMPLING[self.parameterAsEnum(parameters, self.SAMPLING, context)]
+        rois.validate()
+        progress = lambda p: feedback.setProgress(5 + 0.9 * p)  # noqa: E731
+
+        if mode == "polygon":
+            result = roi_heights(dsm.path, rois, "polygon", stat, pct, buffer,
+                                 dsm_crs=crs_string(layer.crs()), progress=progress,
+                                 is_cancelled=feedback.isCanceled)
+            per_feature = [(v, None) for v in result.values]
+            missing = result.missing
+        else:
+            # sample at the layer's own vertices (closing vertices included), in the DSM CRS
+            rings = [_rings(f.geometry()) for f in features]
+            xy = np.array([pt for polys in rings for poly in polys for ring in poly for pt in ring],
+                          dtype=float).reshape(-1, 2)
+            if rois.crs is not None and dsm.crs is not None:
+                xy = transform_xy(as_crs(rois.crs), dsm.crs, xy)
+            z = vertex_heights(dsm, xy[:, 0], xy[:, 1], sampling, buffer, stat, pct, progress,
+                               feedback.isCanceled)
+            per_feature, k, missing = [], 0, {}
+            for roi, polys in zip(rois, rings):
+                n = sum(len(r) for poly in polys for r in poly)
+                zs = z[k:k + n]
+                k += n
+                if np.isnan(zs).any():
+                    missing[roi.name] = "some vertices fall outside the DSM or on nodata"
+                per_feature.append((float(np.nanmean(zs)) if np.isfinite(zs).any() else math.nan, zs))
+
+        fields = QgsFields(source.fields())
+        fields.append(QgsField("height", QVariant.Double))
+        wkb = QgsWkbTypes.addZ(QgsWkbTypes.multiType(source.wkbType()))
+        sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields, wkb,
+                                             source.sourceCrs())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        for feat, (height, zs) in zip(features, per_feature):
+            out = QgsFeature(fields)
+            out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
+            out.setGeometry(_with_z(_rings(feat.geometry()), height, zs))
+            sink.addFeature(out, QgsFeatureSink.FastInsert)
+        for name, reason in missing.items():
+            feedback.pushWarning(self.tr(f"ROI '{name}': {reason}; its height is left empty."))
+        feedback.setProgress(100)
+        return {self.OUTPUT: dest_id}
+
+
+def _rings(geom):
+    """Polygons → rings → (x, y) tuples, closing vertices included, as QGIS stores them."""
+    polys = geom.asMultiPolygon() if geom.isMultipart() else [geom.asPolygon()]
+    return [[[(p.x(), p.y()) for p in ring] for ring in poly] for poly in polys]
+
+
+def _with_z(polys, height, zs):
+    """A MultiPolygonZ from rings, Z = ``zs`` per vertex (in order) or ``height`` everywhere."""
+    multi = QgsMultiPolygon()
+    k = 0
+    for poly in polys:
+        polygon = QgsPolygon()
+        for j, ring in enumerate(poly):
+            x = [p[0] for p in ring]
+            y = [p[1] for p in ring]
+            z = list(zs[k:k + len(ring)]) if zs is not None else [height] * len(ring)
+            k += len(ring)
+            line = QgsLineString(x, y, [float(v) for v in z])
+            if j == 0:
+                polygon.setExteriorRing(line)
+            else:
+                polygon.addInteriorRing(line)
+        multi.addGeometry(polygon)
+    return QgsGeometry(multi)
