@@ -89,15 +89,15 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
         if kind == "rgb":
             alpha = np.where(p.mask, 255, 0).astype(np.uint8)[..., None]
             arr[outside] = 0
-            job = (paths[k], np.concatenate([arr, alpha], axis=2), tif, gt, None, True, (2,))
+            job = (paths[k], np.concatenate([arr, alpha], axis=2), gt, tif.geo_tags, None, True, (2,))
         elif kind == "rgba":
             arr[outside, tif.alpha_band] = 0
             extras = (0,) * (tif.bands - 4) + (2,) if tif.bands >= 4 and tif.photometric == 2 else \
                 (0,) * (tif.bands - 2) + (2,)
-            job = (paths[k], arr, tif, gt, tif.nodata_text, tif.photometric == 2, extras)
+            job = (paths[k], arr, gt, tif.geo_tags, tif.nodata_text, tif.photometric == 2, extras)
         else:
             arr[outside] = nodata
-            job = (paths[k], arr, tif, gt, nodata_text, False, ())
+            job = (paths[k], arr, gt, tif.geo_tags, nodata_text, False, ())
         pending.append((k, pool.submit(write_geotiff, *job)))
         while len(pending) > MAX_PENDING_WRITES:
             _collect(pending.pop(0))

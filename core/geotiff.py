@@ -100,7 +100,7 @@ class GeoTiff:
         bands = range(self.bands) if self.planar_separate else (0,)
         parts = []
         for band in bands:
-            index = self.block_index(block_row, block_col, band)
+            index = int(self.block_index(block_row, block_col, band))
             offset, count = page.dataoffsets[index], page.databytecounts[index]
             data = os.pread(fd, count, offset) if count else b""
             if count and len(data) < count:

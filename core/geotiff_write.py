@@ -7,17 +7,29 @@ import numpy as np
 import tifffile
 
 from .geotiff import (TAG_GDAL_METADATA, TAG_GDAL_NODATA, TAG_GEOASCII, TAG_GEODOUBLES, TAG_GEOKEYS,
-                      TAG_PIXEL_SCALE, TAG_TIEPOINT, GeoTiff)
+                      TAG_PIXEL_SCALE, TAG_TIEPOINT)
 
 DEFLATE_LEVEL = 6  # GDAL's default ZLEVEL
 
 
-def geotiff_tags(src: GeoTiff, geotransform, nodata_text: Optional[str]) -> list:
-    """tifffile ``extratags`` for a north-up geotransform, the source's GeoKeys and a nodata."""
+def epsg_geo_tags(epsg: int) -> dict:
+    """Minimal GeoKey tags for an EPSG CRS (projected or geographic), pixel-is-area."""
+    from pyproj import CRS
+    geographic = CRS.from_epsg(epsg).is_geographic
+    keys = [1, 1, 0, 3,
+            1024, 0, 1, 2 if geographic else 1,          # GTModelTypeGeoKey
+            1025, 0, 1, 1,                               # GTRasterTypeGeoKey: PixelIsArea
+            2048 if geographic else 3072, 0, 1, epsg]    # Geographic/ProjectedCSTypeGeoKey
+    return {TAG_GEOKEYS: tuple(keys)}
+
+
+def geotiff_tags(geo_tags: dict, geotransform, nodata_text: Optional[str]) -> list:
+    """tifffile ``extratags``: a north-up geotransform, GeoKey tags (as read by
+    :func:`open_geotiff` into ``GeoTiff.geo_tags``, or from :func:`epsg_geo_tags`) and nodata."""
     c, a, _, f, _, e = geotransform
     tags = [(TAG_PIXEL_SCALE, "d", 3, (a, -e, 0.0), True),
             (TAG_TIEPOINT, "d", 6, (0.0, 0.0, 0.0, c, f, 0.0), True)]
-    g = src.geo_tags
+    g = geo_tags
     if TAG_GEOKEYS in g:
         keys = list(g[TAG_GEOKEYS])
         # the crop is always PixelIsArea: the source's half-pixel shift is already in the geotransform
@@ -36,30 +48,37 @@ def geotiff_tags(src: GeoTiff, geotransform, nodata_text: Optional[str]) -> list
     return tags
 
 
-def write_geotiff(path: str, data: np.ndarray, src: GeoTiff, geotransform,
+def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
                   nodata_text: Optional[str] = None, rgb: bool = False,
-                  extrasamples: Sequence[int] = ()) -> str:
-    """Write ``data`` (rows, cols, bands) to ``path`` atomically (temp file, then rename).
+                  extrasamples: Sequence[int] = (), tile: Optional[int] = None,
+                  rowsperstrip: Optional[int] = None) -> str:
+    """Write ``data`` (rows, cols[, bands]) to ``path`` atomically (temp file, then rename).
 
-    ``rgb``: photometric RGB (the first three bands), else min-is-black; ``extrasamples``:
-    TIFF ExtraSamples codes of the bands after the colour bands (2 = unassociated alpha).
+    ``geotransform`` in GDAL order (north-up); ``rgb``: photometric RGB (the first three
+    bands), else min-is-black; ``extrasamples``: TIFF ExtraSamples codes of the bands after the
+    colour bands (2 = unassociated alpha). Layout: ``tile`` (square tiles of that size), or
+    ``rowsperstrip``, or by default strips of about 64 KiB (tiles of 256 above 1 Mpixel).
     """
+    if data.ndim == 2:
+        data = data[..., None]
     rows, cols, bands = data.shape
     folder = os.path.dirname(os.path.abspath(path))
     fd, tmp = tempfile.mkstemp(prefix=".easyidp-", suffix=".tif.part", dir=folder)
     os.close(fd)
     try:
-        kw = {}
-        if rows * cols > 1024 * 1024:
-            kw["tile"] = (256, 256)
+        if tile is None and rowsperstrip is None and rows * cols > 1024 * 1024:
+            tile = 256
+        if tile:
+            kw = {"tile": (tile, tile)}
         else:
-            kw["rowsperstrip"] = max(1, 65536 // max(1, cols * bands * data.dtype.itemsize))
+            kw = {"rowsperstrip": rowsperstrip or
+                  max(1, 65536 // max(1, cols * bands * data.dtype.itemsize))}
         tifffile.imwrite(
             tmp, data if bands > 1 else data[..., 0],
             photometric="rgb" if rgb else "minisblack", planarconfig="contig",
             extrasamples=tuple(extrasamples) or None,
             compression="zlib", compressionargs={"level": DEFLATE_LEVEL},
-            extratags=geotiff_tags(src, geotransform, nodata_text), metadata=None, **kw)
+            extratags=geotiff_tags(geo_tags, geotransform, nodata_text), metadata=None, **kw)
         os.replace(tmp, path)
     except BaseException:
         if os.path.exists(tmp):

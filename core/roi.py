@@ -47,15 +47,16 @@ class ROI:
         for ring in self.rings:
             if not np.all(np.isfinite(ring)):
                 raise ROIError(f"ROI {self.name!r} has non-finite coordinates.")
-            if len(ring) < 3 or abs(geometry.ring_area(ring)) == 0.0:
-                raise ROIError(f"ROI {self.name!r} has a ring with no area (fewer than 3 distinct "
-                               "vertices or all on one line): fix or remove the feature.")
-        bad = geometry.self_intersections(self.rings)
+        bad = geometry.self_intersections(self.rings) if all(len(r) >= 3 for r in self.rings) else []
         if bad:
             x, y = bad[0]
             raise ROIError(f"ROI {self.name!r} is not a valid polygon: its boundary crosses itself "
                            f"near ({x:.6g}, {y:.6g}). Repair it (QGIS: Vector geometry ▸ Fix "
                            "geometries) and run again.")
+        for ring in self.rings:
+            if len(ring) < 3 or abs(geometry.ring_area(ring)) == 0.0:
+                raise ROIError(f"ROI {self.name!r} has a ring with no area (fewer than 3 distinct "
+                               "vertices or all on one line): fix or remove the feature.")
         return self
 
 

@@ -1,0 +1,132 @@
+"""ROI heights from a DSM: statistics, sampling, buffers, nodata; checked against GDAL on real data."""
+import json
+
+import numpy as np
+import pytest
+
+from easyidp_toolbox.core import ROI, ROISet, read_geojson
+from easyidp_toolbox.core.dsm_heights import roi_heights, sample_points, vertex_heights
+from easyidp_toolbox.core.errors import InputError
+from synthetic import write_tif
+
+O = (368000.0, 3956000.0)
+
+
+def _plane_dsm(tmp_path, nodata=None, **kw):
+    """z = 100 + 0.5 x' - 0.25 y' at pixel centres (x', y' map offsets from the origin)."""
+    rows, cols = 80, 100
+    cy, cx = np.mgrid[0:rows, 0:cols] + 0.5
+    z = (100 + 0.5 * cx * 0.5 - 0.25 * (-cy * 0.5)).astype(np.float64)
+    return write_tif(str(tmp_path / "plane.tif"), z, origin=O, pixel=0.5, nodata=nodata, **kw), z
+
+
+def test_bilinear_is_exact_on_a_plane_and_nearest_is_the_pixel(tmp_path):
+    path, z = _plane_dsm(tmp_path, tile=16)
+    rng = np.random.default_rng(0)
+    x = O[0] + rng.uniform(1, 49, 200)
+    y = O[1] - rng.uniform(1, 39, 200)
+    truth = 100 + 0.5 * (x - O[0]) - 0.25 * (y - O[1])
+    assert np.allclose(sample_points(path, x, y, "bilinear"), truth, atol=1e-9)
+    near = sample_points(path, x, y, "nearest")
+    assert np.array_equal(near, z[((O[1] - y) / 0.5).astype(int), ((x - O[0]) / 0.5).astype(int)])
+    assert np.isnan(sample_points(path, np.array([O[0] - 5]), np.array([O[1]]), "nearest")).all()
+
+
+def test_diamond_on_constant_dsm_without_nodata_is_the_constant(tmp_path):
+    """easyidp 2.0.4 gives 50 here (outside pixels counted as 0)."""
+    path = write_tif(str(tmp_path / "c.tif"), np.full((60, 60), 100.0, np.float32), origin=O, pixel=0.5)
+    d = np.array([[O[0] + 15, O[1] - 2], [O[0] + 28, O[1] - 15], [O[0] + 15, O[1] - 28],
+                  [O[0] + 2, O[1] - 15]])
+    for stat in ("mean", "median", "min", "max", "percentile"):
+        assert roi_heights(path, ROISet([ROI("d", [[d]])], 32654), statistic=stat).values == [100.0]
+
+
+def test_statistics_equal_numpy_on_the_selected_pixels(tmp_path):
+    rng = np.random.default_rng(5)
+    z = rng.normal(50, 3, (64, 64)).astype(np.float32)
+    z[10:20, 10:20] = -9999
+    path = write_tif(str(tmp_path / "r.tif"), z, origin=O, pixel=1.0, nodata=-9999, rowsperstrip=3)
+    ring = np.array([[O[0] + 5, O[1] - 5], [O[0] + 40, O[1] - 5], [O[0] + 40, O[1] - 30],
+                     [O[0] + 5, O[1] - 30]])
+    sel = z[5:30, 5:40]
+    sel = sel[sel != -9999].astype(float)
+    rois = ROISet([ROI("r", [[ring]])], 32654)
+    assert roi_heights(path, rois, statistic="mean").values[0] == pytest.approx(sel.mean())
+    assert roi_heights(path, rois, statistic="median").values[0] == pytest.approx(np.median(sel))
+    assert roi_heights(path, rois, statistic="percentile", percentile=95).values[0] == \
+        pytest.approx(np.percentile(sel, 95))
+    assert roi_heights(path, rois, statistic="min").values[0] == pytest.approx(sel.min())
+
+
+def test_all_nodata_polygon_is_reported_never_zero(tmp_path):
+    z = np.full((40, 40), 7.0, np.float32)
+    z[:20, :20] = -32767
+    path = write_tif(str(tmp_path / "n.tif"), z, origin=O, pixel=1.0, nodata=-32767)
+    rois = ROISet([ROI("hole", [[np.array([[O[0] + 2, O[1] - 2], [O[0] + 10, O[1] - 2],
+                                           [O[0] + 10, O[1] - 10]])]]),
+                   ROI("ok", [[np.array([[O[0] + 25, O[1] - 25], [O[0] + 35, O[1] - 25],
+                                         [O[0] + 35, O[1] - 35]])]])], 32654)
+    res = roi_heights(path, rois)
+    assert np.isnan(res.values[0]) and res.values[1] == 7.0
+    assert "hole" in res.missing and "nodata" in res.missing["hole"]
+    v = roi_heights(path, rois, mode="vertex")
+    assert np.isnan(v.values[0][0][0]).all() and "hole" in v.missing
+
+
+def test_buffer_grows_and_shrinks_the_polygon(tmp_path):
+    z = np.zeros((100, 100), np.float32)
+    z[40:60, 40:60] = 1.0   # a 20 x 20 m block at 1 m pixels
+    path = write_tif(str(tmp_path / "b.tif"), z, origin=O, pixel=1.0)
+    ring = np.array([[O[0] + 40, O[1] - 40], [O[0] + 60, O[1] - 40], [O[0] + 60, O[1] - 60],
+                     [O[0] + 40, O[1] - 60]])
+    rois = ROISet([ROI("b", [[ring]])], 32654)
+    assert roi_heights(path, rois, statistic="mean").values[0] == 1.0
+    grown = roi_heights(path, rois, statistic="mean", buffer=5).values[0]
+    # buffered square: 400 + 4 * 20 * 5 + pi * 25 pixels, of which 400 are 1
+    assert grown == pytest.approx(400 / (400 + 400 + np.pi * 25), rel=0.03)
+    assert roi_heights(path, rois, statistic="min", buffer=-3).values[0] == 1.0
+
+
+def test_vertex_buffer_statistic(tmp_path):
+    path, z = _plane_dsm(tmp_path)
+    x, y = np.array([O[0] + 20.0]), np.array([O[1] - 20.0])
+    mean = vertex_heights(path, x, y, buffer=2.0, statistic="mean")
+    assert mean[0] == pytest.approx(100 + 0.5 * 20 - 0.25 * -20, abs=1e-6)  # symmetric disc on a plane
+
+
+def test_dsm_must_have_one_band(realdata):
+    rois = read_geojson(str(realdata / "data-to-science/zones_inside_test_tif.geojson"))
+    with pytest.raises(InputError, match="test_multispectral.tif has 6 bands"):
+        roi_heights(str(realdata / "data-to-science/test_multispectral.tif"), rois)
+
+
+def test_real_polygon_means_match_gdal(realdata, tmp_path):
+    """Mean of the pixels gdalwarp -cutline keeps, on the real DSM, for the 20 lon/lat plots."""
+    gdal = pytest.importorskip("osgeo.gdal")
+    from pyproj import Transformer
+    gdal.UseExceptions()
+    src = str(realdata / "data-to-science/test.tif")
+    path = str(realdata / "data-to-science/zones_inside_test_tif.geojson")
+    ours = roi_heights(src, read_geojson(path), statistic="mean").values
+    doc = json.load(open(path))
+    c, a, _, f, _, e = gdal.Open(src).GetGeoTransform()
+    to_utm = Transformer.from_crs("OGC:CRS84", 32616, always_xy=True)
+    for k, feat in enumerate(doc["features"]):
+        cut = str(tmp_path / f"c{k}.geojson")
+        json.dump({"type": "FeatureCollection", "crs": doc["crs"], "features": [feat]}, open(cut, "w"))
+        lon, lat = np.array(feat["geometry"]["coordinates"][0])[:, :2].T
+        x, y = to_utm.transform(lon, lat)
+        # the cutline envelope snapped outwards to the source grid: no pixel is cut off
+        te = (c + np.floor((x.min() - c) / a) * a, f + np.ceil((y.min() - f) / e) * e,
+              c + np.ceil((x.max() - c) / a) * a, f + np.floor((y.max() - f) / e) * e)
+        ds = gdal.Warp(str(tmp_path / f"g{k}.tif"), src, cutlineDSName=cut, outputBounds=te,
+                       xRes=a, yRes=-e)
+        g = ds.ReadAsArray()
+        assert ours[k] == pytest.approx(g[g != -32767].astype(float).mean(), abs=1e-9)
+
+
+def test_real_vertex_heights_on_lonlat_rois(realdata):
+    rois = read_geojson(str(realdata / "d2spy/feature_in_dsm.geojson"))
+    res = roi_heights(str(realdata / "d2spy/dsm.tif"), rois, mode="vertex")
+    z = np.concatenate([r for p in res.values[0] for r in p])
+    assert np.isfinite(z).all() and (187.9 < z).all() and (z < 188.4).all()
