@@ -141,7 +141,6 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
                          "GeoTIFF.") from None
     finally:
         log.setLevel(level)
-    page.tags  # noqa: B018 (parsed now, while the file is open)
     geo_tags = {code: tags[code].value for code in
                 (TAG_GEOKEYS, TAG_GEODOUBLES, TAG_GEOASCII, TAG_GDAL_METADATA) if code in tags}
     geokeys = _geokeys(tif, page)
@@ -168,6 +167,8 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
         compression=page.compression.name if hasattr(page.compression, "name") else str(page.compression),
         geo_tags=geo_tags, _page=page,
     )
+    page.decode  # noqa: B018 (build the decoder while the file is open; blocks are read via os.pread)
+    tif.close()
     if page.imagedepth > 1:
         raise InputError(f"{path} is a volumetric TIFF; only 2-D rasters are supported.")
     return info

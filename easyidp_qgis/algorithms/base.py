@@ -11,7 +11,7 @@ INSTALL_HINT = ("Install the plugin's Python dependencies for the Python that QG
 
 
 class EasyIDPAlgorithm(QgsProcessingAlgorithm):
-    """Subclasses set NAME, DISPLAY, GROUP, GROUP_ID, HELP and implement ``run``."""
+    """Subclasses set NAME, DISPLAY, GROUP, GROUP_ID, HELP and implement ``run_tool``."""
 
     NAME = ""
     DISPLAY = ""
@@ -49,11 +49,11 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         except ImportError as exc:
             raise QgsProcessingException(f"{exc}. {INSTALL_HINT}") from None
         try:
-            return self.run(parameters, context, feedback)
+            return self.run_tool(parameters, context, feedback)
         except EasyIDPError as exc:
             raise QgsProcessingException(str(exc)) from None
         except ImportError as exc:
             raise QgsProcessingException(f"{exc}. {INSTALL_HINT}") from None
 
-    def run(self, parameters, context, feedback) -> dict:
+    def run_tool(self, parameters, context, feedback) -> dict:
         raise NotImplementedError

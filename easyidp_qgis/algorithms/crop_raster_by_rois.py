@@ -58,7 +58,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
         self.addOutput(QgsProcessingOutputNumber(self.SKIPPED, self.tr("Number of ROIs skipped")))
 
-    def run(self, parameters, context, feedback):
+    def run_tool(self, parameters, context, feedback):
         from ...core.crop_raster import crop_raster_by_rois
 
         layer = self.parameterAsRasterLayer(parameters, self.INPUT, context)

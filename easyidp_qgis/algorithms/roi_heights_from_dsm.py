@@ -67,7 +67,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("ROIs with heights"), QgsProcessing.TypeVectorPolygon))
 
-    def run(self, parameters, context, feedback):
+    def run_tool(self, parameters, context, feedback):
         from ...core.crs import as_crs, transform_xy
         from ...core.dsm_heights import roi_heights, vertex_heights
         from ...core.geotiff import open_geotiff

@@ -1,0 +1,237 @@
+"""The Processing tools inside real QGIS (offscreen): results, map loading, bad input."""
+import hashlib
+import os
+import shutil
+
+import numpy as np
+import pytest
+from qgis.core import (QgsApplication, QgsFeature, QgsGeometry, QgsProcessingContext,
+                       QgsProcessingException, QgsProcessingFeedback, QgsProject, QgsRasterLayer,
+                       QgsVectorLayer, QgsWkbTypes)
+
+from synthetic import write_tif
+
+ZONES = "data-to-science/zones_inside_test_tif.geojson"
+DSM = "data-to-science/test.tif"
+
+
+def _run(alg, params, feedback=None, context=None):
+    import processing  # QGIS's processing plugin: importable once pytest-qgis initialised it
+    context = context or QgsProcessingContext()
+    return processing.run(alg, params, context=context, feedback=feedback or QgsProcessingFeedback())
+
+
+def _memory_polygons(crs, wkts, name="rois"):
+    layer = QgsVectorLayer(f"Polygon?crs={crs}&field=name:string", name, "memory")
+    feats = []
+    for n, w in wkts:
+        f = QgsFeature(layer.fields())
+        f.setAttributes([n])
+        f.setGeometry(QgsGeometry.fromWkt(w))
+        feats.append(f)
+    layer.dataProvider().addFeatures(feats)
+    return layer
+
+
+def test_provider_and_algorithms_are_registered(provider):
+    reg = QgsApplication.processingRegistry()
+    assert reg.providerById("easyidp").name() == "EasyIDP"
+    assert not provider.icon().isNull() and provider.svgIconPath().endswith("easyidp.svg")
+    for alg_id in ("easyidp:croprasterbyrois", "easyidp:roiheightsfromdsm"):
+        alg = reg.algorithmById(alg_id)
+        assert alg is not None and alg.shortHelpString()
+
+
+def test_plugin_registers_its_provider_in_init_processing(plugin):
+    from easyidp_toolbox.easyidp_qgis.provider import EasyIDPProvider
+    assert isinstance(plugin.provider, EasyIDPProvider)
+    assert QgsApplication.processingRegistry().providerById("easyidp").id() == "easyidp"
+    plugin.initProcessing()  # called again by initGui: no second provider
+    assert [p.id() for p in QgsApplication.processingRegistry().providers()].count("easyidp") == 1
+
+
+def test_crop_real_dsm_and_queue_layers_for_the_map(provider, realdata, tmp_path):
+    context = QgsProcessingContext()
+    context.setProject(QgsProject.instance())
+    res = _run("easyidp:croprasterbyrois",
+               {"INPUT": str(realdata / DSM), "ROIS": str(realdata / ZONES), "NAME_FIELD": "row",
+                "OUTPUT_FOLDER": str(tmp_path)}, context=context)
+    assert res["CROPPED"] == 20 and res["SKIPPED"] == 0 and len(res["OUTPUT_FILES"]) == 20
+    assert all(os.path.exists(f) for f in res["OUTPUT_FILES"])
+    layer = QgsRasterLayer(res["OUTPUT_FILES"][0], "crop")
+    assert layer.isValid() and layer.crs().authid() == "EPSG:32616"
+    assert layer.dataProvider().sourceNoDataValue(1) == -32767
+    names = [d.name for d in context.layersToLoadOnCompletion().values()]
+    assert len(names) == 20 and all(n.startswith("test – ") for n in names)
+
+
+def test_crop_rgb_gets_alpha_in_qgis(provider, tmp_path):
+    img = np.random.default_rng(0).integers(0, 255, (200, 200, 3), dtype=np.uint8)
+    src = write_tif(str(tmp_path / "dom.tif"), img, tile=64)
+    rois = _memory_polygons("EPSG:32654", [("p1", "POLYGON((368010 3955990, 368040 3955990, "
+                                                   "368040 3955960, 368010 3955990))")])
+    res = _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois, "NAME_FIELD": "name",
+                                             "OUTPUT_FOLDER": str(tmp_path / "o")})
+    layer = QgsRasterLayer(res["OUTPUT_FILES"][0], "p1")
+    assert layer.bandCount() == 4 and os.path.basename(res["OUTPUT_FILES"][0]) == "p1.tif"
+    from osgeo import gdal
+    assert gdal.Open(res["OUTPUT_FILES"][0]).GetRasterBand(4).GetColorInterpretation() == gdal.GCI_AlphaBand
+
+
+def test_heights_per_polygon_and_per_vertex(provider, realdata):
+    from easyidp_toolbox.core import read_geojson
+    from easyidp_toolbox.core.dsm_heights import roi_heights
+    truth = roi_heights(str(realdata / DSM), read_geojson(str(realdata / ZONES)), statistic="median").values
+    res = _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES), "DSM": str(realdata / DSM),
+                                             "MODE": 0, "STATISTIC": 1, "OUTPUT": "memory:"})
+    layer = res["OUTPUT"]
+    assert QgsWkbTypes.hasZ(layer.wkbType()) and layer.featureCount() == 20
+    for feat, t in zip(layer.getFeatures(), truth):
+        assert feat["height"] == pytest.approx(t)
+        assert all(v.z() == pytest.approx(t) for v in feat.geometry().vertices())
+        assert feat["row"] is not None  # source attributes kept
+    res = _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES), "DSM": str(realdata / DSM),
+                                             "MODE": 1, "OUTPUT": "memory:"})
+    zs = [v.z() for f in res["OUTPUT"].getFeatures() for v in f.geometry().vertices()]
+    assert len(zs) == 100 and all(187 < z < 189 for z in zs)
+
+
+def test_heights_missing_are_null_not_zero(provider, tmp_path):
+    z = np.full((40, 40), -32767, np.float32)
+    dsm = write_tif(str(tmp_path / "nd.tif"), z, nodata=-32767, pixel=1.0, origin=(368000, 3956000))
+    rois = _memory_polygons("EPSG:32654", [("a", "POLYGON((368002 3955998, 368010 3955998, "
+                                                  "368010 3955990, 368002 3955998))")])
+    feedback = QgsProcessingFeedback()
+    res = _run("easyidp:roiheightsfromdsm", {"ROIS": rois, "DSM": dsm, "OUTPUT": "memory:"}, feedback)
+    feat = next(res["OUTPUT"].getFeatures())
+    assert feat["height"] is None or str(feat["height"]) == "NULL"
+
+
+# ---- bad input ---------------------------------------------------------------------------------
+
+def _crop(src, rois, out, **kw):
+    return _run("easyidp:croprasterbyrois", dict({"INPUT": src, "ROIS": rois, "OUTPUT_FOLDER": out}, **kw))
+
+
+def test_non_geotiff_raster_layer_is_refused(provider, tmp_path, realdata):
+    from osgeo import gdal
+    asc = str(tmp_path / "dsm.asc")
+    gdal.Translate(asc, str(realdata / DSM), format="AAIGrid")
+    with pytest.raises(QgsProcessingException, match="dsm.asc is not a GeoTIFF.*Translate"):
+        _crop(asc, str(realdata / ZONES), str(tmp_path / "o"))
+
+
+def test_truncated_tiff_names_the_file(provider, tmp_path, realdata):
+    data = (realdata / DSM).read_bytes()
+    p = tmp_path / "cut.tif"
+    p.write_bytes(data[: len(data) // 2])
+    with pytest.raises(QgsProcessingException, match="cut.tif is (truncated|corrupt|not)"):
+        _crop(str(p), str(realdata / ZONES), str(tmp_path / "o"))
+    assert not [f for f in os.listdir(tmp_path / "o") if f.endswith(".part")] if (tmp_path / "o").exists() else True
+
+
+def test_raster_without_georeferencing(provider, tmp_path, realdata):
+    p = write_tif(str(tmp_path / "plain.tif"), np.zeros((50, 50), np.float32), georef=False)
+    with pytest.raises(QgsProcessingException, match="plain.tif has no georeferencing"):
+        _crop(p, str(realdata / ZONES), str(tmp_path / "o"))
+
+
+def test_rotated_raster_is_refused(provider, tmp_path, realdata):
+    m = np.eye(4)
+    m[0, :] = [0.5, 0.1, 0, 504630]
+    m[1, :] = [0.1, -0.5, 0, 4588060]
+    p = write_tif(str(tmp_path / "rot.tif"), np.zeros((50, 50), np.float32), transformation=m, epsg=32616)
+    with pytest.raises(QgsProcessingException, match="rot.tif has a rotated geotransform"):
+        _crop(p, str(realdata / ZONES), str(tmp_path / "o"))
+
+
+def test_point_and_line_layers_are_refused(provider, tmp_path, realdata):
+    for geom in ("Point", "LineString"):
+        layer = QgsVectorLayer(f"{geom}?crs=EPSG:32616", "trees", "memory")
+        f = QgsFeature()
+        f.setGeometry(QgsGeometry.fromWkt("POINT(504640 4588050)" if geom == "Point"
+                                          else "LINESTRING(504640 4588050, 504641 4588051)"))
+        layer.dataProvider().addFeatures([f])
+        with pytest.raises(QgsProcessingException, match="ROI"):
+            _crop(str(realdata / DSM), layer, str(tmp_path / "o"))
+
+
+def test_invalid_and_empty_polygons_are_named(provider, tmp_path, realdata):
+    bow = _memory_polygons("EPSG:32616", [("bowtie", "POLYGON((504640 4588050, 504642 4588052, "
+                                                     "504642 4588050, 504640 4588053, 504640 4588050))")])
+    context = QgsProcessingContext()
+    context.setInvalidGeometryCheck(QgsFeatureRequest_no_check())
+    with pytest.raises(QgsProcessingException, match="bowtie.*crosses itself"):
+        _run("easyidp:croprasterbyrois", {"INPUT": str(realdata / DSM), "ROIS": bow, "NAME_FIELD": "name",
+                                          "OUTPUT_FOLDER": str(tmp_path / "o")}, context=context)
+    empty = _memory_polygons("EPSG:32616", [("nothing", "POLYGON EMPTY")])
+    with pytest.raises(QgsProcessingException, match="nothing.*empty"):
+        _run("easyidp:croprasterbyrois", {"INPUT": str(realdata / DSM), "ROIS": empty, "NAME_FIELD": "name",
+                                          "OUTPUT_FOLDER": str(tmp_path / "o")}, context=context)
+
+
+def QgsFeatureRequest_no_check():  # noqa: N802
+    from qgis.core import QgsFeatureRequest
+    return QgsFeatureRequest.GeometryNoCheck
+
+
+def test_invalid_polygon_with_default_settings_is_stopped(provider, tmp_path, realdata):
+    bow = _memory_polygons("EPSG:32616", [("bowtie", "POLYGON((504640 4588050, 504642 4588052, "
+                                                     "504642 4588050, 504640 4588053, 504640 4588050))")])
+    with pytest.raises(QgsProcessingException, match="(?i)invalid|crosses itself"):
+        _crop(str(realdata / DSM), bow, str(tmp_path / "o"))
+
+
+def test_rois_in_another_crs_and_outside(provider, tmp_path, realdata):
+    res = _crop(str(realdata / "d2spy/dsm.tif"), str(realdata / "d2spy/feature_in_dsm.geojson"),
+                str(tmp_path / "o"))
+    assert res["CROPPED"] == 1
+    with pytest.raises(QgsProcessingException, match="None of the 1 ROIs overlaps the raster"):
+        _crop(str(realdata / "d2spy/dsm.tif"), str(realdata / "d2spy/feature_outside_dsm.geojson"),
+              str(tmp_path / "o2"))
+
+
+def test_duplicate_names_and_input_in_output_folder(provider, tmp_path, realdata):
+    folder = tmp_path / "work"
+    folder.mkdir()
+    src = folder / "test.tif"
+    shutil.copy(realdata / DSM, src)
+    digest = hashlib.sha256(src.read_bytes()).hexdigest()
+    layer = _memory_polygons("EPSG:4326", [("test", "POLYGON((-86.94452 41.44408, -86.94450 41.44408, "
+                                                    "-86.94450 41.44406, -86.94452 41.44408))"),
+                                           ("test", "POLYGON((-86.94446 41.44408, -86.94444 41.44408, "
+                                                    "-86.94444 41.44406, -86.94446 41.44408))")])
+    res = _crop(str(src), layer, str(folder), NAME_FIELD="name")
+    assert sorted(os.path.basename(f) for f in res["OUTPUT_FILES"]) == ["test_2.tif", "test_3.tif"]
+    assert hashlib.sha256(src.read_bytes()).hexdigest() == digest
+
+
+class _CancelAfter(QgsProcessingFeedback):
+    def __init__(self, n):
+        super().__init__()
+        self.n = n
+
+    def isCanceled(self):  # noqa: N802
+        self.n -= 1
+        return self.n < 0
+
+
+def test_cancel_mid_run_leaves_no_partial_file(provider, tmp_path):
+    img = np.random.default_rng(0).integers(0, 255, (2048, 300, 3), dtype=np.uint8)
+    src = write_tif(str(tmp_path / "dom.tif"), img, rowsperstrip=1)
+    wkts = [(f"r{k}", f"POLYGON((368001 {3956000 - 40 * k - 1}, 368100 {3956000 - 40 * k - 1}, "
+                     f"368100 {3956000 - 40 * k - 30}, 368001 {3956000 - 40 * k - 1}))") for k in range(25)]
+    rois = _memory_polygons("EPSG:32654", wkts)
+    out = tmp_path / "o"
+    with pytest.raises(QgsProcessingException, match="Cancelled"):
+        _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois, "OUTPUT_FOLDER": str(out)},
+             feedback=_CancelAfter(30))
+    files = os.listdir(out)
+    assert len(files) < 25 and all(f.endswith(".tif") and not f.startswith(".") for f in files)
+
+
+def test_dsm_with_several_bands_is_refused(provider, realdata):
+    with pytest.raises(QgsProcessingException, match="test_multispectral.tif has 6 bands"):
+        _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES),
+                                           "DSM": str(realdata / "data-to-science/test_multispectral.tif"),
+                                           "OUTPUT": "memory:"})

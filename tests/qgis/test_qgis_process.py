@@ -1,0 +1,67 @@
+"""Headless runs through the real qgis_process.bin, as a newcomer's scripts would call it."""
+import json
+import os
+from pathlib import Path
+
+import pytest
+
+from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
+
+MODEL = Path(__file__).parent / "data" / "heights_then_crop.model3"
+
+
+def test_provider_is_listed(qp_env):
+    out = run(["list"], qp_env).stdout
+    assert "EasyIDP" in out
+    assert "easyidp:croprasterbyrois" in out and "easyidp:roiheightsfromdsm" in out
+
+
+def test_help_lists_parameters(qp_env):
+    out = run(["help", "easyidp:croprasterbyrois"], qp_env).stdout
+    for p in ("INPUT", "ROIS", "NAME_FIELD", "ALL_TOUCHED", "OUTPUT_FOLDER"):
+        assert p in out
+    out = run(["help", "easyidp:roiheightsfromdsm"], qp_env).stdout
+    for p in ("ROIS", "DSM", "MODE", "STATISTIC", "PERCENTILE", "BUFFER", "OUTPUT"):
+        assert p in out
+
+
+def test_crop_json_output_is_clean(qp_env, realdata, tmp_path):
+    """--json output parses: importing the plugin prints nothing."""
+    res = run_algorithm("easyidp:croprasterbyrois", {
+        "INPUT": realdata / "d2spy/dsm.tif", "ROIS": realdata / "d2spy/feature_in_dsm.geojson",
+        "OUTPUT_FOLDER": tmp_path / "crops"}, qp_env)
+    assert res["CROPPED"] == 1 and os.path.exists(res["OUTPUT_FILES"][0])
+
+
+def test_heights_to_geopackage(qp_env, realdata, tmp_path):
+    out = tmp_path / "h.gpkg"
+    res = run_algorithm("easyidp:roiheightsfromdsm", {
+        "ROIS": realdata / "data-to-science/zones_inside_test_tif.geojson",
+        "DSM": realdata / "data-to-science/test.tif", "MODE": 0, "STATISTIC": 4, "PERCENTILE": 95,
+        "OUTPUT": out}, qp_env)
+    from osgeo import ogr
+    ds = ogr.Open(str(out))
+    layer = ds.GetLayer(0)
+    assert layer.GetFeatureCount() == 20 and ogr.GT_HasZ(layer.GetGeomType())
+    assert all(187 < f.GetField("height") < 189 for f in layer)
+
+
+def test_bad_input_exits_1_with_the_message(qp_env, realdata, tmp_path):
+    proc = run(["run", "easyidp:croprasterbyrois", "--",
+                f"INPUT={realdata / 'd2spy/dsm.tif'}",
+                f"ROIS={realdata / 'd2spy/feature_outside_dsm.geojson'}",
+                f"OUTPUT_FOLDER={tmp_path / 'o'}"], qp_env)
+    assert proc.returncode == 1
+    assert "None of the 1 ROIs overlaps the raster" in proc.stderr + proc.stdout
+
+
+def test_model_chaining_both_tools_runs_headless(qp_env, realdata, tmp_path):
+    proc = run(["--json", "run", str(MODEL), "--",
+                f"dsm={realdata / 'data-to-science/test.tif'}",
+                f"plots={realdata / 'data-to-science/zones_inside_test_tif.geojson'}",
+                f"heights:plots_with_heights={tmp_path / 'plots.gpkg'}",
+                f"crop:crops={tmp_path / 'crops'}"], qp_env)
+    assert proc.returncode == 0, proc.stderr
+    results = json.loads(proc.stdout)["results"]
+    assert Path(results["heights:plots_with_heights"]).exists()
+    assert len(list((tmp_path / "crops").glob("*.tif"))) == 20
