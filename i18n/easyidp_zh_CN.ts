@@ -4,8 +4,30 @@
   <context>
     <name>EasyIDP</name>
     <message>
-      <source />
+      <source>Crop raster by ROIs</source>
+      <translation>按感兴趣区裁剪栅格</translation>
+    </message>
+    <message>
+      <source>Cropping</source>
       <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Cuts every ROI (plot, tree, plant polygon) out of a GeoTIFF raster: an orthomosaic (DOM), a surface model (DSM) or a multispectral map, into one GeoTIFF per ROI in the output folder, named after the name field (made safe for file names and unique).
+
+The raster is read in a single pass, each tile or strip once, so thousands of ROIs on rasters larger than memory are fast. Crops keep the raster's pixel grid, CRS and data type. Pixels outside the ROI are masked: RGB gets an alpha band, RGBA its alpha combined, DSM and multispectral get nodata (the raster's own, or -32767 for floating point and the type's extreme for integers when it has none). A pixel belongs to an ROI when its centre is inside (GDAL's rule); 'All touched' takes every pixel the ROI touches. Holes and multipart polygons are honoured. ROIs in another CRS are reprojected; ROIs outside the raster are reported and skipped.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>All touched (include every pixel the ROI touches)</source>
+      <translation>全部接触（包含感兴趣区接触到的所有像元）</translation>
+    </message>
+    <message>
+      <source>Raster</source>
+      <translation>栅格</translation>
+    </message>
+    <message>
+      <source>ROIs</source>
+      <translation>感兴趣区</translation>
     </message>
     <message>
       <source>Raster (GeoTIFF: orthomosaic, DSM or multispectral)</source>
@@ -18,10 +40,6 @@
     <message>
       <source>Name field (default: feature id)</source>
       <translation>名称字段（默认：要素 ID）</translation>
-    </message>
-    <message>
-      <source>All touched (include every pixel the ROI touches)</source>
-      <translation>全部接触（包含感兴趣区接触到的所有像元）</translation>
     </message>
     <message>
       <source>Output folder</source>
@@ -40,22 +58,25 @@
       <translation>跳过的感兴趣区数量</translation>
     </message>
     <message>
-      <source>Raster</source>
-      <translation>栅格</translation>
+      <source>ROI heights from DSM</source>
+      <translation>从 DSM 获取感兴趣区高度</translation>
     </message>
     <message>
-      <source>ROIs</source>
-      <translation>感兴趣区</translation>
-    </message>
-    <message>
-      <source>Crop raster by ROIs</source>
-      <translation>按感兴趣区裁剪栅格</translation>
-    </message>
-    <message>
-      <source>Cuts every ROI (plot, tree, plant polygon) out of a GeoTIFF raster: an orthomosaic (DOM), a surface model (DSM) or a multispectral map, into one GeoTIFF per ROI in the output folder, named after the name field (made safe for file names and unique).
-
-The raster is read in a single pass, each tile or strip once, so thousands of ROIs on rasters larger than memory are fast. Crops keep the raster's pixel grid, CRS and data type. Pixels outside the ROI are masked: RGB gets an alpha band, RGBA its alpha combined, DSM and multispectral get nodata (the raster's own, or -32767 for floating point and the type's extreme for integers when it has none). A pixel belongs to an ROI when its centre is inside (GDAL's rule); 'All touched' takes every pixel the ROI touches. Holes and multipart polygons are honoured. ROIs in another CRS are reprojected; ROIs outside the raster are reported and skipped.</source>
+      <source>Heights</source>
       <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as the attribute 'height' (in the DSM's units and vertical reference). The result is the ROI layer as PolygonZ, ready for backward projection into raw photos.
+
+Per polygon: the statistic (mean, median, min, max or a percentile, e.g. 90 for canopy top, 5 for ground) of the DSM pixels whose centres are inside the ROI, grown by a positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets that height.
+Per vertex: the DSM height at each vertex (bilinear or nearest pixel), or, with a buffer, the statistic of the pixels within the buffer distance of the vertex; 'height' is then the mean of the vertex heights.
+
+Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) height and NaN Z, and is listed in the log; it never gets 0.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Vertex sampling</source>
+      <translation>顶点采样</translation>
     </message>
     <message>
       <source>DSM (GeoTIFF)</source>
@@ -78,29 +99,12 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
       <translation>缓冲距离（DSM 地图单位；负值收缩多边形）</translation>
     </message>
     <message>
-      <source>Vertex sampling</source>
-      <translation>顶点采样</translation>
-    </message>
-    <message>
       <source>ROIs with heights</source>
       <translation>带高度的感兴趣区</translation>
     </message>
     <message>
       <source>DSM</source>
       <translation>DSM</translation>
-    </message>
-    <message>
-      <source>ROI heights from DSM</source>
-      <translation>从 DSM 获取感兴趣区高度</translation>
-    </message>
-    <message>
-      <source>Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as the attribute 'height' (in the DSM's units and vertical reference). The result is the ROI layer as PolygonZ, ready for backward projection into raw photos.
-
-Per polygon: the statistic (mean, median, min, max or a percentile, e.g. 90 for canopy top, 5 for ground) of the DSM pixels whose centres are inside the ROI, grown by a positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets that height.
-Per vertex: the DSM height at each vertex (bilinear or nearest pixel), or, with a buffer, the statistic of the pixels within the buffer distance of the vertex; 'height' is then the mean of the vertex heights.
-
-Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) height and NaN Z, and is listed in the log; it never gets 0.</source>
-      <translation type="unfinished" />
     </message>
   </context>
 </TS>

@@ -3,30 +3,31 @@
 Existing translations are kept; new strings are added as unfinished. Context: ``EasyIDP``.
 Usage: python -m easyidp_toolbox.scripts.update_translations  (needs lrelease: qttools5-dev-tools)
 """
+import ast
 import glob
 import os
-import re
 import subprocess
 import xml.etree.ElementTree as ET
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 LANGS = ("zh_CN", "ja")
-_TR = re.compile(r'tr\(\s*((?:"(?:[^"\\]|\\.)*"\s*)+)\)', re.S)
+TRANSLATED_ATTRIBUTES = {"DISPLAY", "GROUP", "HELP"}
 
 
 def source_strings():
+    """Literal arguments of ``*.tr("…")`` calls and DISPLAY/GROUP/HELP class attributes."""
     found = []
     for path in sorted(glob.glob(os.path.join(ROOT, "easyidp_qgis", "**", "*.py"), recursive=True)):
-        text = open(path, encoding="utf-8").read()
-        for m in _TR.finditer(text):
-            s = "".join(eval(part) for part in re.findall(r'"(?:[^"\\]|\\.)*"', m.group(1)))
-            if s not in found:
-                found.append(s)
-        for m in re.finditer(r'^\s+(?:DISPLAY|GROUP|HELP) = \(?\s*((?:"(?:[^"\\]|\\.)*"\s*)+)\)?',
-                             text, re.M):
-            s = "".join(eval(part) for part in re.findall(r'"(?:[^"\\]|\\.)*"', m.group(1)))
-            if s not in found:
-                found.append(s)
+        for node in ast.walk(ast.parse(open(path, encoding="utf-8").read())):
+            value = None
+            if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "tr" and node.args:
+                value = node.args[0]
+            elif isinstance(node, ast.Assign) and any(getattr(t, "id", None) in TRANSLATED_ATTRIBUTES
+                                                      for t in node.targets):
+                value = node.value
+            if isinstance(value, ast.Constant) and isinstance(value.value, str) and value.value \
+                    and value.value not in found:
+                found.append(value.value)
     return found
 
 
