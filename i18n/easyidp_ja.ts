@@ -9,7 +9,7 @@
     </message>
     <message>
       <source>Cropping</source>
-      <translation type="unfinished" />
+      <translation>切り出し</translation>
     </message>
     <message>
       <source>Cuts every ROI (plot, tree, plant polygon) out of a GeoTIFF raster: an orthomosaic (DOM), a surface model (DSM) or a multispectral map, into one GeoTIFF per ROI in the output folder, named after the name field (made safe for file names and unique).
@@ -63,7 +63,7 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     </message>
     <message>
       <source>Heights</source>
-      <translation type="unfinished" />
+      <translation>高さ</translation>
     </message>
     <message>
       <source>Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as the attribute 'height' (in the DSM's units and vertical reference). The result is the ROI layer as PolygonZ, ready for backward projection into raw photos.
