@@ -9,8 +9,6 @@ Conventions (see ARCHITECTURE.md): map coordinates are (x, y) = (easting, northi
 centre of the top-left pixel is (0.5, 0.5).
 """
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
-from .pointcloud import (PointCloud, canopy_summary, crop_point_cloud, read_point_cloud,
-                         roi_heights, write_point_cloud)
 from .progress import Progress
 from .reconstruction import Reconstruction, open_reconstruction
 from .roi import ROI, ROISet, roi_from_coordinates
@@ -19,7 +17,5 @@ from .vector_io import read_geojson
 __all__ = [
     "Cancelled", "EasyIDPError", "InputError", "ROIError", "Progress",
     "ROI", "ROISet", "roi_from_coordinates", "read_geojson",
-    "PointCloud", "read_point_cloud", "write_point_cloud", "crop_point_cloud", "roi_heights",
-    "canopy_summary",
     "Reconstruction", "open_reconstruction",
 ]

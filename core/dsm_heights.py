@@ -41,7 +41,7 @@ def _single_band(tif: GeoTiff) -> None:
 
 
 def sample_points(dsm, x: np.ndarray, y: np.ndarray, method: str = "bilinear", progress=None,
-                  is_cancelled=None, pool=None) -> np.ndarray:
+                  is_cancelled=None) -> np.ndarray:
     """DSM heights at map points (x, y) in the DSM's CRS; NaN outside the raster or on nodata.
 
     ``nearest``: the pixel containing the point. ``bilinear``: interpolation between the four
@@ -84,10 +84,7 @@ def sample_points(dsm, x: np.ndarray, y: np.ndarray, method: str = "bilinear", p
 
     prog = as_progress(progress, is_cancelled)
     if windows:
-        if pool is None:
-            with thread_pool() as p:
-                sweep_windows(tif, windows, consume, prog, p)
-        else:
+        with thread_pool() as pool:
             sweep_windows(tif, windows, consume, prog, pool)
     return out.reshape(np.shape(x))
 
@@ -134,14 +131,8 @@ def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = 
     if mode == "vertex":
         xy = np.concatenate([r for roi in local for r in roi.rings])
         z = vertex_heights(tif, xy[:, 0], xy[:, 1], sampling, buffer, statistic, percentile, prog)
-        values, k = [], 0
-        for roi in local:
-            parts = []
-            for part in roi.parts:
-                parts.append([z[k + sum(len(r) for r in part[:j]):k + sum(len(r) for r in part[:j + 1])]
-                              for j in range(len(part))])
-                k += sum(len(r) for r in part)
-            values.append(parts)
+        values = _split_by_ring(z, local)
+        for roi, parts in zip(local, values):
             if np.isnan(np.concatenate([r for p in parts for r in p])).any():
                 missing[roi.name] = "some vertices fall outside the DSM or on nodata"
         return HeightResult(values, missing)
@@ -162,6 +153,21 @@ def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = 
     with thread_pool() as pool:
         sweep_windows(tif, [p.window for p in placed], consume, prog, pool)
     return HeightResult(values, missing)
+
+
+def _split_by_ring(values: np.ndarray, rois: ROISet) -> list:
+    """Per-vertex values (all rings of all ROIs, in order) → [roi][part][ring] arrays."""
+    out, k = [], 0
+    for roi in rois:
+        parts = []
+        for part in roi.parts:
+            rings = []
+            for ring in part:
+                rings.append(values[k:k + len(ring)])
+                k += len(ring)
+            parts.append(rings)
+        out.append(parts)
+    return out
 
 
 def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear",
