@@ -4,11 +4,15 @@ Plain data in (numpy arrays, file paths, CRS as pyproj.CRS / EPSG / WKT), plain 
 Never imports qgis or PyQt. Progress and cancellation come in as callables
 (``progress(percent)``, ``is_cancelled()``).
 
+ROI heights: ``core.dsm_heights.roi_heights`` (from a DSM) and ``core.pointcloud.roi_heights``
+(from a point cloud).
+
 Conventions (see ARCHITECTURE.md): map coordinates are (x, y) = (easting, northing) or
 (lon, lat); image pixels have their origin at the top-left *corner*, x right, y down, so the
 centre of the top-left pixel is (0.5, 0.5).
 """
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
+from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
 from .progress import Progress
 from .reconstruction import Reconstruction, open_reconstruction
 from .roi import ROI, ROISet, roi_from_coordinates
@@ -17,5 +21,6 @@ from .vector_io import read_geojson
 __all__ = [
     "Cancelled", "EasyIDPError", "InputError", "ROIError", "Progress",
     "ROI", "ROISet", "roi_from_coordinates", "read_geojson",
+    "PointCloud", "read_point_cloud", "write_point_cloud", "crop_point_cloud", "canopy_summary",
     "Reconstruction", "open_reconstruction",
 ]

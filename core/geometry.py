@@ -35,8 +35,11 @@ def _edges(rings: Rings) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def ring_area(ring: np.ndarray) -> float:
-    """Signed area (shoelace); positive for counter-clockwise rings in a y-up frame."""
-    x, y = ring[:, 0], ring[:, 1]
+    """Signed area (shoelace); positive for counter-clockwise rings in a y-up frame.
+
+    Computed relative to the first vertex, so UTM-size coordinates keep their precision.
+    """
+    x, y = ring[:, 0] - ring[0, 0], ring[:, 1] - ring[0, 1]
     return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
 
 

@@ -19,8 +19,13 @@ __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker"
            "camera_footprints", "list_chunks", "open_metashape", "open_pix4d"]
 
 
+PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_parameters.txt",
+                     "_calibrated_internal_camera_parameters.cam", "_wkt.prj")
+
+
 def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
-    """Open a Metashape or Pix4D project.
+    """Open a Metashape or Pix4D project (a .p4d, the project or params folder, or any file of
+    the params folder such as ``*_pmatrix.txt``).
 
     ``chunk``: Metashape chunk id or label (required when the project has several).
     ``crs``: Pix4D only, the output CRS when the project has no ``*_wkt.prj``.
@@ -33,6 +38,8 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
         return open_metashape(p, chunk)
     if suffix == ".p4d" or p.is_dir():
         return open_pix4d(p, crs)
+    if p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
+        return open_pix4d(p.parent, crs)
     if not p.exists():
         raise InputError(f"{p}: file not found.")
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "

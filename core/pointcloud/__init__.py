@@ -1,0 +1,17 @@
+"""Point clouds: LAS/LAZ/PLY input and output, crop by many ROIs in one pass, ROI heights.
+
+Coordinates are float64 (x, y, z) in the cloud's CRS; every per-point attribute of the source is
+kept (see :mod:`.cloud`). Outputs are written atomically and never over an input.
+"""
+from .cloud import PlyHeader, PointCloud
+from .crop import CropItem, CropResult, crop_indices, crop_point_cloud
+from .formats import read_point_cloud, write_point_cloud
+from .las_io import read_las, write_las
+from .ply_io import read_ply, write_ply
+from .stats import canopy_summary, roi_heights
+
+__all__ = [
+    "PointCloud", "PlyHeader", "CropItem", "CropResult", "crop_indices", "crop_point_cloud",
+    "read_point_cloud", "write_point_cloud", "read_las", "write_las", "read_ply", "write_ply",
+    "canopy_summary", "roi_heights",
+]

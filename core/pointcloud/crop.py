@@ -1,0 +1,177 @@
+"""Crop a point cloud by many ROIs in one pass and write one file per ROI.
+
+A point belongs to an ROI when its (x, y) is inside the polygon by the even-odd rule over all
+rings (holes and multipart honoured; see ``geometry.points_in_rings``) and, if given,
+z_min ≤ z ≤ z_max. ROIs are reprojected to the cloud's CRS; ROIs without a CRS are taken to be in
+the cloud's frame. A point inside several overlapping ROIs goes to each of them.
+"""
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Dict, List, Optional, Tuple, Union
+
+import numpy as np
+
+from .. import geometry
+from ..errors import Cancelled, InputError
+from ..naming import unique_names
+from ..progress import as_progress
+from ..roi import ROISet
+from .cloud import PointCloud
+from .files import check_not_inputs
+from .formats import read_point_cloud, write_point_cloud
+from .index import one_pass
+
+EXT = {"las": ".las", "laz": ".laz", "ply": ".ply"}
+
+
+def cloud_name(cloud: PointCloud) -> str:
+    return repr(cloud.path.name) if cloud.path is not None else "the point cloud"
+
+
+def as_cloud(cloud: Union[PointCloud, str, Path], crs=None) -> PointCloud:
+    """A :class:`PointCloud` from a cloud or a path (read with ``crs``)."""
+    return cloud if isinstance(cloud, PointCloud) else read_point_cloud(cloud, crs)
+
+
+def rois_in_cloud_crs(cloud: PointCloud, rois: ROISet) -> ROISet:
+    """The validated ROIs in the cloud's CRS (unchanged when the ROIs have no CRS)."""
+    rois.validate()
+    if rois.crs is None:
+        return rois
+    if cloud.crs is None:
+        raise InputError(f"Point cloud {cloud_name(cloud)} has no coordinate reference system "
+                         "(a PLY file, or a LAS file without a CRS record): give its CRS "
+                         "(INPUT_CRS in QGIS, crs= in Python).")
+    return rois.to_crs(cloud.crs)
+
+
+def roi_boxes(rois: ROISet) -> np.ndarray:
+    return np.array([r.bounds for r in rois], dtype=np.float64).reshape(-1, 4)
+
+
+def crop_indices(cloud: PointCloud, rois: ROISet, z_min: Optional[float] = None,
+                 z_max: Optional[float] = None, progress=None, is_cancelled=None,
+                 chunk_size: int = 2_000_000) -> Tuple[List[np.ndarray], np.ndarray, ROISet]:
+    """One pass: ascending point indices inside each ROI (in ROI order), the cloud's xy bounds
+    (xmin, ymin, xmax, ymax) and the ROIs in the cloud CRS."""
+    prog = as_progress(progress, is_cancelled)
+    rois = rois_in_cloud_crs(cloud, rois)
+    rings = [r.rings for r in rois]
+    idx, bounds = one_pass(cloud, roi_boxes(rois),
+                           lambda k, x, y: geometry.points_in_rings(x, y, rings[k]),
+                           (z_min, z_max), prog, chunk_size)
+    return idx, bounds, rois
+
+
+@dataclass
+class CropItem:
+    """One ROI's outcome: ``status`` is 'written', 'empty' (over the cloud, no point inside) or
+    'missed' (entirely outside the cloud's extent); ``stem`` is its unique safe file stem."""
+    name: str
+    stem: str
+    count: int
+    status: str
+    file: Optional[Path] = None
+
+
+@dataclass
+class CropResult:
+    """What a crop did, one :class:`CropItem` per ROI in ROI order. The dict views are keyed by
+    the unique file stem (the ROI name itself when it is unique and file-safe)."""
+    folder: Optional[Path]
+    items: List[CropItem] = field(default_factory=list)
+
+    @property
+    def counts(self) -> Dict[str, int]:
+        return {i.stem: i.count for i in self.items}
+
+    @property
+    def files(self) -> Dict[str, Path]:
+        return {i.stem: i.file for i in self.items if i.file is not None}
+
+    @property
+    def missed(self) -> List[str]:
+        return [i.name for i in self.items if i.status == "missed"]
+
+    @property
+    def empty(self) -> List[str]:
+        return [i.name for i in self.items if i.status == "empty"]
+
+    @property
+    def messages(self) -> List[str]:
+        out = []
+        if self.missed:
+            out.append(f"{len(self.missed)} ROI(s) lie outside the point cloud and were skipped: "
+                       f"{', '.join(self.missed)}. Check that the ROIs and the cloud are in the "
+                       "right CRS.")
+        if self.empty:
+            out.append(f"{len(self.empty)} ROI(s) contain no point (check the Z range or the "
+                       f"cloud's holes): {', '.join(self.empty)}.")
+        return out
+
+
+def _status(roi, ii: np.ndarray, bounds: np.ndarray) -> str:
+    if len(ii):
+        return "written"
+    x0, y0, x1, y1 = roi.bounds
+    outside = (not np.all(np.isfinite(bounds)) or x1 < bounds[0] or x0 > bounds[2]
+               or y1 < bounds[1] or y0 > bounds[3])
+    return "missed" if outside else "empty"
+
+
+def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
+                     output_folder: Union[str, Path], fmt: str = "same",
+                     z_min: Optional[float] = None, z_max: Optional[float] = None,
+                     write_empty: bool = False, crs=None, progress=None, is_cancelled=None,
+                     chunk_size: int = 4_000_000) -> CropResult:
+    """Crop ``cloud`` (a PointCloud or a .las/.laz/.ply path) by every ROI; one file per ROI.
+
+    ``fmt``: 'same' (the input's format; LAS for in-memory clouds), 'las', 'laz' or 'ply'.
+    Files are named from the ROI names (safe and unique) in ``output_folder`` and written
+    atomically; LAS → LAS/LAZ copies the point records bit for bit with the source header.
+    ``crs`` is the cloud's CRS when it is a path (required for PLY; overrides the LAS record).
+    Empty ROIs get a file only with ``write_empty``. On cancellation every file this call wrote
+    is removed and :class:`Cancelled` is raised.
+    """
+    prog = as_progress(progress, is_cancelled)
+    cloud = as_cloud(cloud, crs)
+    fmt = (fmt or "same").lower()
+    if fmt == "same":
+        fmt = cloud.fmt if cloud.fmt in EXT else "las"
+    if fmt not in EXT:
+        raise InputError(f"Output format {fmt!r} is not supported: use same, las, laz or ply.")
+    folder = Path(output_folder)
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"Output folder {str(folder)!r} is a file: choose a folder.")
+    folder.mkdir(parents=True, exist_ok=True)
+    stems = unique_names(r.name for r in rois)
+    targets = [folder / (stem + EXT[fmt]) for stem in stems]
+    for t in targets:
+        check_not_inputs(t, [cloud.path])
+
+    idx, bounds, rois = crop_indices(cloud, rois, z_min, z_max, prog.sub(0, 50), None, chunk_size)
+    result = CropResult(folder, [CropItem(r.name, s, len(ii), _status(r, ii, bounds))
+                                 for r, s, ii in zip(rois, stems, idx)])
+    todo = [(item, t, ii) for item, t, ii in zip(result.items, targets, idx)
+            if len(ii) or (write_empty and item.status == "empty")]
+    wprog = prog.sub(50, 100)
+    if todo and len(cloud.records) and any(len(ii) for _, _, ii in todo):
+        # gather every kept record once, in file order, then serve each ROI from that copy
+        kept = np.unique(np.concatenate([ii for _, _, ii in todo]))
+        compact = cloud.take_sorted(kept)
+        todo = [(item, t, np.searchsorted(kept, ii)) for item, t, ii in todo]
+        cloud = compact
+    try:
+        for i, (item, target, ii) in enumerate(todo):
+            wprog.check()
+            write_point_cloud(cloud, target, index=ii)
+            item.file = target
+            wprog.set(100.0 * (i + 1) / len(todo))
+    except Cancelled:
+        for f in result.files.values():
+            try:
+                f.unlink()
+            except FileNotFoundError:
+                pass
+        raise
+    return result
