@@ -4,6 +4,62 @@
   <context>
     <name>EasyIDP</name>
     <message>
+      <source>Camera positions and footprints</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Photogrammetry projects</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, .psz, or an exported cameras .xml) or a Pix4D project (.p4d, the project folder or its 1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) and draws, for every aligned camera, its position and the part of the ground its photo sees. Run it first to check that a project was read right.
+
+The footprint is the photo border (densified, with the lens distortion) cast onto the DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo path, enabled, height above ground (m), view angle from nadir (degrees), and for footprints the area (m²) and whether the whole border reached the ground.
+
+Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D params folder without *_wkt.prj needs the project CRS. Heights of the DSM or the ground height must be in the project's vertical reference (for a Metashape chunk in a geographic CRS: ellipsoidal heights).</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Output CRS (default: the project CRS)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Metashape chunk (label or index; needed when there are several)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Project CRS (Pix4D projects without a *_wkt.prj file)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>DSM (GeoTIFF) for the footprints</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Ground height when no DSM is given (project vertical reference)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Camera positions</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Camera footprints</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>DSM</source>
+      <translation>DSM</translation>
+    </message>
+    <message>
+      <source>Give a DSM or a ground height: the footprints are where the photos meet the ground.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
       <source>Crop raster by ROIs</source>
       <translation>按感兴趣区裁剪栅格</translation>
     </message>
@@ -101,10 +157,6 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
     <message>
       <source>ROIs with heights</source>
       <translation>带高度的感兴趣区</translation>
-    </message>
-    <message>
-      <source>DSM</source>
-      <translation>DSM</translation>
     </message>
   </context>
 </TS>

@@ -1,5 +1,6 @@
 """One module per Processing tool; ALGORITHMS lists the classes the provider registers."""
+from .camera_footprints import CameraFootprints
 from .crop_raster_by_rois import CropRasterByROIs
 from .roi_heights_from_dsm import ROIHeightsFromDSM
 
-ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM]
+ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints]

@@ -65,3 +65,12 @@ def test_model_chaining_both_tools_runs_headless(qp_env, realdata, tmp_path):
     results = json.loads(proc.stdout)["results"]
     assert Path(results["heights:plots_with_heights"]).exists()
     assert len(list((tmp_path / "crops").glob("*.tif"))) == 20
+
+
+def test_camera_footprints_headless(qp_env, realdata, tmp_path):
+    res = run_algorithm("easyidp:camerafootprints", {
+        "PROJECT": realdata / "easyidp/metashape/wheat_tanashi.psx", "GROUND_HEIGHT": 97,
+        "OUTPUT_CAMERAS": tmp_path / "cams.gpkg", "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"}, qp_env)
+    from osgeo import ogr
+    ds = ogr.Open(res["OUTPUT_FOOTPRINTS"])
+    assert ds.GetLayer(0).GetFeatureCount() == 138
