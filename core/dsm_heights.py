@@ -17,6 +17,7 @@ from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
 
 STATISTICS = ("mean", "median", "min", "max", "percentile")
 SAMPLING = ("nearest", "bilinear")
+SAMPLE_CELL = 256  # pixels: points are read from the DSM in windows of at most this size (+1)
 
 
 @dataclass
@@ -46,44 +47,73 @@ def sample_points(dsm, x: np.ndarray, y: np.ndarray, method: str = "bilinear", p
 
     ``nearest``: the pixel containing the point. ``bilinear``: interpolation between the four
     nearest pixel centres, with the weights of nodata neighbours dropped (NaN if all are nodata).
-    ``dsm`` is a path or an opened :class:`GeoTiff`.
+    ``dsm`` is a path or an opened :class:`GeoTiff`. Points are read in groups (one window per
+    occupied cell of ``SAMPLE_CELL`` pixels), so millions of dense points (a point cloud's
+    ground) cost one read of the pixels under them, not one window each.
     """
     if method not in SAMPLING:
         raise ValueError(f"sampling must be one of {SAMPLING}, not {method!r}")
     tif = dsm if isinstance(dsm, GeoTiff) else open_geotiff(dsm)
     _single_band(tif)
     col, row = tif.map_to_pixel(np.ravel(x), np.ravel(y))
+    col, row = np.asarray(col, np.float64), np.asarray(row, np.float64)
     out = np.full(col.shape, np.nan)
-    if method == "nearest":
-        c0, r0 = np.floor(col).astype(np.int64), np.floor(row).astype(np.int64)
-        span = 1
-    else:
-        c0, r0 = np.floor(col - 0.5).astype(np.int64), np.floor(row - 0.5).astype(np.int64)
-        span = 2
-    # windows of span x span pixels, clipped to the raster; points fully outside keep NaN
-    wc0, wr0 = np.clip(c0, 0, tif.width - 1), np.clip(r0, 0, tif.height - 1)
-    wc1, wr1 = np.clip(c0 + span, 1, tif.width), np.clip(r0 + span, 1, tif.height)
     inside = (col >= 0) & (col <= tif.width) & (row >= 0) & (row <= tif.height)
-    idx = np.flatnonzero(inside & (wc1 > wc0) & (wr1 > wr0))
-    windows = [Window(int(wr0[i]), int(wc0[i]), int(wr1[i] - wr0[i]), int(wc1[i] - wc0[i])) for i in idx]
+    idx = np.flatnonzero(inside)
+    if not len(idx):
+        return out.reshape(np.shape(x))
+    if method == "nearest":  # the pixel containing the point (the last one on the far edges)
+        c0 = np.clip(np.floor(col[idx]), 0, tif.width - 1).astype(np.int64)
+        r0 = np.clip(np.floor(row[idx]), 0, tif.height - 1).astype(np.int64)
+        span = 1
+    else:  # the 2 x 2 pixel centres around the point; those outside the raster get no weight
+        c0 = np.floor(col[idx] - 0.5).astype(np.int64)
+        r0 = np.floor(row[idx] - 0.5).astype(np.int64)
+        span = 2
+    # one window per occupied cell: the pixels under that cell's points, clipped to the raster
+    cell = (r0 // SAMPLE_CELL) * (tif.width // SAMPLE_CELL + 2) + (c0 // SAMPLE_CELL)
+    order = np.argsort(cell, kind="stable")
+    bounds = np.flatnonzero(np.diff(cell[order])) + 1
+    groups = np.split(order, bounds)
+    windows = []
+    for g in groups:
+        wr0, wc0 = max(int(r0[g].min()), 0), max(int(c0[g].min()), 0)
+        wr1 = min(int(r0[g].max()) + span, tif.height)
+        wc1 = min(int(c0[g].max()) + span, tif.width)
+        windows.append(Window(wr0, wc0, wr1 - wr0, wc1 - wc0))
 
     def consume(k: int, arr: np.ndarray) -> None:
-        i = idx[k]
-        vals = arr[..., 0].astype(np.float64)
-        ok = _valid(tif, arr[..., 0])
+        g, w = groups[k], windows[k]
+        vals = arr[..., 0]
+        ok_px = _valid(tif, vals)
+        total = np.zeros(len(g))
+        weight = np.zeros(len(g))
         if method == "nearest":
-            out[i] = vals[0, 0] if ok[0, 0] else np.nan
-            return
-        fc, fr = col[i] - 0.5 - c0[i], row[i] - 0.5 - r0[i]
-        wts = np.outer([1 - fr, fr], [1 - fc, fc])
-        # the window was clipped at the raster edge: align weights with the pixels present
-        rs = slice(wr0[i] - r0[i], wr0[i] - r0[i] + arr.shape[0])
-        cs = slice(wc0[i] - c0[i], wc0[i] - c0[i] + arr.shape[1])
-        w = wts[rs, cs] * ok
-        out[i] = float((w * np.where(ok, vals, 0)).sum() / w.sum()) if w.sum() > 0 else np.nan
+            offsets = [(0, 0, np.ones(len(g)))]
+        else:
+            fc = col[idx[g]] - 0.5 - c0[g]
+            fr = row[idx[g]] - 0.5 - r0[g]
+            offsets = [(0, 0, (1 - fr) * (1 - fc)), (0, 1, (1 - fr) * fc),
+                       (1, 0, fr * (1 - fc)), (1, 1, fr * fc)]
+        for dr, dc, wt in offsets:
+            r, c = r0[g] + dr - w.row, c0[g] + dc - w.col
+            there = (r >= 0) & (r < w.rows) & (c >= 0) & (c < w.cols)
+            rc, cc = np.where(there, r, 0), np.where(there, c, 0)
+            ok = there & ok_px[rc, cc]
+            wt = np.where(ok, wt, 0.0)
+            total += wt * np.where(ok, vals[rc, cc].astype(np.float64), 0.0)
+            weight += wt
+        if method == "nearest":
+            out[idx[g]] = np.where(weight > 0, total, np.nan)
+        else:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                out[idx[g]] = np.where(weight > 0, total / np.where(weight > 0, weight, 1), np.nan)
 
     prog = as_progress(progress, is_cancelled)
-    if windows:
+    keep = [k for k, w in enumerate(windows) if w.rows > 0 and w.cols > 0]
+    if keep:
+        groups = [groups[k] for k in keep]
+        windows = [windows[k] for k in keep]
         with thread_pool() as pool:
             sweep_windows(tif, windows, consume, prog, pool)
     return out.reshape(np.shape(x))

@@ -2,7 +2,8 @@
 import os
 
 from qgis.core import (QgsCoordinateReferenceSystem, QgsFeatureRequest, QgsProcessingException,
-                       QgsWkbTypes)
+                       QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterFile, QgsProcessingParameterNumber, QgsWkbTypes)
 
 from ..core.roi import ROISet, roi_from_coordinates
 
@@ -33,6 +34,32 @@ def geotiff_source(layer, label: str) -> str:
             f"{label}: {path} is not a GeoTIFF (it is read by GDAL as {driver or 'another format'}). "
             "Convert it to GeoTIFF first (Raster ▸ Conversion ▸ Translate).")
     return path
+
+
+def dsm_ground(layer, label: str, points_crs=None):
+    """``ground(x, y) -> z``: bilinear heights of a DSM/DTM raster layer (NaN outside it or on
+    nodata) at points given in ``points_crs`` (a pyproj CRS), transformed to the DSM's CRS when
+    they differ; ``points_crs=None`` takes the points to be in the DSM's own frame."""
+    import numpy as np
+    from ..core.crs import same_crs, transform_xy
+    from ..core.dsm_heights import sample_points
+    from ..core.geotiff import open_geotiff
+
+    dsm = open_geotiff(geotiff_source(layer, label), crs=crs_string(layer.crs()))
+    if dsm.crs is None or points_crs is None or same_crs(dsm.crs, points_crs):
+        return lambda x, y: sample_points(dsm, x, y)
+
+    def ground(x, y):
+        xy = transform_xy(points_crs, dsm.crs, np.column_stack([np.ravel(x), np.ravel(y)]))
+        return sample_points(dsm, xy[:, 0], xy[:, 1]).reshape(np.shape(x))
+    return ground
+
+
+def optional_number(alg, parameters, name: str, context):
+    """The value of an optional number parameter, or None when it is not set."""
+    if parameters.get(name) in (None, ""):
+        return None
+    return alg.parameterAsDouble(parameters, name, context)
 
 
 def rois_from_source(source, name_field: str, label: str, feedback=None):
@@ -66,3 +93,57 @@ def rois_from_source(source, name_field: str, label: str, feedback=None):
         if feedback is not None:
             feedback.setProgress(5.0 * k / total)
     return ROISet(rois, crs_string(source.sourceCrs())), features
+
+
+# ---- point clouds: the INPUT / INPUT_CRS / Z_MIN / Z_MAX parameters the point-cloud tools share
+
+POINT_CLOUD_FILTER = "Point clouds (*.las *.laz *.ply *.LAS *.LAZ *.PLY);;All files (*.*)"
+
+
+def add_point_cloud_parameters(alg):
+    """INPUT (a .las/.laz/.ply file: no point cloud layers on QGIS without PDAL) and INPUT_CRS."""
+    alg.addParameter(QgsProcessingParameterFile(
+        alg.INPUT, alg.tr("Point cloud (.las, .laz or .ply)"),
+        behavior=QgsProcessingParameterFile.File, fileFilter=POINT_CLOUD_FILTER))
+    alg.addParameter(QgsProcessingParameterCrs(
+        alg.INPUT_CRS, alg.tr("Point cloud CRS (needed for PLY and for LAS without a CRS; "
+                              "otherwise read from the file)"), optional=True))
+
+
+def read_point_cloud_parameter(alg, parameters, context, feedback):
+    """The INPUT point cloud, read with INPUT_CRS when given (it replaces a LAS file's own CRS)."""
+    from ..core.crs import same_crs
+    from ..core.pointcloud import read_point_cloud
+
+    path = alg.parameterAsFile(parameters, alg.INPUT, context)
+    if not path:
+        raise QgsProcessingException("Point cloud: no file given.")
+    qcrs = alg.parameterAsCrs(parameters, alg.INPUT_CRS, context)
+    cloud = read_point_cloud(path, crs_string(qcrs))
+    name = os.path.basename(path)
+    if qcrs.isValid() and cloud.file_crs is not None and not same_crs(cloud.file_crs, cloud.crs):
+        feedback.pushWarning(f"The point cloud CRS given ({qcrs.authid() or qcrs.description()}) "
+                             f"replaces the CRS stored in {name} ({cloud.file_crs.name}).")
+    crs = cloud.crs.name if cloud.crs is not None else "no CRS"
+    feedback.pushInfo(f"{name}: {len(cloud):,} points ({cloud.fmt.upper()}), {crs}.")
+    return cloud
+
+
+def add_z_range_parameters(alg):
+    """Advanced, optional Z_MIN and Z_MAX."""
+    for name, label in ((alg.Z_MIN, alg.tr("Lowest Z to keep (cloud Z units; empty: no limit)")),
+                        (alg.Z_MAX, alg.tr("Highest Z to keep (cloud Z units; empty: no limit)"))):
+        p = QgsProcessingParameterNumber(name, label, QgsProcessingParameterNumber.Double,
+                                         optional=True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        alg.addParameter(p)
+
+
+def z_range(alg, parameters, context):
+    """(z_min, z_max) from Z_MIN / Z_MAX, None where not set."""
+    z_min = optional_number(alg, parameters, alg.Z_MIN, context)
+    z_max = optional_number(alg, parameters, alg.Z_MAX, context)
+    if z_min is not None and z_max is not None and z_min > z_max:
+        raise QgsProcessingException(f"Z range: the lowest Z to keep ({z_min:g}) is above the "
+                                     f"highest ({z_max:g}).")
+    return z_min, z_max

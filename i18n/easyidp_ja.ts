@@ -60,12 +60,74 @@ Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D para
       <translation type="unfinished" />
     </message>
     <message>
-      <source>Crop raster by ROIs</source>
-      <translation>ROI でラスタを切り出し</translation>
+      <source>Crop point cloud by ROIs</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Cropping</source>
       <translation>切り出し</translation>
+    </message>
+    <message>
+      <source>Cuts every ROI (plot, tree, plant polygon) out of a point cloud (.las, .laz or .ply, e.g. the dense cloud of Pix4D or Metashape) into one file per ROI in the output folder, named after the name field (made safe for file names and unique).
+
+A point belongs to an ROI when its x, y is inside the polygon (holes and multipart polygons honoured) and, if set, its Z is within the Z range (advanced: e.g. to drop noise below the ground or above the canopy). A point inside overlapping ROIs goes to each. The cloud is read once and every point is tested only against the ROIs near it, so thousands of ROIs on a large cloud are fast.
+
+Every point attribute is kept (colour, intensity, classification, returns, GPS time, normals, extra dimensions) with the exact coordinates. LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a CRS). ROIs in another CRS are reprojected to the cloud's.
+
+ROIs outside the cloud are named in the log and skipped; ROIs over the cloud without any point are reported and get no file unless 'Write empty files' is checked. Cropped LAS/LAZ files load into the map when this QGIS can display point clouds (PDAL provider).</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Write empty files for ROIs without any point</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>ROIs</source>
+      <translation>ROI</translation>
+    </message>
+    <message>
+      <source>ROIs (polygons)</source>
+      <translation>ROI（ポリゴン）</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名前フィールド（既定：地物 ID）</translation>
+    </message>
+    <message>
+      <source>Output format</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Output folder</source>
+      <translation>出力フォルダ</translation>
+    </message>
+    <message>
+      <source>Cropped point clouds</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Number of ROIs cropped</source>
+      <translation>切り出した ROI の数</translation>
+    </message>
+    <message>
+      <source>Number of ROIs without points</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Number of ROIs outside the cloud</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>The cropped point clouds are not loaded into the map: this QGIS has no point cloud provider (PDAL). Open them from the output folder (e.g. in CloudCompare).</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>PLY crops are not loaded into the map; open them from the output folder.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Crop raster by ROIs</source>
+      <translation>ROI でラスタを切り出し</translation>
     </message>
     <message>
       <source>Cuts every ROI (plot, tree, plant polygon) out of a GeoTIFF raster: an orthomosaic (DOM), a surface model (DSM) or a multispectral map, into one GeoTIFF per ROI in the output folder, named after the name field (made safe for file names and unique).
@@ -82,44 +144,70 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
       <translation>ラスタ</translation>
     </message>
     <message>
-      <source>ROIs</source>
-      <translation>ROI</translation>
-    </message>
-    <message>
       <source>Raster (GeoTIFF: orthomosaic, DSM or multispectral)</source>
       <translation>ラスタ（GeoTIFF：オルソモザイク、DSM またはマルチスペクトル）</translation>
-    </message>
-    <message>
-      <source>ROIs (polygons)</source>
-      <translation>ROI（ポリゴン）</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名前フィールド（既定：地物 ID）</translation>
-    </message>
-    <message>
-      <source>Output folder</source>
-      <translation>出力フォルダ</translation>
     </message>
     <message>
       <source>Cropped rasters</source>
       <translation>切り出したラスタ</translation>
     </message>
     <message>
-      <source>Number of ROIs cropped</source>
-      <translation>切り出した ROI の数</translation>
-    </message>
-    <message>
       <source>Number of ROIs skipped</source>
       <translation>スキップした ROI の数</translation>
     </message>
     <message>
-      <source>ROI heights from DSM</source>
-      <translation>DSM から ROI の高さを取得</translation>
+      <source>Point cloud statistics per ROI</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Heights</source>
       <translation>高さ</translation>
+    </message>
+    <message>
+      <source>For every ROI (plot, tree, plant polygon), the points of a point cloud (.las, .laz or .ply) inside it and their heights above the ground: canopy height, its percentiles and the point density, e.g. for plant height or biomass models.
+
+The result is the ROI layer with its attributes and: count (points inside), density (points per square unit of the cloud's CRS: per m² for a cloud in metres), z_min, z_mean, z_max (the points' Z), ground (the mean ground Z under the points), h_mean, h_max and h_pNN (height above the ground: Z minus ground) for each height percentile asked (default 5, 50, 95, 99; p99 is a robust canopy top).
+
+Ground: a DSM/DTM raster sampled under every point (a bare-soil DSM flown before emergence, or a DTM); or a single ground height; or, with neither, each ROI's own lowest points: the given percentile of its Z (advanced, default 1). The raster and the height must be in the cloud's Z units and vertical reference.
+
+LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a CRS). ROIs in another CRS are reprojected. ROIs without any point are named in the log; their count and density are 0 and their Z and heights empty (NULL), never 0.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Ground without raster or height: this percentile of each ROI's Z</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Ground: DSM/DTM raster (GeoTIFF; optional)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Height percentiles (comma separated)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>ROIs with point cloud statistics</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Ground: give either a DSM/DTM raster or one ground height, not both.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Ground DSM/DTM</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>The ROI layer's own fields with the names of the statistics are replaced by the new values.</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>ROI heights from DSM</source>
+      <translation>DSM から ROI の高さを取得</translation>
     </message>
     <message>
       <source>Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as the attribute 'height' (in the DSM's units and vertical reference). The result is the ROI layer as PolygonZ, ready for backward projection into raw photos.
@@ -157,6 +245,22 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
     <message>
       <source>ROIs with heights</source>
       <translation>高さ付き ROI</translation>
+    </message>
+    <message>
+      <source>Point cloud (.las, .laz or .ply)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Highest Z to keep (cloud Z units; empty: no limit)</source>
+      <translation type="unfinished" />
     </message>
   </context>
 </TS>

@@ -10,7 +10,7 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
-from ..layers import crs_string, geotiff_source
+from ..layers import crs_string, dsm_ground
 from .base import EasyIDPAlgorithm
 
 
@@ -69,9 +69,6 @@ class CameraFootprints(EasyIDPAlgorithm):
             self.OUTPUT_FOOTPRINTS, self.tr("Camera footprints"), QgsProcessing.TypeVectorPolygon))
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.crs import same_crs, transform_xy
-        from ...core.dsm_heights import sample_points
-        from ...core.geotiff import open_geotiff
         from ...core.reconstruction import camera_footprints, open_reconstruction
 
         path = self.parameterAsFile(parameters, self.PROJECT, context)
@@ -93,14 +90,7 @@ class CameraFootprints(EasyIDPAlgorithm):
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         if layer is not None:
-            dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
-            if dsm.crs is not None and not recon.is_local and not same_crs(dsm.crs, recon.crs):
-                def ground(x, y):
-                    xy = transform_xy(recon.crs, dsm.crs, np.column_stack([x, y]))
-                    return sample_points(dsm, xy[:, 0], xy[:, 1])
-            else:
-                def ground(x, y):
-                    return sample_points(dsm, x, y)
+            ground = dsm_ground(layer, self.tr("DSM"), None if recon.is_local else recon.crs)
         elif parameters.get(self.GROUND_HEIGHT) not in (None, ""):
             ground = self.parameterAsDouble(parameters, self.GROUND_HEIGHT, context)
         else:

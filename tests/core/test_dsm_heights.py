@@ -130,3 +130,39 @@ def test_real_vertex_heights_on_lonlat_rois(realdata):
     res = roi_heights(str(realdata / "d2spy/dsm.tif"), rois, mode="vertex")
     z = np.concatenate([r for p in res.values[0] for r in p])
     assert np.isfinite(z).all() and (187.9 < z).all() and (z < 188.4).all()
+
+
+def test_dense_points_over_many_blocks_match_the_pixel_rule(tmp_path):
+    """Points read in grouped windows (several 256-pixel cells, nodata, raster edges) give what the
+    documented rule gives point by point."""
+    rng = np.random.default_rng(3)
+    z = rng.normal(50, 3, (300, 600)).astype(np.float32)
+    z[rng.random(z.shape) < 0.2] = -9999
+    path = write_tif(str(tmp_path / "d.tif"), z, origin=O, pixel=0.5, nodata=-9999, tile=32)
+    x = O[0] + rng.uniform(-2, 302, 3000)
+    y = O[1] - rng.uniform(-2, 152, 3000)
+    x[:4], y[:4] = [O[0], O[0] + 300, O[0] + 0.25, O[0] + 300], [O[1], O[1] - 150, O[1] - 0.25, O[1]]
+    col, row = (x - O[0]) / 0.5, (O[1] - y) / 0.5
+
+    def pixel(r, c):
+        return z[r, c] if 0 <= r < 300 and 0 <= c < 600 and z[r, c] != -9999 else None
+
+    near, bil = [], []
+    for c, r in zip(col, row):
+        if not (0 <= c <= 600 and 0 <= r <= 300):
+            near.append(np.nan)
+            bil.append(np.nan)
+            continue
+        v = pixel(min(int(np.floor(r)), 299), min(int(np.floor(c)), 599))
+        near.append(np.nan if v is None else v)
+        c0, r0 = int(np.floor(c - 0.5)), int(np.floor(r - 0.5))
+        fc, fr = c - 0.5 - c0, r - 0.5 - r0
+        num = den = 0.0
+        for dr, dc, w in ((0, 0, (1 - fr) * (1 - fc)), (0, 1, (1 - fr) * fc),
+                          (1, 0, fr * (1 - fc)), (1, 1, fr * fc)):
+            v = pixel(r0 + dr, c0 + dc)
+            if v is not None:
+                num, den = num + w * v, den + w
+        bil.append(num / den if den > 0 else np.nan)
+    np.testing.assert_allclose(sample_points(path, x, y, "nearest"), near, atol=1e-9)
+    np.testing.assert_allclose(sample_points(path, x, y, "bilinear"), bil, atol=1e-9)

@@ -74,3 +74,40 @@ def test_camera_footprints_headless(qp_env, realdata, tmp_path):
     from osgeo import ogr
     ds = ogr.Open(res["OUTPUT_FOOTPRINTS"])
     assert ds.GetLayer(0).GetFeatureCount() == 138
+
+
+def _plots_geojson(path):
+    """Two plots over autzen_trim.laz and one beside it, in EPSG:2994 (a legacy GeoJSON crs)."""
+    boxes = {"p1": (636100.013, 849000.017, 636300.029, 849180.031),
+             "p2": (636500.011, 849050.013, 636800.037, 849350.019),
+             "far": (640000.01, 849000.01, 640100.01, 849100.01)}
+    feats = [{"type": "Feature", "properties": {"plot": k},
+              "geometry": {"type": "Polygon", "coordinates": [[[x0, y0], [x1, y0], [x1, y1],
+                                                               [x0, y1], [x0, y0]]]}}
+             for k, (x0, y0, x1, y1) in boxes.items()]
+    path.write_text(json.dumps({"type": "FeatureCollection", "features": feats, "crs": {
+        "type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::2994"}}}))
+    return path
+
+
+def test_crop_point_cloud_to_las(qp_env, realdata, tmp_path):
+    res = run_algorithm("easyidp:croppointcloudbyrois", {
+        "INPUT": realdata / "laspy/autzen_trim.laz", "ROIS": _plots_geojson(tmp_path / "plots.geojson"),
+        "NAME_FIELD": "plot", "FORMAT": 1, "OUTPUT_FOLDER": tmp_path / "crops"}, qp_env)
+    assert (res["CROPPED"], res["EMPTY"], res["MISSED"]) == (2, 0, 1)
+    assert sorted(os.path.basename(f) for f in res["OUTPUT_FILES"]) == ["p1.las", "p2.las"]
+    import laspy
+    assert all(len(laspy.read(f).points) > 1000 for f in res["OUTPUT_FILES"])
+
+
+def test_point_cloud_statistics_to_geopackage(qp_env, realdata, tmp_path):
+    out = tmp_path / "stats.gpkg"
+    run_algorithm("easyidp:pointcloudroistatistics", {
+        "INPUT": realdata / "laspy/autzen_trim.laz", "ROIS": _plots_geojson(tmp_path / "plots.geojson"),
+        "GROUND_HEIGHT": 400, "PERCENTILES": "50,95", "OUTPUT": out}, qp_env)
+    from osgeo import ogr
+    ds = ogr.Open(str(out))  # keep the data source alive while its features are used
+    rows = {f.GetField("plot"): f for f in ds.GetLayer(0)}
+    assert rows["p1"].GetField("count") > 1000 and rows["far"].GetField("count") == 0
+    assert rows["p1"].GetField("ground") == 400 and rows["p1"].GetField("h_p95") > 0
+    assert not rows["far"].IsFieldSetAndNotNull("h_p95")

@@ -1,0 +1,143 @@
+"""Processing tool: Crop point cloud by ROIs (easyidp:croppointcloudbyrois)."""
+import os
+
+from qgis.core import (QgsProcessing, QgsProcessingContext, QgsProcessingException,
+                       QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
+                       QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterField, QgsProcessingParameterFolderDestination,
+                       QgsProcessingUtils, QgsProviderRegistry)
+
+from ..layers import (add_point_cloud_parameters, add_z_range_parameters,
+                      read_point_cloud_parameter, rois_from_source, z_range)
+from .base import EasyIDPAlgorithm
+from .crop_raster_by_rois import MAX_LAYERS_TO_LOAD
+
+FORMATS = [("same", "Same as input"), ("las", "LAS"), ("laz", "LAZ (compressed LAS)"),
+           ("ply", "PLY")]
+
+
+def point_cloud_provider_available() -> bool:
+    """True when this QGIS can open LAS/LAZ files as layers (it has the PDAL provider)."""
+    return "pdal" in QgsProviderRegistry.instance().providerList()
+
+
+class CropPointCloudByROIs(EasyIDPAlgorithm):
+    INPUT = "INPUT"
+    INPUT_CRS = "INPUT_CRS"
+    ROIS = "ROIS"
+    NAME_FIELD = "NAME_FIELD"
+    Z_MIN = "Z_MIN"
+    Z_MAX = "Z_MAX"
+    WRITE_EMPTY = "WRITE_EMPTY"
+    FORMAT = "FORMAT"
+    OUTPUT_FOLDER = "OUTPUT_FOLDER"
+    OUTPUT_FILES = "OUTPUT_FILES"
+    CROPPED = "CROPPED"
+    EMPTY = "EMPTY"
+    MISSED = "MISSED"
+
+    NAME = "croppointcloudbyrois"
+    DISPLAY = "Crop point cloud by ROIs"
+    GROUP = "Cropping"
+    GROUP_ID = "cropping"
+    HELP = (
+        "Cuts every ROI (plot, tree, plant polygon) out of a point cloud (.las, .laz or .ply, e.g. "
+        "the dense cloud of Pix4D or Metashape) into one file per ROI in the output folder, named "
+        "after the name field (made safe for file names and unique).\n\n"
+        "A point belongs to an ROI when its x, y is inside the polygon (holes and multipart "
+        "polygons honoured) and, if set, its Z is within the Z range (advanced: e.g. to drop noise "
+        "below the ground or above the canopy). A point inside overlapping ROIs goes to each. The "
+        "cloud is read once and every point is tested only against the ROIs near it, so thousands "
+        "of ROIs on a large cloud are fast.\n\n"
+        "Every point attribute is kept (colour, intensity, classification, returns, GPS time, "
+        "normals, extra dimensions) with the exact coordinates. LAS/LAZ files carry their CRS; a "
+        "PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a "
+        "CRS). ROIs in another CRS are reprojected to the cloud's.\n\n"
+        "ROIs outside the cloud are named in the log and skipped; ROIs over the cloud without any "
+        "point are reported and get no file unless 'Write empty files' is checked. Cropped LAS/LAZ "
+        "files load into the map when this QGIS can display point clouds (PDAL provider).")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        add_point_cloud_parameters(self)
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+        self.addParameter(QgsProcessingParameterField(
+            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
+            parentLayerParameterName=self.ROIS, optional=True))
+        add_z_range_parameters(self)
+        p = QgsProcessingParameterBoolean(
+            self.WRITE_EMPTY, self.tr("Write empty files for ROIs without any point"), False)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterEnum(
+            self.FORMAT, self.tr("Output format"), options=[self.tr(f[1]) for f in FORMATS],
+            defaultValue=0))
+        self.addParameter(QgsProcessingParameterFolderDestination(
+            self.OUTPUT_FOLDER, self.tr("Output folder")))
+        self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
+                                                         self.tr("Cropped point clouds")))
+        self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
+        self.addOutput(QgsProcessingOutputNumber(self.EMPTY, self.tr("Number of ROIs without points")))
+        self.addOutput(QgsProcessingOutputNumber(self.MISSED,
+                                                 self.tr("Number of ROIs outside the cloud")))
+
+    def run_tool(self, parameters, context, feedback):
+        from ...core.pointcloud import crop_point_cloud
+
+        cloud = read_point_cloud_parameter(self, parameters, context, feedback)
+        source = self.parameterAsSource(parameters, self.ROIS, context)
+        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
+        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        z_min, z_max = z_range(self, parameters, context)
+        fmt = FORMATS[self.parameterAsEnum(parameters, self.FORMAT, context)][0]
+        folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
+        write_empty = self.parameterAsBool(parameters, self.WRITE_EMPTY, context)
+        feedback.pushInfo(self.tr(f"Cropping {len(rois)} ROIs into {folder}"))
+        result = crop_point_cloud(
+            cloud, rois, folder, fmt=fmt, z_min=z_min, z_max=z_max, write_empty=write_empty,
+            progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+        if result.items and len(result.missed) == len(result.items):
+            raise QgsProcessingException(self.tr(
+                f"None of the {len(result.items)} ROIs overlaps the point cloud: check that the "
+                "ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has "
+                "none or a wrong one)."))
+        for message in result.messages:
+            feedback.pushWarning(message)
+        written = [item for item in result.items if item.file is not None]
+        cropped = sum(item.status == "written" for item in result.items)
+        points = sum(item.count for item in result.items if item.status == "written")
+        feedback.pushInfo(self.tr(f"{cropped} ROIs cropped ({points:,} points), "
+                                  f"{len(result.empty)} without points, {len(result.missed)} "
+                                  "outside the cloud."))
+        self._load(written, os.path.splitext(os.path.basename(str(cloud.path)))[0], context,
+                   feedback)
+        return {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: [str(i.file) for i in written],
+                self.CROPPED: cropped, self.EMPTY: len(result.empty),
+                self.MISSED: len(result.missed)}
+
+    def _load(self, written, cloud_name, context, feedback):
+        """Queue LAS/LAZ crops for loading into the map where QGIS has a point cloud provider."""
+        if not written:
+            return
+        if not point_cloud_provider_available():
+            feedback.pushInfo(self.tr("The cropped point clouds are not loaded into the map: this "
+                                      "QGIS has no point cloud provider (PDAL). Open them from the "
+                                      "output folder (e.g. in CloudCompare)."))
+            return
+        if context.project() is None:
+            return
+        las = [i for i in written if i.file.suffix.lower() in (".las", ".laz")]
+        if len(las) < len(written):
+            feedback.pushInfo(self.tr("PLY crops are not loaded into the map; open them from the "
+                                      "output folder."))
+        if len(las) > MAX_LAYERS_TO_LOAD:
+            feedback.pushInfo(self.tr(f"More than {MAX_LAYERS_TO_LOAD} crops: they are not loaded "
+                                      "into the map; open them from the output folder."))
+            return
+        for item in las:
+            details = QgsProcessingContext.LayerDetails(f"{cloud_name} – {item.name}",
+                                                        context.project(), self.OUTPUT_FILES)
+            if hasattr(details, "layerTypeHint"):  # QGIS ≥ 3.26
+                details.layerTypeHint = QgsProcessingUtils.LayerHint.PointCloud
+            context.addLayerToLoadOnCompletion(os.path.abspath(str(item.file)), details)

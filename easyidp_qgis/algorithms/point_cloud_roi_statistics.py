@@ -1,0 +1,177 @@
+"""Processing tool: Point cloud statistics per ROI (easyidp:pointcloudroistatistics)."""
+import math
+import re
+
+from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProcessing,
+                       QgsProcessingException, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
+                       QgsProcessingParameterString)
+from qgis.PyQt.QtCore import QVariant
+
+from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
+                      optional_number, read_point_cloud_parameter, rois_from_source, z_range)
+from .base import EasyIDPAlgorithm
+
+FIXED_FIELDS = [("count", QVariant.LongLong), ("density", QVariant.Double),
+                ("z_min", QVariant.Double), ("z_mean", QVariant.Double), ("z_max", QVariant.Double),
+                ("ground", QVariant.Double), ("h_mean", QVariant.Double), ("h_max", QVariant.Double)]
+
+
+def parse_percentiles(text: str):
+    """'5, 50 95;99' → [5.0, 50.0, 95.0, 99.0] (order kept, duplicates dropped)."""
+    out = []
+    for token in re.split(r"[,;\s]+", (text or "").strip()):
+        if not token:
+            continue
+        try:
+            q = float(token)
+        except ValueError:
+            q = math.nan
+        if not 0 <= q <= 100:
+            raise QgsProcessingException(
+                f"Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
+                "separated by commas, e.g. 5,50,95,99.")
+        if q not in out:
+            out.append(q)
+    return out
+
+
+def percentile_field(q: float) -> str:
+    """The attribute name of a height percentile: h_p95, h_p99_5."""
+    return f"h_p{q:g}".replace(".", "_")
+
+
+class PointCloudROIStatistics(EasyIDPAlgorithm):
+    INPUT = "INPUT"
+    INPUT_CRS = "INPUT_CRS"
+    ROIS = "ROIS"
+    GROUND_DSM = "GROUND_DSM"
+    GROUND_HEIGHT = "GROUND_HEIGHT"
+    GROUND_PERCENTILE = "GROUND_PERCENTILE"
+    PERCENTILES = "PERCENTILES"
+    Z_MIN = "Z_MIN"
+    Z_MAX = "Z_MAX"
+    OUTPUT = "OUTPUT"
+
+    NAME = "pointcloudroistatistics"
+    DISPLAY = "Point cloud statistics per ROI"
+    GROUP = "Heights"
+    GROUP_ID = "heights"
+    HELP = (
+        "For every ROI (plot, tree, plant polygon), the points of a point cloud (.las, .laz or "
+        ".ply) inside it and their heights above the ground: canopy height, its percentiles and "
+        "the point density, e.g. for plant height or biomass models.\n\n"
+        "The result is the ROI layer with its attributes and: count (points inside), density "
+        "(points per square unit of the cloud's CRS: per m² for a cloud in metres), z_min, "
+        "z_mean, z_max (the points' Z), ground (the mean ground Z under the points), h_mean, "
+        "h_max and h_pNN (height above the ground: Z minus ground) for each height percentile "
+        "asked (default 5, 50, 95, 99; p99 is a robust canopy top).\n\n"
+        "Ground: a DSM/DTM raster sampled under every point (a bare-soil DSM flown before "
+        "emergence, or a DTM); or a single ground height; or, with neither, each ROI's own "
+        "lowest points: the given percentile of its Z (advanced, default 1). The raster and the "
+        "height must be in the cloud's Z units and vertical reference.\n\n"
+        "LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it "
+        "(and for a LAS file without a CRS). ROIs in another CRS are reprojected. ROIs without "
+        "any point are named in the log; their count and density are 0 and their Z and heights "
+        "empty (NULL), never 0.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        add_point_cloud_parameters(self)
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+        self.addParameter(QgsProcessingParameterRasterLayer(
+            self.GROUND_DSM, self.tr("Ground: DSM/DTM raster (GeoTIFF; optional)"), optional=True))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.GROUND_HEIGHT, self.tr("Ground: one height for all ROIs (cloud Z units; optional)"),
+            QgsProcessingParameterNumber.Double, optional=True))
+        p = QgsProcessingParameterNumber(
+            self.GROUND_PERCENTILE,
+            self.tr("Ground without raster or height: this percentile of each ROI's Z"),
+            QgsProcessingParameterNumber.Double, defaultValue=1.0, minValue=0.0, maxValue=100.0)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterString(
+            self.PERCENTILES, self.tr("Height percentiles (comma separated)"),
+            defaultValue="5,50,95,99", optional=True))
+        add_z_range_parameters(self)
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT, self.tr("ROIs with point cloud statistics"),
+            QgsProcessing.TypeVectorPolygon))
+
+    def run_tool(self, parameters, context, feedback):
+        from ...core.pointcloud import canopy_summary
+
+        percentiles = parse_percentiles(self.parameterAsString(parameters, self.PERCENTILES, context))
+        cloud = read_point_cloud_parameter(self, parameters, context, feedback)
+        source = self.parameterAsSource(parameters, self.ROIS, context)
+        rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback)
+        z_min, z_max = z_range(self, parameters, context)
+        layer = self.parameterAsRasterLayer(parameters, self.GROUND_DSM, context)
+        height = optional_number(self, parameters, self.GROUND_HEIGHT, context)
+        if layer is not None and height is not None:
+            raise QgsProcessingException(self.tr(
+                "Ground: give either a DSM/DTM raster or one ground height, not both."))
+        if layer is not None:
+            ground = dsm_ground(layer, self.tr("Ground DSM/DTM"), cloud.crs)
+            feedback.pushInfo(self.tr(f"Ground: the raster {layer.name()} under every point."))
+        elif height is not None:
+            ground = height
+            feedback.pushInfo(self.tr(f"Ground: {height:g} for every ROI."))
+        else:
+            ground = None
+        ground_pct = self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context)
+        if ground is None:
+            feedback.pushInfo(self.tr(f"Ground: percentile {ground_pct:g} of each ROI's Z."))
+
+        summary = canopy_summary(
+            cloud, rois, ground=ground, percentiles=percentiles, ground_percentile=ground_pct,
+            z_min=z_min, z_max=z_max, progress=lambda p: feedback.setProgress(5 + 0.9 * p),
+            is_cancelled=feedback.isCanceled)
+
+        stats = FIXED_FIELDS + [(percentile_field(q), QVariant.Double) for q in percentiles]
+        keys = [name for name, _ in FIXED_FIELDS] + [f"h_p{q:g}" for q in percentiles]
+        new = {name.lower() for name, _ in stats}
+        kept = [i for i, f in enumerate(source.fields()) if f.name().lower() not in new]
+        if len(kept) < source.fields().count():
+            feedback.pushInfo(self.tr("The ROI layer's own fields with the names of the statistics "
+                                      "are replaced by the new values."))
+        fields = QgsFields()
+        for i in kept:
+            fields.append(source.fields().at(i))
+        for name, kind in stats:
+            fields.append(QgsField(name, kind))
+        sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
+                                             source.wkbType(), source.sourceCrs())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        empty = []
+        for roi, feat in zip(rois, features):
+            row = summary[roi.name]
+            if not row["count"]:
+                empty.append(roi.name)
+            attrs = feat.attributes()
+            out = QgsFeature(fields)
+            out.setAttributes([attrs[i] for i in kept] + [_num(row[k]) for k in keys])
+            out.setGeometry(feat.geometry())
+            sink.addFeature(out, QgsFeatureSink.FastInsert)
+        if rois and len(empty) == len(rois):
+            raise QgsProcessingException(self.tr(
+                f"None of the {len(rois)} ROIs contains a point of the cloud: check that the ROIs "
+                "and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or "
+                "a wrong one) and the Z range."))
+        if empty:
+            feedback.pushWarning(self.tr(
+                f"{len(empty)} ROI(s) contain no point (outside the cloud, in a gap, or outside "
+                f"the Z range); their statistics are empty: feature id {', '.join(empty[:50])}"
+                + (" …" if len(empty) > 50 else "") + "."))
+        feedback.pushInfo(self.tr(f"Statistics of {len(rois)} ROIs written, "
+                                  f"{len(rois) - len(empty)} with points."))
+        feedback.setProgress(100)
+        return {self.OUTPUT: dest_id}
+
+
+def _num(v):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return None
+    return int(v) if isinstance(v, int) else float(v)
