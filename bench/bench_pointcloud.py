@@ -20,6 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .common import reference_env
+
 ROOT = Path(__file__).resolve().parents[1]
 CACHE = ROOT / "bench_output" / "pointcloud"
 REF_PY = ROOT / ".venv-ref" / "bin" / "python"
@@ -82,6 +84,8 @@ def _child(python, code: str, timeout=None) -> dict:
     """)
     env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1")
     env.setdefault("PROJ_DATA", "/usr/share/proj")
+    if Path(python) == REF_PY:
+        env = reference_env(env)
     p = subprocess.run([str(python), "-c", wrapped], capture_output=True, text=True,
                        timeout=timeout, env=env)
     for line in p.stdout.splitlines():
@@ -93,6 +97,8 @@ def _child(python, code: str, timeout=None) -> dict:
 OURS = """
 import json, time
 import numpy as np
+
+from .common import reference_env
 from easyidp_toolbox.core import ROI, ROISet, read_point_cloud, crop_point_cloud
 rois_np = np.load({rois!r})
 names = json.load(open({names!r}))
@@ -108,6 +114,8 @@ EASYIDP = """
 import json, time, warnings, logging
 warnings.filterwarnings("ignore")
 import numpy as np
+
+from .common import reference_env
 t_imp = time.perf_counter()
 import easyidp as idp
 from pyproj import CRS

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .common import reference_env
+
 ROOT = Path(__file__).resolve().parents[1]
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
 PSX = REALDATA / "easyidp" / "metashape" / "wheat_tanashi.psx"
@@ -104,7 +106,7 @@ def main(argv=None) -> int:
             print(f"  ours      : {ours['project_s']:7.2f} s  {rate / 1e6:8.1f} M pairs/s  "
                   f"peak {ours['peak_mb']:7.0f} MB  hits {ours['hits']:,}")
             if ref_ok:
-                ref = run(str(REF_PY), REF, [PSX, f, a.ref_chunk], env)
+                ref = run(str(REF_PY), REF, [PSX, f, a.ref_chunk], reference_env(env))
                 rrate = pairs / ref["project_s"]
                 sliced = f" (slices of {a.ref_chunk:,})" if n > a.ref_chunk else ""
                 print(f"  easyidp   : {ref['project_s']:7.2f} s  {rrate / 1e6:8.1f} M pairs/s  "

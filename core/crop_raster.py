@@ -24,7 +24,7 @@ from .raster_sweep import sweep_windows, thread_pool
 from .roi import ROISet
 from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
 
-MAX_PENDING_WRITES = 64
+MAX_PENDING_WRITES = 32
 
 
 @dataclass
@@ -107,9 +107,9 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
         result.files.append(fut.result())
         result.names.append(placed[k].roi.name)
 
-    with thread_pool(workers) as pool:
+    with thread_pool(workers) as pool:  # writers; the sweep has its own pool of decoders
         try:
-            sweep_windows(tif, [p.window for p in placed], finish, prog, pool)
+            sweep_windows(tif, [p.window for p in placed], finish, prog, workers)
         except (Cancelled, Exception):
             for k, fut in pending:
                 fut.cancel()

@@ -11,7 +11,7 @@ import numpy as np
 from .errors import InputError
 from .geotiff import GeoTiff, open_geotiff
 from .progress import as_progress
-from .raster_sweep import Window, sweep_windows, thread_pool
+from .raster_sweep import Window, sweep_windows
 from .roi import ROI, ROISet
 from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
 
@@ -114,8 +114,7 @@ def sample_points(dsm, x: np.ndarray, y: np.ndarray, method: str = "bilinear", p
     if keep:
         groups = [groups[k] for k in keep]
         windows = [windows[k] for k in keep]
-        with thread_pool() as pool:
-            sweep_windows(tif, windows, consume, prog, pool)
+        sweep_windows(tif, windows, consume, prog)
     return out.reshape(np.shape(x))
 
 
@@ -180,8 +179,7 @@ def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = 
         else:
             missing[p.roi.name] = "all DSM pixels inside it are nodata"
 
-    with thread_pool() as pool:
-        sweep_windows(tif, [p.window for p in placed], consume, prog, pool)
+    sweep_windows(tif, [p.window for p in placed], consume, prog)
     return HeightResult(values, missing)
 
 
@@ -230,6 +228,5 @@ def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear"
             out[p.index] = polygon_statistic(a[sel].astype(np.float64), statistic, percentile)
 
     if placed:
-        with thread_pool() as pool:
-            sweep_windows(tif, [p.window for p in placed], consume, prog, pool)
+        sweep_windows(tif, [p.window for p in placed], consume, prog)
     return out

@@ -9,7 +9,9 @@ import tifffile
 from .geotiff import (TAG_GDAL_METADATA, TAG_GDAL_NODATA, TAG_GEOASCII, TAG_GEODOUBLES, TAG_GEOKEYS,
                       TAG_PIXEL_SCALE, TAG_TIEPOINT)
 
-DEFLATE_LEVEL = 6  # GDAL's default ZLEVEL
+# Deflate level 1 with the horizontal (integers) or floating-point predictor: on orthomosaic crops
+# both faster and smaller than level 6 without a predictor (GDAL's default).
+DEFLATE_LEVEL = 1
 
 
 def epsg_geo_tags(epsg: int) -> dict:
@@ -77,7 +79,7 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
             tmp, data if bands > 1 else data[..., 0],
             photometric="rgb" if rgb else "minisblack", planarconfig="contig",
             extrasamples=tuple(extrasamples) or None,
-            compression="zlib", compressionargs={"level": DEFLATE_LEVEL},
+            compression="zlib", compressionargs={"level": DEFLATE_LEVEL}, predictor=True,
             extratags=geotiff_tags(geo_tags, geotransform, nodata_text), metadata=None, **kw)
         os.replace(tmp, path)
     except BaseException:

@@ -39,11 +39,13 @@ def thread_pool(workers: Optional[int] = None) -> Iterator[Executor]:
 
 def sweep_windows(tif: GeoTiff, windows: Sequence[Window],
                   consume: Callable[[int, np.ndarray], None],
-                  progress: Progress, pool: Executor) -> None:
+                  progress: Progress, workers: Optional[int] = None) -> None:
     """Call ``consume(i, array)`` once per window with its (rows, cols, bands) pixel array.
 
-    Windows complete in top-to-bottom order of their last row. ``progress`` gets 0–100 and is
-    checked for cancellation once per band.
+    Windows complete in top-to-bottom order of their last row. Blocks are decoded by a pool of
+    ``workers`` threads straight into the band's array, one band ahead of the copying, so the
+    decoding of the next band overlaps ``consume`` (which may hand work to its own pool).
+    ``progress`` gets 0–100 and is checked for cancellation once per band.
     """
     bh, bw = tif.block_height, tif.block_width
     per_band = max(1, -(-BAND_MIN_ROWS // bh))           # block rows per band
@@ -57,40 +59,49 @@ def sweep_windows(tif: GeoTiff, windows: Sequence[Window],
         starts.setdefault(br0 // per_band, []).append(i)
         ends.setdefault(br1 // per_band, []).append(i)
     bands_used = [b for b in range(n_bands) if needed[b * per_band:(b + 1) * per_band].any()]
+    if not bands_used:
+        return
     fd = os.open(tif.path, os.O_RDONLY)
     try:
-        def submit(band: int):
-            rows = range(band * per_band, min((band + 1) * per_band, tif.blocks_down))
-            return [(br, bc, pool.submit(tif.read_block, fd, br, bc))
-                    for br in rows for bc in np.flatnonzero(needed[br])]
+        with thread_pool(workers) as pool:
+            def submit(band: int):
+                """Allocate the band's array and decode its needed blocks into it."""
+                block_rows = needed[band * per_band:(band + 1) * per_band]
+                top = band * per_band * bh
+                bottom = min((band + 1) * per_band * bh, tif.height)
+                cols = np.flatnonzero(block_rows.any(axis=0))
+                left, right = int(cols[0]) * bw, min((int(cols[-1]) + 1) * bw, tif.width)
+                arr = np.empty((bottom - top, right - left, tif.bands), dtype=tif.dtype)
 
-        open_bufs: Dict[int, np.ndarray] = {}
-        pending = submit(bands_used[0]) if bands_used else []
-        for k, band in enumerate(bands_used):
-            progress.check()
-            current = pending
-            pending = submit(bands_used[k + 1]) if k + 1 < len(bands_used) else []
-            top = band * per_band * bh
-            bottom = min((band + 1) * per_band * bh, tif.height)
-            cols = np.flatnonzero(needed[band * per_band:(band + 1) * per_band].any(axis=0))
-            left, right = cols[0] * bw, min((cols[-1] + 1) * bw, tif.width)
-            band_arr = np.empty((bottom - top, right - left, tif.bands), dtype=tif.dtype)
-            for br, bc, fut in current:
-                block = fut.result()
-                r, c = br * bh - top, bc * bw - left
-                band_arr[r:r + block.shape[0], c:c + block.shape[1]] = block
-            for i in starts.get(band, ()):
-                w = windows[i]
-                open_bufs[i] = np.empty((w.rows, w.cols, tif.bands), dtype=tif.dtype)
-            for i, buf in open_bufs.items():
-                w = windows[i]
-                r0, r1 = max(w.row, top), min(w.row + w.rows, bottom)
-                if r1 > r0:
-                    buf[r0 - w.row:r1 - w.row] = band_arr[r0 - top:r1 - top,
-                                                          w.col - left:w.col + w.cols - left]
-            del band_arr, current
-            for i in ends.get(band, ()):
-                consume(i, open_bufs.pop(i))
-            progress.set(100.0 * (k + 1) / len(bands_used))
+                def decode(br: int, bc: int) -> None:
+                    block = tif.read_block(fd, br, bc)
+                    r, c = br * bh - top, bc * bw - left
+                    arr[r:r + block.shape[0], c:c + block.shape[1]] = block
+
+                futures = [pool.submit(decode, band * per_band + k, int(bc))
+                           for k, row in enumerate(block_rows) for bc in np.flatnonzero(row)]
+                return top, bottom, left, arr, futures
+
+            open_bufs: Dict[int, np.ndarray] = {}
+            pending = submit(bands_used[0])
+            for k, band in enumerate(bands_used):
+                progress.check()
+                top, bottom, left, band_arr, futures = pending
+                pending = submit(bands_used[k + 1]) if k + 1 < len(bands_used) else None
+                for fut in futures:
+                    fut.result()
+                for i in starts.get(band, ()):
+                    w = windows[i]
+                    open_bufs[i] = np.empty((w.rows, w.cols, tif.bands), dtype=tif.dtype)
+                for i, buf in open_bufs.items():
+                    w = windows[i]
+                    r0, r1 = max(w.row, top), min(w.row + w.rows, bottom)
+                    if r1 > r0:
+                        buf[r0 - w.row:r1 - w.row] = band_arr[r0 - top:r1 - top,
+                                                              w.col - left:w.col + w.cols - left]
+                del band_arr, futures
+                for i in ends.get(band, ()):
+                    consume(i, open_bufs.pop(i))
+                progress.set(100.0 * (k + 1) / len(bands_used))
     finally:
         os.close(fd)
