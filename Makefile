@@ -17,34 +17,38 @@ DEMO_DIR ?= $(ROOT)/demo_output
 
 .PHONY: env env-ref test test-core test-core-current test-qgis demo bench clean
 
-env: $(VENV)/.done $(VENV_CORE)/.done
+env: apt $(VENV)/.done $(VENV_CORE)/.done
 
-/usr/bin/qgis_process.bin:
-	@echo "== installing QGIS from Debian (about a minute)"
-	apt-get update -qq
-	DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends \
-	    qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip >/dev/null
+APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip
+
+# Debian packages: installed when any is missing (checked on every run; takes a moment).
+.PHONY: apt
+apt:
+	@dpkg -s $(APT_PACKAGES) >/dev/null 2>&1 || { \
+	    echo "== installing QGIS and Python tools from Debian (about a minute)"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq \
+	        --no-install-recommends $(APT_PACKAGES) >/dev/null; }
 
 $(PLUGINS)/easyidp_toolbox:
 	mkdir -p $(PLUGINS) && ln -sfn $(ROOT) $@
 
-$(VENV)/.done: requirements/qgis.txt /usr/bin/qgis_process.bin | $(PLUGINS)/easyidp_toolbox
+$(VENV)/.done: requirements/qgis.txt | apt $(PLUGINS)/easyidp_toolbox
 	@echo "== creating $(VENV) (QGIS interpreter, numpy < 2)"
 	@test -x $(VENV)/bin/python || $(PY_SYS) -m venv --system-site-packages $(VENV)
 	$(VENV)/bin/pip install -q --disable-pip-version-check -r requirements/qgis.txt
 	echo $(PLUGINS) > $$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
 	touch $@
 
-$(VENV_CORE)/.done: requirements/current.txt /usr/bin/qgis_process.bin | $(PLUGINS)/easyidp_toolbox
+$(VENV_CORE)/.done: requirements/current.txt | apt $(PLUGINS)/easyidp_toolbox
 	@echo "== creating $(VENV_CORE) (current stack: numpy 2.x, newest releases, no QGIS)"
 	@test -x $(VENV_CORE)/bin/python || $(PY_SYS) -m venv $(VENV_CORE)
 	$(VENV_CORE)/bin/pip install -q --disable-pip-version-check -U -r requirements/current.txt
 	echo $(PLUGINS) > $$($(VENV_CORE)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
 	touch $@
 
-env-ref: $(VENV_REF)/.done
+env-ref: apt $(VENV_REF)/.done
 
-$(VENV_REF)/.done: requirements/reference.txt /usr/bin/qgis_process.bin
+$(VENV_REF)/.done: requirements/reference.txt | apt
 	@echo "== creating $(VENV_REF) (easyidp 2.0.4, the reference; never imported by the plugin)"
 	@test -x $(VENV_REF)/bin/python || $(PY_SYS) -m venv $(VENV_REF)
 	$(VENV_REF)/bin/pip install -q --disable-pip-version-check -r requirements/reference.txt

@@ -235,3 +235,11 @@ def test_dsm_with_several_bands_is_refused(provider, realdata):
         _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES),
                                            "DSM": str(realdata / "data-to-science/test_multispectral.tif"),
                                            "OUTPUT": "memory:"})
+
+
+def test_missing_raster_file_is_named(provider, realdata, tmp_path):
+    with pytest.raises(QgsProcessingException, match="/no/such/ortho.tif"):
+        _crop("/no/such/ortho.tif", str(realdata / ZONES), str(tmp_path / "o"))
+    with pytest.raises(QgsProcessingException, match="/no/such/dsm.tif"):
+        _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES), "DSM": "/no/such/dsm.tif",
+                                           "OUTPUT": "memory:"})
