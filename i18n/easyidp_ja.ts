@@ -5,11 +5,11 @@
     <name>EasyIDP</name>
     <message>
       <source>Camera positions and footprints</source>
-      <translation type="unfinished" />
+      <translation>カメラ位置と撮影範囲</translation>
     </message>
     <message>
       <source>Photogrammetry projects</source>
-      <translation type="unfinished" />
+      <translation>写真測量プロジェクト</translation>
     </message>
     <message>
       <source>Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, .psz, or an exported cameras .xml) or a Pix4D project (.p4d, the project folder or its 1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) and draws, for every aligned camera, its position and the part of the ground its photo sees. Run it first to check that a project was read right.
@@ -21,35 +21,35 @@ Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D para
     </message>
     <message>
       <source>Output CRS (default: the project CRS)</source>
-      <translation type="unfinished" />
+      <translation>出力 CRS（既定：プロジェクトの CRS）</translation>
     </message>
     <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)</source>
-      <translation type="unfinished" />
+      <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d または params フォルダ内のファイル）</translation>
     </message>
     <message>
       <source>Metashape chunk (label or index; needed when there are several)</source>
-      <translation type="unfinished" />
+      <translation>Metashape チャンク（名前または番号、複数ある場合は必須）</translation>
     </message>
     <message>
       <source>Project CRS (Pix4D projects without a *_wkt.prj file)</source>
-      <translation type="unfinished" />
+      <translation>プロジェクト CRS（*_wkt.prj のない Pix4D プロジェクト用）</translation>
     </message>
     <message>
       <source>DSM (GeoTIFF) for the footprints</source>
-      <translation type="unfinished" />
+      <translation>撮影範囲用の DSM（GeoTIFF）</translation>
     </message>
     <message>
       <source>Ground height when no DSM is given (project vertical reference)</source>
-      <translation type="unfinished" />
+      <translation>DSM がない場合の地面の高さ（プロジェクトの高さ基準）</translation>
     </message>
     <message>
       <source>Camera positions</source>
-      <translation type="unfinished" />
+      <translation>カメラ位置</translation>
     </message>
     <message>
       <source>Camera footprints</source>
-      <translation type="unfinished" />
+      <translation>撮影範囲</translation>
     </message>
     <message>
       <source>DSM</source>
@@ -57,11 +57,11 @@ Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D para
     </message>
     <message>
       <source>Give a DSM or a ground height: the footprints are where the photos meet the ground.</source>
-      <translation type="unfinished" />
+      <translation>DSM または地面の高さを指定してください。撮影範囲は写真が地面と交わる範囲です。</translation>
     </message>
     <message>
       <source>Crop point cloud by ROIs</source>
-      <translation type="unfinished" />
+      <translation>ROI で点群を切り出し</translation>
     </message>
     <message>
       <source>Cropping</source>
@@ -79,7 +79,7 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
     </message>
     <message>
       <source>Write empty files for ROIs without any point</source>
-      <translation type="unfinished" />
+      <translation>点のない ROI にも空のファイルを書き出す</translation>
     </message>
     <message>
       <source>ROIs</source>
@@ -95,7 +95,7 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
     </message>
     <message>
       <source>Output format</source>
-      <translation type="unfinished" />
+      <translation>出力形式</translation>
     </message>
     <message>
       <source>Output folder</source>
@@ -103,7 +103,7 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
     </message>
     <message>
       <source>Cropped point clouds</source>
-      <translation type="unfinished" />
+      <translation>切り出した点群</translation>
     </message>
     <message>
       <source>Number of ROIs cropped</source>
@@ -111,11 +111,11 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
     </message>
     <message>
       <source>Number of ROIs without points</source>
-      <translation type="unfinished" />
+      <translation>点のない ROI の数</translation>
     </message>
     <message>
       <source>Number of ROIs outside the cloud</source>
-      <translation type="unfinished" />
+      <translation>点群の範囲外の ROI の数</translation>
     </message>
     <message>
       <source>The cropped point clouds are not loaded into the map: this QGIS has no point cloud provider (PDAL). Open them from the output folder (e.g. in CloudCompare).</source>
@@ -157,7 +157,7 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     </message>
     <message>
       <source>Point cloud statistics per ROI</source>
-      <translation type="unfinished" />
+      <translation>ROI ごとの点群統計</translation>
     </message>
     <message>
       <source>Heights</source>
@@ -187,11 +187,11 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     </message>
     <message>
       <source>Height percentiles (comma separated)</source>
-      <translation type="unfinished" />
+      <translation>高さのパーセンタイル（カンマ区切り）</translation>
     </message>
     <message>
       <source>ROIs with point cloud statistics</source>
-      <translation type="unfinished" />
+      <translation>点群統計付き ROI</translation>
     </message>
     <message>
       <source>Ground: give either a DSM/DTM raster or one ground height, not both.</source>
@@ -199,7 +199,7 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     </message>
     <message>
       <source>Ground DSM/DTM</source>
-      <translation type="unfinished" />
+      <translation>地面 DSM/DTM</translation>
     </message>
     <message>
       <source>The ROI layer's own fields with the names of the statistics are replaced by the new values.</source>
@@ -248,7 +248,7 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
     </message>
     <message>
       <source>Point cloud (.las, .laz or .ply)</source>
-      <translation type="unfinished" />
+      <translation>点群（.las、.laz または .ply）</translation>
     </message>
     <message>
       <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
@@ -256,11 +256,11 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
-      <translation type="unfinished" />
+      <translation>残す最低 Z（点群の Z 単位、空欄：制限なし）</translation>
     </message>
     <message>
       <source>Highest Z to keep (cloud Z units; empty: no limit)</source>
-      <translation type="unfinished" />
+      <translation>残す最高 Z（点群の Z 単位、空欄：制限なし）</translation>
     </message>
   </context>
 </TS>
