@@ -11,6 +11,7 @@ Conventions (see ARCHITECTURE.md): map coordinates are (x, y) = (easting, northi
 (lon, lat); image pixels have their origin at the top-left *corner*, x right, y down, so the
 centre of the top-left pixel is (0.5, 0.5).
 """
+from .demo_survey import DemoSurvey, make_demo_survey
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
 from .progress import Progress
@@ -23,4 +24,5 @@ __all__ = [
     "ROI", "ROISet", "roi_from_coordinates", "read_geojson",
     "PointCloud", "read_point_cloud", "write_point_cloud", "crop_point_cloud", "canopy_summary",
     "Reconstruction", "open_reconstruction",
+    "DemoSurvey", "make_demo_survey",
 ]

@@ -1,25 +1,60 @@
 """A small synthetic field, written from a seed: orthomosaic, DSM and plot polygons.
 
-The field is 40 m × 30 m in WGS 84 / UTM 54N (EPSG:32654): gently sloped bare soil with 24
-slightly rotated plots (4 rows × 6 columns, 4 m × 2.5 m) of crop rows some decimetres tall.
-The orthomosaic is RGB at 1 cm, tiled 256, deflate; the DSM is float32 at 2 cm with nodata
--9999 (heights in metres above the ellipsoid, the truth being ``ground + canopy``).
+The default field (:data:`DEMO_FIELD`) is 40 m × 30 m in WGS 84 / UTM 54N (EPSG:32654): gently
+sloped bare soil with 24 slightly rotated plots (4 rows × 6 columns, 4 m × 2.5 m) of crop rows
+some decimetres tall. The orthomosaic is RGB at 1 cm, tiled 256, deflate; the DSM is float32 at
+2 cm with nodata -9999 (heights in metres above the ellipsoid, the truth being
+``ground + canopy``). :class:`FieldLayout` describes other fields (the demo survey uses one).
 """
 import json
 import os
 from dataclasses import dataclass
-from typing import List
+from typing import List, Tuple
 
 import numpy as np
 
 from .geotiff_write import epsg_geo_tags, write_geotiff
 
-EPSG = 32654
-ORIGIN = (368000.0, 3956030.0)  # top-left corner (x, y)
-SIZE = (40.0, 30.0)             # metres (x, y)
 DOM_PIXEL, DSM_PIXEL = 0.01, 0.02
-PLOT_SIZE = (4.0, 2.5)
-ROWS, COLS = 4, 6
+NODATA = -9999.0
+ROW_SPACING = 0.5     # m between crop rows inside a plot (rows run along the plot's long axis)
+PLANT_SPACING = 0.15  # m between plants along a row
+EDGE = 0.1            # m of bare soil inside each plot edge
+
+
+@dataclass(frozen=True)
+class FieldLayout:
+    """Where and how a field is laid out. Lengths in metres, map CRS ``epsg``.
+
+    ``origin``: top-left corner (x, y); ``first_plot``: centre of plot A1 measured right and
+    down from the origin; ``pitch``: distance between plot centres (columns along x, rows down);
+    ``ground``: (height at the bottom-left corner, slope along x, slope along y), ellipsoidal;
+    ``nodata_cols``: DSM columns without data along the western edge.
+    """
+    origin: Tuple[float, float] = (368000.0, 3956030.0)
+    size: Tuple[float, float] = (40.0, 30.0)
+    rows: int = 4
+    cols: int = 6
+    plot_size: Tuple[float, float] = (4.0, 2.5)
+    first_plot: Tuple[float, float] = (4.0, 4.5)
+    pitch: Tuple[float, float] = (6.4, 7.0)
+    ground: Tuple[float, float, float] = (95.0, 0.02, 0.01)
+    nodata_cols: int = 40
+    epsg: int = 32654
+
+    def ground_height(self, x, y):
+        """Bare-soil height (m) at map points."""
+        h0, sx, sy = self.ground
+        return h0 + sx * (x - self.origin[0]) + sy * (y - self.origin[1] + self.size[1])
+
+    def grid_shape(self, pixel: float) -> Tuple[int, int]:
+        return round(self.size[1] / pixel), round(self.size[0] / pixel)
+
+    def geotransform(self, pixel: float):
+        return (self.origin[0], pixel, 0.0, self.origin[1], 0.0, -pixel)
+
+
+DEMO_FIELD = FieldLayout()
 
 
 @dataclass
@@ -32,61 +67,93 @@ class DemoField:
     canopy_height: dict   # plot_id -> maximum crop height above the ground (m)
 
 
-def _ground(x, y):
-    return 95.0 + 0.02 * (x - ORIGIN[0]) + 0.01 * (y - ORIGIN[1] + SIZE[1])
-
-
-def _plots(rng):
+def make_plots(layout: FieldLayout, rng) -> List[dict]:
+    """Plot descriptions: id (row letter + column number), row, col, centre, angle (rad), crop
+    height (m). Draws two uniforms per plot from ``rng``."""
     plots = []
-    for r in range(ROWS):
-        for c in range(COLS):
-            cx = ORIGIN[0] + 4.0 + c * 6.4
-            cy = ORIGIN[1] - 4.5 - r * 7.0
+    for r in range(layout.rows):
+        for c in range(layout.cols):
+            cx = layout.origin[0] + layout.first_plot[0] + c * layout.pitch[0]
+            cy = layout.origin[1] - layout.first_plot[1] - r * layout.pitch[1]
             angle = np.deg2rad(rng.uniform(-4, 4))
-            plots.append({"plot_id": f"{'ABCD'[r]}{c + 1}", "row": r + 1, "col": c + 1,
-                          "centre": (cx, cy), "angle": angle, "height": rng.uniform(0.25, 0.7)})
+            plots.append({"plot_id": f"{chr(ord('A') + r)}{c + 1}", "row": r + 1, "col": c + 1,
+                          "centre": (cx, cy), "angle": angle, "height": rng.uniform(0.25, 0.7),
+                          "size": layout.plot_size})
     return plots
 
 
-def _corners(p):
-    w, h = PLOT_SIZE
+def plot_corners(p: dict) -> np.ndarray:
+    """(4, 2) corners of a plot, counter-clockwise from its lower-left corner."""
+    w, h = p["size"]
     local = np.array([[-w / 2, -h / 2], [w / 2, -h / 2], [w / 2, h / 2], [-w / 2, h / 2]])
     ca, sa = np.cos(p["angle"]), np.sin(p["angle"])
-    rot = np.array([[ca, -sa], [sa, ca]])
-    return local @ rot.T + p["centre"]
+    return local @ np.array([[ca, -sa], [sa, ca]]).T + p["centre"]
 
 
-def _canopy(x, y, plots):
-    """Crop height (m) at map points: rows 0.5 m apart along each plot's long axis."""
-    h = np.zeros(x.shape)
+def _plot_canopy(p: dict, x, y):
+    """(inside, height) of one plot's crop at map points (rows along the plot's long axis)."""
+    ca, sa = np.cos(p["angle"]), np.sin(p["angle"])
+    u = (x - p["centre"][0]) * ca + (y - p["centre"][1]) * sa
+    v = -(x - p["centre"][0]) * sa + (y - p["centre"][1]) * ca
+    inside = (np.abs(u) < p["size"][0] / 2 - EDGE) & (np.abs(v) < p["size"][1] / 2 - EDGE)
+    rows = np.clip(np.cos(2 * np.pi * v / ROW_SPACING), 0, None) ** 2
+    plants = 0.75 + 0.25 * np.cos(2 * np.pi * u / PLANT_SPACING)
+    return inside, p["height"] * rows * plants
+
+
+def canopy_grid(layout: FieldLayout, plots: List[dict], pixel: float) -> np.ndarray:
+    """Crop height (m, float64) at the pixel centres of the ``pixel`` grid of ``layout``;
+    each plot is evaluated only in its bounding window."""
+    ny, nx = layout.grid_shape(pixel)
+    h = np.zeros((ny, nx))
+    x0, y0 = layout.origin
     for p in plots:
-        ca, sa = np.cos(p["angle"]), np.sin(p["angle"])
-        u = (x - p["centre"][0]) * ca + (y - p["centre"][1]) * sa
-        v = -(x - p["centre"][0]) * sa + (y - p["centre"][1]) * ca
-        inside = (np.abs(u) < PLOT_SIZE[0] / 2 - 0.1) & (np.abs(v) < PLOT_SIZE[1] / 2 - 0.1)
-        rows = np.clip(np.cos(2 * np.pi * v / 0.5), 0, None) ** 2
-        plants = 0.75 + 0.25 * np.cos(2 * np.pi * u / 0.15)
-        h = np.where(inside, np.maximum(h, p["height"] * rows * plants), h)
+        c = plot_corners(p)
+        j0 = max(int(np.floor((c[:, 0].min() - x0) / pixel)) - 1, 0)
+        j1 = min(int(np.ceil((c[:, 0].max() - x0) / pixel)) + 1, nx)
+        i0 = max(int(np.floor((y0 - c[:, 1].max()) / pixel)) - 1, 0)
+        i1 = min(int(np.ceil((y0 - c[:, 1].min()) / pixel)) + 1, ny)
+        if j1 <= j0 or i1 <= i0:
+            continue
+        x = x0 + (np.arange(j0, j1) + 0.5)[None, :] * pixel
+        y = y0 - (np.arange(i0, i1) + 0.5)[:, None] * pixel
+        x, y = np.broadcast_to(x, (i1 - i0, j1 - j0)), np.broadcast_to(y, (i1 - i0, j1 - j0))
+        inside, val = _plot_canopy(p, x, y)
+        win = h[i0:i1, j0:j1]
+        h[i0:i1, j0:j1] = np.where(inside, np.maximum(win, val), win)
     return h
+
+
+def write_plots_geojson(path: str, plots: List[dict], epsg: int) -> str:
+    """Plot rectangles as a GeoJSON FeatureCollection (fields plot_id, row, col; legacy crs)."""
+    features = [{"type": "Feature",
+                 "properties": {k: p[k] for k in ("plot_id", "row", "col")},
+                 "geometry": {"type": "Polygon",
+                              "coordinates": [np.vstack([plot_corners(p), plot_corners(p)[:1]]).tolist()]}}
+                for p in plots]
+    with open(path, "w") as fh:
+        json.dump({"type": "FeatureCollection", "name": "plots",
+                   "crs": {"type": "name", "properties": {"name": f"urn:ogc:def:crs:EPSG::{epsg}"}},
+                   "features": features}, fh)
+    return path
 
 
 def make_demo_field(folder: str, seed: int = 0) -> DemoField:
     """Write ``orthomosaic.tif``, ``dsm.tif`` and ``plots.geojson`` into ``folder``."""
+    layout = DEMO_FIELD
     os.makedirs(folder, exist_ok=True)
     rng = np.random.default_rng(seed)
-    plots = _plots(rng)
+    plots = make_plots(layout, rng)
 
     # DSM at 2 cm
-    ny, nx = round(SIZE[1] / DSM_PIXEL), round(SIZE[0] / DSM_PIXEL)
-    y = ORIGIN[1] - (np.arange(ny) + 0.5)[:, None] * DSM_PIXEL
-    x = ORIGIN[0] + (np.arange(nx) + 0.5)[None, :] * DSM_PIXEL
-    x, y = np.broadcast_to(x, (ny, nx)), np.broadcast_to(y, (ny, nx))
-    canopy = _canopy(x, y, plots)
-    dsm = (_ground(x, y) + canopy + rng.normal(0, 0.004, (ny, nx))).astype(np.float32)
-    dsm[:, :40] = -9999  # a strip without data along the western edge, as real DSMs have
-    dsm_path = write_geotiff(os.path.join(folder, "dsm.tif"), dsm,
-                             (ORIGIN[0], DSM_PIXEL, 0.0, ORIGIN[1], 0.0, -DSM_PIXEL),
-                             epsg_geo_tags(EPSG), nodata_text="-9999", tile=256)
+    ny, nx = layout.grid_shape(DSM_PIXEL)
+    y = layout.origin[1] - (np.arange(ny) + 0.5)[:, None] * DSM_PIXEL
+    x = layout.origin[0] + (np.arange(nx) + 0.5)[None, :] * DSM_PIXEL
+    canopy = canopy_grid(layout, plots, DSM_PIXEL)
+    dsm = (layout.ground_height(x, y) + canopy + rng.normal(0, 0.004, (ny, nx))).astype(np.float32)
+    dsm[:, :layout.nodata_cols] = NODATA  # a strip without data along the western edge
+    dsm_path = write_geotiff(os.path.join(folder, "dsm.tif"), dsm, layout.geotransform(DSM_PIXEL),
+                             epsg_geo_tags(layout.epsg), nodata_text="-9999", tile=256)
 
     # orthomosaic at 1 cm: canopy upsampled from the DSM grid, soil and leaves textured
     up = np.repeat(np.repeat(canopy, 2, axis=0), 2, axis=1)
@@ -97,18 +164,9 @@ def make_demo_field(folder: str, seed: int = 0) -> DemoField:
         + 10 * noise[..., None]
     dom = np.clip(soil * (1 - leaf) + green * leaf, 0, 255).astype(np.uint8)
     dom_path = write_geotiff(os.path.join(folder, "orthomosaic.tif"), dom,
-                             (ORIGIN[0], DOM_PIXEL, 0.0, ORIGIN[1], 0.0, -DOM_PIXEL),
-                             epsg_geo_tags(EPSG), rgb=True, tile=256)
+                             layout.geotransform(DOM_PIXEL), epsg_geo_tags(layout.epsg), rgb=True,
+                             tile=256)
 
-    features = [{"type": "Feature",
-                 "properties": {k: p[k] for k in ("plot_id", "row", "col")},
-                 "geometry": {"type": "Polygon",
-                              "coordinates": [np.vstack([_corners(p), _corners(p)[:1]]).tolist()]}}
-                for p in plots]
-    plots_path = os.path.join(folder, "plots.geojson")
-    with open(plots_path, "w") as fh:
-        json.dump({"type": "FeatureCollection", "name": "plots",
-                   "crs": {"type": "name", "properties": {"name": f"urn:ogc:def:crs:EPSG::{EPSG}"}},
-                   "features": features}, fh)
+    plots_path = write_plots_geojson(os.path.join(folder, "plots.geojson"), plots, layout.epsg)
     return DemoField(folder, dom_path, dsm_path, plots_path, [p["plot_id"] for p in plots],
                      {p["plot_id"]: p["height"] for p in plots})

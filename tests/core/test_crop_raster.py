@@ -293,3 +293,11 @@ def test_real_outside_polygon_gives_the_documented_message(realdata, tmp_path, r
                                        r".* ROI extent .*WGS 84 / UTM zone 16N"):
         crop_raster_by_rois(str(realdata / raster), read_geojson(str(realdata / outside)),
                             str(tmp_path / "o"))
+
+
+def test_outputs_get_the_usual_permissions(tmp_path):
+    src = write_tif(str(tmp_path / "dom.tif"), _rgb(), tile=64)
+    res = crop_raster_by_rois(src, _rois(("a", _px(1, 1, 9, 9))), str(tmp_path / "o"))
+    umask = os.umask(0)
+    os.umask(umask)
+    assert os.stat(res.files[0]).st_mode & 0o777 == 0o666 & ~umask

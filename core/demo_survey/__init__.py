@@ -1,0 +1,203 @@
+"""The demo survey: a complete synthetic drone survey with known truth, written from a seed.
+
+``make_demo_survey(folder, seed=0, size="small")`` writes, into ``folder``::
+
+    orthomosaic.tif       RGB, 1 cm, tiled 256, deflate                (EPSG:32654)
+    dsm.tif               float32, 2 cm, nodata -9999, ellipsoidal heights (WGS 84)
+    plots.geojson         40 rotated plot rectangles, fields plot_id, row, col
+    plots.gpkg            the same plots as a GeoPackage layer "plots"
+    pointcloud.laz        the surface with colours (LAS 1.2, point format 2, CRS in the file)
+    pointcloud.ply        the same points (binary PLY, x y z double, red green blue uchar)
+    photos/DJI_0001.JPG…  36 raw photos of a lawnmower flight (800×600 or 1600×1200)
+    metashape/demo_survey.psx + demo_survey.files/        the flight as a Metashape 1.x project
+    pix4d/demo_survey.p4d + demo_survey/1_initial/params/ the flight as a Pix4D project
+    labelme/DJI_xxxx.json LabelMe polygons around plots on four photos
+    truth.json            truth points and their pixels in every photo that sees them, the
+                          photos that see each plot whole, the map coordinates of the LabelMe
+                          vertices (see ``truth.py`` for the conventions)
+
+Same seed and size → identical files (in one software environment). Pixels have their origin
+at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
+"""
+import os
+import time
+from concurrent.futures import ThreadPoolExecutor, as_completed
+from dataclasses import dataclass, field
+from typing import List
+
+import numpy as np
+
+from ..demo_field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
+from ..errors import InputError
+from ..geotiff_write import epsg_geo_tags, write_geotiff
+from ..progress import as_progress
+from .flight import ALTITUDE, SIZES, make_camera, plan_flight
+from .geo import UTM54_WKT
+from .gpkg import write_gpkg_polygons
+from .labelme import write_labelme
+from .metashape_writer import write_metashape
+from .pix4d_writer import write_pix4d
+from .render import level_for, packed_level, pixel_rays, render_photo
+from .scene import make_scene, surface_cloud
+from .truth import Truth, observations, plot_visibility, truth_points, write_truth
+
+PROJECT_NAME = "demo_survey"
+JPEG_QUALITY = 92
+LAS_DATE = (153, 2024)          # file creation day of year and year written in LAS headers
+__all__ = ["make_demo_survey", "DemoSurvey", "SIZES"]
+
+
+@dataclass
+class DemoSurvey:
+    """Absolute paths of everything :func:`make_demo_survey` wrote, and a few facts.
+
+    ``crs``: map CRS of the rasters, plots, point clouds and truth (heights ellipsoidal);
+    ``metashape_project``: the .psx; ``pix4d_project``: the .p4d; ``pix4d_params``: its
+    ``1_initial/params`` folder; ``seconds``: generation time.
+    """
+    folder: str
+    seed: int
+    size: str
+    crs: str
+    orthomosaic: str
+    dsm: str
+    plots_geojson: str
+    plots_gpkg: str
+    point_cloud_laz: str
+    point_cloud_ply: str
+    photo_folder: str
+    photos: List[str]
+    metashape_project: str
+    pix4d_project: str
+    pix4d_params: str
+    labelme: List[str]
+    truth: str
+    plot_ids: List[str] = field(default_factory=list)
+    seconds: float = 0.0
+
+
+def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=None,
+                     is_cancelled=None) -> DemoSurvey:
+    """Write the demo survey into ``folder`` (created if needed) and return its paths.
+
+    ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
+    flight and truth points are the same. Existing files of a previous survey are overwritten.
+    ``progress(percent)`` and ``is_cancelled()`` are optional callables; on cancellation
+    :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey.
+    """
+    t0 = time.perf_counter()
+    if size not in SIZES:
+        raise InputError(f"Demo survey size {size!r}: choose one of {', '.join(SIZES)}.")
+    prog = as_progress(progress, is_cancelled)
+    prog.check()
+    camera = make_camera(size)
+    folder = os.path.abspath(folder)
+    photo_dir = os.path.join(folder, "photos")
+    os.makedirs(photo_dir, exist_ok=True)
+    rng = np.random.default_rng([seed, 1])
+
+    scene = make_scene(seed)
+    lay = scene.layout
+    shots = plan_flight(scene, rng)
+    photos = [os.path.join(photo_dir, s.filename) for s in shots]
+    cloud_xyz, cloud_rgb = surface_cloud(scene, rng)
+    prog.set(10)
+    prog.check()
+
+    rays = pixel_rays(camera)
+    level = level_for(camera, ALTITUDE)
+    level_img = packed_level(scene.ortho, level)
+
+    def shoot(i: int) -> None:
+        prog.check()
+        _write_jpeg(photos[i], render_photo(scene, camera, shots[i], rays, level_img, level))
+
+    with ThreadPoolExecutor(2) as pool:
+        jobs = [pool.submit(write_geotiff, os.path.join(folder, "orthomosaic.tif"), scene.ortho,
+                            lay.geotransform(DOM_PIXEL), epsg_geo_tags(lay.epsg), rgb=True, tile=256),
+                pool.submit(write_geotiff, os.path.join(folder, "dsm.tif"), scene.dsm,
+                            lay.geotransform(DSM_PIXEL), epsg_geo_tags(lay.epsg),
+                            nodata_text="-9999", tile=256),
+                pool.submit(_write_clouds, folder, cloud_xyz, cloud_rgb, lay.epsg)]
+        jobs += [pool.submit(shoot, i) for i in range(len(shots))]
+        try:
+            # meanwhile, on this thread: vectors, truth, the two projects, LabelMe
+            geojson, gpkg = _write_plots(folder, scene)
+            truth, ms, p4d = _truth_and_projects(folder, scene, camera, shots, photos, rng)
+            prog.set(25)
+            for k, job in enumerate(as_completed(jobs)):
+                job.result()
+                prog.set(25 + 75 * (k + 1) / len(jobs))
+                prog.check()
+        except BaseException:
+            for job in jobs:
+                job.cancel()
+            raise
+    # last, so that a truth file means a complete survey
+    truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots,
+                             {"seed": seed, "size": size,
+                              "metashape_pose_fit_max_px": ms["max_fit_px"]})
+
+    return DemoSurvey(
+        folder=folder, seed=seed, size=size, crs=f"EPSG:{lay.epsg}",
+        orthomosaic=os.path.join(folder, "orthomosaic.tif"), dsm=os.path.join(folder, "dsm.tif"),
+        plots_geojson=geojson, plots_gpkg=gpkg,
+        point_cloud_laz=os.path.join(folder, "pointcloud.laz"),
+        point_cloud_ply=os.path.join(folder, "pointcloud.ply"),
+        photo_folder=photo_dir, photos=photos, metashape_project=ms["psx"],
+        pix4d_project=p4d["p4d"], pix4d_params=p4d["params"],
+        labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
+        plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0)
+
+
+def _write_plots(folder: str, scene):
+    lay = scene.layout
+    rings = [np.vstack([plot_corners(p), plot_corners(p)[:1]]) for p in scene.plots]
+    geojson = write_plots_geojson(os.path.join(folder, "plots.geojson"), scene.plots, lay.epsg)
+    gpkg = write_gpkg_polygons(os.path.join(folder, "plots.gpkg"), "plots", rings, scene.plots,
+                               {"plot_id": "TEXT", "row": "INTEGER", "col": "INTEGER"},
+                               lay.epsg, "WGS 84 / UTM zone 54N", UTM54_WKT)
+    return geojson, gpkg
+
+
+def _truth_and_projects(folder: str, scene, camera, shots, photos, rng):
+    """Truth (points, observations, plots, LabelMe) and the Metashape and Pix4D projects; the
+    ground control targets become Metashape markers with their exact pixels."""
+    pts, ids, kinds = truth_points(scene, rng)
+    seen_p, seen_m, seen_uv, hid_p, hid_m = observations(scene, camera, shots, pts)
+    truth = Truth(pts + scene.offset, ids, kinds, seen_p, seen_m, seen_uv, hid_p, hid_m,
+                  plot_visibility(scene, camera, shots))
+    markers = []
+    for label in scene.gcp_labels:
+        sel = seen_p == ids.index(label)
+        markers.append({"label": label, "xyz": truth.points[ids.index(label)],
+                        "pixels": {int(m): tuple(uv) for m, uv in zip(seen_m[sel], seen_uv[sel])}})
+    ms = write_metashape(os.path.join(folder, "metashape"), PROJECT_NAME, scene, camera, shots,
+                         photos, markers, rng)
+    p4d = write_pix4d(os.path.join(folder, "pix4d"), PROJECT_NAME, camera, shots, scene.offset,
+                      photos)
+    truth.labelme = write_labelme(os.path.join(folder, "labelme"), os.path.dirname(photos[0]),
+                                  scene, camera, shots,
+                                  {k: v["photos_whole"] for k, v in truth.plots.items()}, rng)
+    return truth, ms, p4d
+
+
+def _write_jpeg(path: str, img: np.ndarray) -> None:
+    import imagecodecs
+    data = imagecodecs.jpeg8_encode(np.ascontiguousarray(img), level=JPEG_QUALITY)
+    tmp = path + ".part"
+    with open(tmp, "wb") as fh:
+        fh.write(data)
+    os.replace(tmp, path)
+
+
+def _write_clouds(folder: str, xyz: np.ndarray, rgb: np.ndarray, epsg: int) -> None:
+    """pointcloud.laz and pointcloud.ply; the LAS creation date is fixed (same seed → same bytes)."""
+    from ..pointcloud import PointCloud, write_point_cloud
+    cloud = PointCloud.from_arrays(xyz, {"red": rgb[:, 0], "green": rgb[:, 1], "blue": rgb[:, 2]},
+                                   crs=f"EPSG:{epsg}")
+    laz = write_point_cloud(cloud, os.path.join(folder, "pointcloud.laz"))
+    with open(laz, "r+b") as fh:                 # LAS header: creation day of year, year
+        fh.seek(90)
+        fh.write(np.array(LAS_DATE, "<u2").tobytes())
+    write_point_cloud(cloud, os.path.join(folder, "pointcloud.ply"))

@@ -1,0 +1,448 @@
+"""The demo survey: generated once per session (small), checked against its own truth file.
+
+- every truth point projects to its true pixel (0.01 px) through the generated Metashape and
+  Pix4D projects as our readers open them (and through the pmatrix + Inpho .cam alone);
+- camera footprints on the DSM contain the truth points each photo sees;
+- the rendered photos match the orthomosaic at the projected points, and show the crop where
+  the truth says a point is hidden;
+- LabelMe vertices: their true map coordinates are on the DSM and project back to the clicks;
+- plots (GeoJSON, GeoPackage), point clouds (LAZ, PLY) agree with the DSM;
+- same seed → identical files; generation time (printed);
+- realism: easyidp 2.0.4, in its own environment, reproduces the truth pixels (< 0.5 px).
+"""
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from easyidp_toolbox.core import open_reconstruction
+from easyidp_toolbox.core.demo_survey import make_demo_survey
+from easyidp_toolbox.core.reconstruction import INSIDE
+
+TIME_LIMIT = float(os.environ.get("EASYIDP_DEMO_TIME_LIMIT", "20"))  # s, small survey
+
+
+@pytest.fixture(scope="session")
+def survey(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("demo_survey")
+    t0, c0 = time.perf_counter(), time.process_time()
+    s = make_demo_survey(str(folder), seed=0, size="small")
+    s.wall_seconds = time.perf_counter() - t0
+    s.cpu_seconds = time.process_time() - c0
+    s.load = os.getloadavg()[0]
+    return s
+
+
+@pytest.fixture(scope="session")
+def truth(survey):
+    with open(survey.truth) as fh:
+        t = json.load(fh)
+    t["xyz"] = np.array(t["points"]["xyz"])
+    obs = t["observations"]
+    t["obs_point"] = np.array(obs["point"])
+    t["obs_photo"] = obs["photo"]
+    t["obs_pixel"] = np.array(obs["pixel"])
+    return t
+
+
+def test_generation_time_and_outputs(survey, truth, capsys):
+    with capsys.disabled():
+        print(f"\ndemo survey (small): {survey.wall_seconds:.1f} s ({survey.cpu_seconds:.1f} s CPU, "
+              f"load average {survey.load:.1f}), {len(truth['photos'])} photos, "
+              f"{len(truth['points']['id'])} truth points, {len(truth['obs_point'])} observations")
+    # the machine is shared: when other work slows the wall clock down, the CPU time (all our
+    # threads) bounds what the wall time is on the idle machine
+    assert min(survey.wall_seconds, survey.cpu_seconds) < TIME_LIMIT
+    for p in (survey.orthomosaic, survey.dsm, survey.plots_geojson, survey.plots_gpkg,
+              survey.point_cloud_laz, survey.point_cloud_ply, survey.metashape_project,
+              survey.pix4d_project, survey.truth, *survey.photos, *survey.labelme):
+        assert os.path.isfile(p), p
+    assert len(survey.plot_ids) == 40
+    assert len(truth["photos"]) == 36
+    assert len(truth["obs_point"]) > 5000
+    # every truth point is in the frame of at least two photos (seen or hidden by the crop)
+    n = len(truth["xyz"])
+    seen = np.bincount(truth["obs_point"], minlength=n)
+    framed = seen + np.bincount(truth["hidden"]["point"], minlength=n)
+    assert framed.min() >= 2
+    assert np.mean(seen >= 2) > 0.99
+
+
+def _check_projection(recon, truth, label_of, crs="EPSG:32654"):
+    p = recon.project_points(truth["xyz"], crs)
+    index = {lab: i for i, lab in enumerate(p.camera_labels)}
+    cam = np.array([index[label_of(n)] for n in truth["obs_photo"]])
+    uv = p.pixels[cam, truth["obs_point"]]
+    err = np.abs(uv - truth["obs_pixel"]).max()
+    assert err < 0.01, f"max error {err:.4f} px"
+    w, h = truth["image_size"]
+    t = truth["obs_pixel"]
+    margin = np.minimum.reduce([t[:, 0], w - t[:, 0], t[:, 1], h - t[:, 1]])
+    assert np.all(p.status[cam, truth["obs_point"]][margin > 0.01] == INSIDE)
+    return err
+
+
+def test_truth_points_project_through_metashape(survey, truth):
+    recon = open_reconstruction(survey.metashape_project)
+    assert recon.software == "metashape" and recon.crs.to_epsg() == 4326
+    assert len(recon.aligned_cameras) == 36
+    assert [os.path.realpath(c.photo_path) for c in recon.cameras] == \
+        [os.path.realpath(p) for p in survey.photos]
+    s = recon.sensors["0"].calibration
+    assert s.b1 != 0 and s.b2 != 0 and s.k3 != 0 and s.p1 != 0 and s.p2 != 0
+    err = _check_projection(recon, truth, lambda name: name)
+    print(f"Metashape: max error {err:.2e} px")
+    # the ground control markers carry exact pixel observations
+    gcp = {m.label: m for m in recon.markers}
+    assert sorted(gcp) == [f"GCP{i}" for i in range(1, 6)]
+    ids = truth["points"]["id"]
+    for label, m in gcp.items():
+        k = ids.index(label)
+        sel = truth["obs_point"] == k
+        want = {truth["obs_photo"][i]: truth["obs_pixel"][i] for i in np.flatnonzero(sel)}
+        assert set(m.observations) == set(want)
+        for cam, uv in m.observations.items():
+            assert np.allclose(uv, want[cam], atol=1e-5)
+
+
+def test_truth_points_project_through_pix4d(survey, truth):
+    recon = open_reconstruction(survey.pix4d_project)
+    assert recon.software == "pix4d" and recon.crs.to_epsg() == 32654
+    assert len(recon.aligned_cameras) == 36 and len(recon.sensors) == 1
+    cam = recon.aligned_cameras[0]
+    assert os.path.realpath(cam.photo_path) == os.path.realpath(
+        os.path.join(survey.photo_folder, cam.label))
+    err = _check_projection(recon, truth, lambda name: name + ".JPG")
+    print(f"Pix4D: max error {err:.2e} px")
+
+
+def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, tmp_path):
+    """Without the calibrated camera parameters: pmatrix (6 decimals) + Inpho-style .cam."""
+    params = Path(survey.pix4d_params)
+    for suffix in ("offset.xyz", "pmatrix.txt", "calibrated_internal_camera_parameters.cam",
+                   "wkt.prj"):
+        shutil.copy(params / f"demo_survey_{suffix}", tmp_path)
+    recon = open_reconstruction(tmp_path)
+    err = _check_projection(recon, truth, lambda name: name + ".JPG")
+    assert err < 0.01
+
+
+def _dsm_ground(dsm_path):
+    """ground(x, y) in EPSG:32654: the DSM (in memory, bilinear between pixel centres), or a
+    plane fitted to it where it has no data."""
+    import tifffile
+    from easyidp_toolbox.core.geotiff import open_geotiff
+    info = open_geotiff(dsm_path)
+    z = tifffile.imread(dsm_path).astype(float)
+    z[z == info.nodata] = np.nan
+    c0, a, _, r0, _, e = info.geotransform
+    rr, cc = np.mgrid[10:info.height - 10:50, 60:info.width - 10:50]
+    ok = ~np.isnan(z[rr, cc])
+    A = np.column_stack([np.ones(ok.sum()), c0 + a * (cc[ok] + 0.5), r0 + e * (rr[ok] + 0.5)])
+    plane = np.linalg.lstsq(A, z[rr, cc][ok], rcond=None)[0]
+
+    def ground(x, y):
+        fc, fr = (x - c0) / a - 0.5, (y - r0) / e - 0.5
+        i, j = np.floor(fr).astype(int), np.floor(fc).astype(int)
+        ok = (i >= 0) & (j >= 0) & (i < info.height - 1) & (j < info.width - 1)
+        i, j = np.where(ok, i, 0), np.where(ok, j, 0)
+        wr, wc = fr - i, fc - j
+        v = (z[i, j] * (1 - wc) + z[i, j + 1] * wc) * (1 - wr) + (z[i + 1, j] * (1 - wc) + z[i + 1, j + 1] * wc) * wr
+        v = np.where(ok, v, np.nan)
+        return np.where(np.isnan(v), plane[0] + plane[1] * x + plane[2] * y, v)
+    return ground
+
+
+@pytest.mark.parametrize("project", ["metashape", "pix4d"])
+def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, project):
+    from pyproj import Transformer
+    from easyidp_toolbox.core.geometry import points_in_rings
+    from easyidp_toolbox.core.reconstruction import camera_footprints
+    recon = open_reconstruction(survey.metashape_project if project == "metashape"
+                                else survey.pix4d_project)
+    ground_utm = _dsm_ground(survey.dsm)
+    if recon.crs.to_epsg() == 32654:
+        ground = ground_utm
+    else:
+        to_utm = Transformer.from_crs(recon.crs, "EPSG:32654", always_xy=True)
+
+        def ground(x, y):
+            return ground_utm(*to_utm.transform(x, y))
+    fps = camera_footprints(recon, ground, crs="EPSG:32654", per_edge=24)
+    w, h = truth["image_size"]
+    t = truth["obs_pixel"]
+    # crop up to 0.7 m tall near the border pulls the ring inwards by up to ~15 px
+    deep = np.minimum.reduce([t[:, 0], w - t[:, 0], t[:, 1], h - t[:, 1]]) > 30
+    photos = np.array(truth["obs_photo"])
+    checked = 0
+    for fp in fps:
+        assert fp.complete, fp.label
+        name = fp.label.replace(".JPG", "")
+        sel = (photos == name) & deep
+        xy = truth["xyz"][truth["obs_point"][sel], :2]
+        inside = points_in_rings(xy[:, 0], xy[:, 1], [np.vstack([fp.ring[:, :2], fp.ring[:1, :2]])])
+        assert inside.all(), (fp.label, int((~inside).sum()))
+        checked += len(xy)
+    assert checked > 5000
+
+
+def _photo_pixels(path, uv):
+    import imagecodecs
+    img = imagecodecs.jpeg8_decode(open(path, "rb").read())
+    h, w = img.shape[:2]
+    c = np.clip(np.floor(uv[:, 0]).astype(int), 0, w - 1)
+    r = np.clip(np.floor(uv[:, 1]).astype(int), 0, h - 1)
+    return img[r, c].astype(float)
+
+
+def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth):
+    """Colour of the photo pixel holding each truth pixel vs the orthomosaic around the point
+    (4 cm × 4 cm, about the photo's ground resolution) on a sample of observations."""
+    import tifffile
+    ortho = tifffile.imread(survey.orthomosaic).astype(float)
+    rng = np.random.default_rng(5)
+    pick = rng.choice(len(truth["obs_point"]), 3000, replace=False)
+    photos = np.array(truth["obs_photo"])[pick]
+    xyz = truth["xyz"][truth["obs_point"][pick]]
+    x0, y0 = 319800.0, 3956050.0          # orthomosaic origin (1 cm pixels)
+    col = ((xyz[:, 0] - x0) / 0.01).astype(int)
+    row = ((y0 - xyz[:, 1]) / 0.01).astype(int)
+    ref = np.mean([ortho[np.clip(row + dr, 0, ortho.shape[0] - 1), np.clip(col + dc, 0, ortho.shape[1] - 1)]
+                   for dr in range(-2, 2) for dc in range(-2, 2)], axis=0)
+
+    def photo_colours(shift):
+        out = np.empty((len(pick), 3))
+        for name in sorted(set(photos)):
+            sel = photos == name
+            path = os.path.join(survey.folder, truth["photos"][name]["file"])
+            out[sel] = _photo_pixels(path, truth["obs_pixel"][pick][sel] + shift)
+        return out
+
+    got = photo_colours(np.zeros(2))
+    diff = np.abs(got - ref)
+    green = lambda c: c[:, 1] - c[:, 0]                  # noqa: E731 (vegetation contrast)
+    corr = np.corrcoef(green(got), green(ref))[0, 1]
+    print(f"colour: median |diff| {np.median(diff):.1f}, 90th pct {np.percentile(diff, 90):.1f}, "
+          f"green-red correlation {corr:.3f}")
+    assert np.median(diff) < 8
+    assert np.percentile(diff.max(axis=1), 90) < 40
+    assert corr > 0.9
+    # the test has power: 6 px off (about 22 cm) the agreement collapses
+    off = photo_colours(np.array([6.0, 0.0]))
+    assert np.corrcoef(green(off), green(ref))[0, 1] < corr - 0.3
+
+
+def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
+    from easyidp_toolbox.core.dsm_heights import sample_points
+    assert len(survey.labelme) == 4
+    ms = open_reconstruction(survey.metashape_project)
+    p4 = open_reconstruction(survey.pix4d_project)
+    lm_truth = truth["labelme"]
+    n = 0
+    for path in survey.labelme:
+        with open(path) as fh:
+            doc = json.load(fh)
+        assert set(doc) >= {"version", "flags", "shapes", "imagePath", "imageData",
+                            "imageHeight", "imageWidth"}
+        assert os.path.isfile(os.path.join(os.path.dirname(path), doc["imagePath"]))
+        assert (doc["imageWidth"], doc["imageHeight"]) == tuple(truth["image_size"])
+        t = lm_truth[os.path.relpath(path, survey.folder).replace(os.sep, "/")]
+        assert 3 <= len(doc["shapes"]) <= 5
+        for shape, st in zip(doc["shapes"], t["shapes"]):
+            assert shape["shape_type"] == "polygon" and shape["label"] == st["label"]
+            uv = np.array(shape["points"])
+            xyz = np.array(st["map"])
+            assert np.allclose(uv, st["pixels"])
+            # the true map point is on the DSM surface and projects back to the clicked pixel
+            assert np.allclose(sample_points(survey.dsm, xyz[:, 0], xyz[:, 1]), xyz[:, 2], atol=2e-4)
+            for recon, name in ((ms, t["photo"]), (p4, t["photo"] + ".JPG")):
+                back = recon.project_points(xyz, "EPSG:32654", cameras=[name]).pixels[0]
+                assert np.abs(back - uv).max() < 0.01
+            # and lies at the plot's outline (a few cm of hand jitter, or on the crop next to it)
+            corners = np.array(truth["plots"][st["label"]]["corners"])
+            assert np.min(np.hypot(*(xyz[0, :2] - corners[:, :2]).T)) < 0.6
+            n += 1
+    assert n >= 12
+
+
+def test_plot_layers_and_point_cloud(survey):
+    import sqlite3
+    from easyidp_toolbox.core import read_geojson, read_point_cloud
+    from easyidp_toolbox.core.dsm_heights import sample_points
+    rois = read_geojson(survey.plots_geojson, "plot_id")
+    assert len(rois) == 40
+    con = sqlite3.connect(survey.plots_gpkg)
+    try:
+        rows = con.execute('SELECT plot_id, "row", col, geom FROM plots ORDER BY fid').fetchall()
+        srs = con.execute("SELECT srs_id FROM gpkg_geometry_columns WHERE table_name='plots'").fetchone()
+    finally:
+        con.close()
+    assert srs == (32654,) and [r[0] for r in rows] == survey.plot_ids
+    try:
+        from osgeo import ogr
+    except ImportError:
+        ogr = None
+    if ogr is not None:                                 # GDAL reads it as a GeoPackage
+        ds = ogr.Open(survey.plots_gpkg)
+        layer = ds.GetLayer(0)
+        assert layer.GetFeatureCount() == 40
+        assert layer.GetSpatialRef().GetAuthorityCode(None) == "32654"
+        areas = [f.GetGeometryRef().GetArea() for f in layer]
+        assert np.allclose(areas, 10.0)
+    laz = read_point_cloud(survey.point_cloud_laz)
+    ply = read_point_cloud(survey.point_cloud_ply, crs="EPSG:32654")
+    assert laz.crs.to_epsg() == 32654 and len(laz) == len(ply) > 200_000
+    xyz = laz.xyz
+    assert {"red", "green", "blue"} <= set(laz.attribute_names)
+    pick = np.random.default_rng(1).choice(len(xyz), 2000, replace=False)
+    z = sample_points(survey.dsm, xyz[pick, 0], xyz[pick, 1])
+    assert np.nanmax(np.abs(z - xyz[pick, 2])) < 1e-3
+    assert np.allclose(ply.xyz[pick], xyz[pick], atol=1e-3)
+
+
+def test_same_seed_gives_identical_files(survey, tmp_path):
+    again = make_demo_survey(str(tmp_path / "again"), seed=0, size="small")
+
+    def digests(root):
+        out = {}
+        for dirpath, _, files in os.walk(root):
+            for f in files:
+                p = os.path.join(dirpath, f)
+                with open(p, "rb") as fh:
+                    out[os.path.relpath(p, root)] = hashlib.sha256(fh.read()).hexdigest()
+        return out
+    a, b = digests(survey.folder), digests(again.folder)
+    assert sorted(a) == sorted(b) and len(a) >= 60
+    assert a == b
+
+
+REF_PYTHON = Path(__file__).resolve().parents[2] / ".venv-ref" / "bin" / "python"
+EASYIDP_SCRIPT = r"""
+import json, sys
+import numpy as np, pyproj
+import easyidp as idp
+truth_path, folder, out = sys.argv[1:4]
+with open(truth_path) as fh:
+    truth = json.load(fh)
+xyz = np.array(truth["points"]["xyz"])
+w, h = truth["image_size"]
+obs = truth["observations"]
+point, photo, pixel = np.array(obs["point"]), np.array(obs["photo"]), np.array(obs["pixel"])
+# points within 1 px of the border may fall out of the frame for easyidp (it drops the photo)
+keep = (pixel[:, 0] > 1) & (pixel[:, 0] < w - 1) & (pixel[:, 1] > 1) & (pixel[:, 1] < h - 1)
+ms = idp.Metashape(folder + "/metashape/demo_survey.psx", chunk_id=0)
+ms.crs = pyproj.CRS.from_epsg(32654)          # as its docs say: the CRS of the ROI / DSM
+p4d = idp.Pix4D(folder + "/pix4d/demo_survey.p4d", raw_img_folder=folder + "/photos")
+result = {}
+for name, recon in (("metashape", ms), ("pix4d", p4d)):
+    res = {}
+    for label in sorted(set(photo)):
+        sel = (photo == label) & keep
+        got = recon.back2raw_crs(xyz[point[sel]])
+        res[label] = {"index": np.flatnonzero(sel).tolist(),
+                      "pixel": np.asarray(got[label]).tolist() if label in got else None}
+    result[name] = res
+with open(out, "w") as fh:
+    json.dump(result, fh)
+"""
+
+
+def test_easyidp_204_agrees_with_the_truth(survey, truth, tmp_path):
+    """Realism: easyidp 2.0.4 (its own environment) opens both projects and projects the truth
+    points (its public back2raw_crs) to within 0.5 px of the truth."""
+    if not REF_PYTHON.exists():
+        pytest.skip(f"reference environment with easyidp 2.0.4 not found at {REF_PYTHON} "
+                    "(make env-ref creates it)")
+    script, out = tmp_path / "easyidp_check.py", tmp_path / "easyidp.json"
+    script.write_text(EASYIDP_SCRIPT)
+    env = {**os.environ, "HOME": str(tmp_path), "XDG_DATA_HOME": str(tmp_path)}
+    t0 = time.perf_counter()
+    proc = subprocess.run([str(REF_PYTHON), str(script), survey.truth, survey.folder, str(out)],
+                          capture_output=True, text=True, env=env, timeout=300)
+    assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-4000:]
+    with open(out) as fh:
+        result = json.load(fh)
+    for name in ("metashape", "pix4d"):
+        errs, n = [], 0
+        for label, r in result[name].items():
+            assert r["pixel"] is not None, f"{name}: easyidp lost photo {label}"
+            idx = np.array(r["index"])
+            errs.append(np.abs(np.array(r["pixel"]) - truth["obs_pixel"][idx]).max())
+            n += len(idx)
+        print(f"easyidp 2.0.4 {name}: {n} observations, max error {max(errs):.4f} px "
+              f"({time.perf_counter() - t0:.1f} s)")
+        assert n > 10000
+        assert max(errs) < 0.5
+
+
+def test_hidden_pairs_show_the_crop_in_front_of_the_soil(survey, truth):
+    """A truth point on soil that the truth says is hidden in a photo shows up as crop there;
+    one it says is seen shows up as soil."""
+    import tifffile
+    hid = truth["hidden"]
+    assert 0 < len(hid["point"]) < len(truth["obs_point"]) / 10
+    ortho = tifffile.imread(survey.orthomosaic).astype(float)
+    recon = open_reconstruction(survey.metashape_project)
+
+    def green(points, photos):
+        """(G − R) of the orthomosaic under each point and of the photo pixel holding it."""
+        xyz = truth["xyz"][points]
+        o = ortho[((3956050.0 - xyz[:, 1]) / 0.01).astype(int), ((xyz[:, 0] - 319800.0) / 0.01).astype(int)]
+        p = np.empty_like(o)
+        for name in sorted(set(photos)):
+            sel = photos == name
+            uv = recon.project_points(xyz[sel], "EPSG:32654", cameras=[name]).pixels[0]
+            p[sel] = _photo_pixels(os.path.join(survey.photo_folder, name + ".JPG"), uv)
+        return o[:, 1] - o[:, 0], p[:, 1] - p[:, 0]
+
+    o, p = green(np.array(hid["point"]), np.array(hid["photo"]))
+    soil = o < 0
+    assert soil.sum() > 50 and np.mean(p[soil] > 30) > 0.6
+    pick = np.random.default_rng(2).choice(len(truth["obs_point"]), 3000, replace=False)
+    o, p = green(truth["obs_point"][pick], np.array(truth["obs_photo"])[pick])
+    soil = o < 0
+    assert soil.sum() > 1000 and np.mean(p[soil] > 30) < 0.1
+
+
+def test_bad_size_and_cancellation(tmp_path):
+    from easyidp_toolbox.core import Cancelled, InputError
+    with pytest.raises(InputError):
+        make_demo_survey(str(tmp_path / "a"), size="huge")
+    with pytest.raises(Cancelled):
+        make_demo_survey(str(tmp_path / "b"), is_cancelled=lambda: True)
+
+
+def test_plots_seen_whole(truth):
+    plots = truth["plots"]
+    assert len(plots) == 40
+    for pid, p in plots.items():
+        assert len(p["photos_whole"]) >= 2, pid
+        assert set(p["photos_whole"]) <= set(p["photos_corners"])
+
+
+def test_point_cloud_cropped_by_the_plots_matches_an_independent_count(survey, tmp_path):
+    """Issue 5's check on the demo survey: per-plot counts of the one-pass crop equal a
+    winding-number count, and the kept points are exactly those points."""
+    import laspy
+
+    from easyidp_toolbox.core import crop_point_cloud, read_geojson
+    from pc_helpers import winding_inside
+
+    plots = read_geojson(survey.plots_geojson, name_field="plot_id")
+    res = crop_point_cloud(survey.point_cloud_laz, plots, str(tmp_path / "crops"), fmt="las")
+    las = laspy.read(survey.point_cloud_laz)
+    x, y = np.asarray(las.x), np.asarray(las.y)
+    by_name = {item.name: item for item in res.items}
+    assert len(by_name) == len(plots) == 40
+    for roi in plots:
+        inside = winding_inside(x, y, roi.rings)
+        item = by_name[roi.name]
+        assert item.count == int(inside.sum()) > 0
+        kept = laspy.read(item.file)
+        assert np.array_equal(np.sort(np.asarray(kept.x)), np.sort(x[inside]))
