@@ -1,6 +1,7 @@
 # EasyIDP for QGIS: one entry point. Run as root on Debian 12 (apt is used when QGIS is missing).
 #   make demo   build the demo data and run every tool on it through qgis_process
-#   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs
+#   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs;
+#               the comparisons with easyidp 2.0.4 run in its own environment (.venv-ref)
 #   make bench  benchmarks against easyidp 2.0.4 and GDAL (minutes; not part of test)
 SHELL := /bin/bash
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
@@ -54,7 +55,7 @@ $(VENV_REF)/.done: requirements/reference.txt | apt
 	$(VENV_REF)/bin/pip install -q --disable-pip-version-check -r requirements/reference.txt
 	touch $@
 
-test: env
+test: env env-ref
 	$(MAKE) --no-print-directory test-core test-core-current test-qgis
 
 test-core:

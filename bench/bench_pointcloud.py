@@ -97,8 +97,6 @@ def _child(python, code: str, timeout=None) -> dict:
 OURS = """
 import json, time
 import numpy as np
-
-from .common import reference_env
 from easyidp_toolbox.core import ROI, ROISet, read_point_cloud, crop_point_cloud
 rois_np = np.load({rois!r})
 names = json.load(open({names!r}))
@@ -114,8 +112,6 @@ EASYIDP = """
 import json, time, warnings, logging
 warnings.filterwarnings("ignore")
 import numpy as np
-
-from .common import reference_env
 t_imp = time.perf_counter()
 import easyidp as idp
 from pyproj import CRS

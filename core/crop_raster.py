@@ -15,14 +15,14 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from .errors import Cancelled, InputError
+from .errors import Cancelled, InputError, ROIError
 from .geotiff import GeoTiff, open_geotiff
 from .geotiff_write import write_geotiff
 from .naming import unique_names
 from .progress import as_progress
 from .raster_sweep import sweep_windows, thread_pool
 from .roi import ROISet
-from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
+from .roi_pixels import NO_PIXEL, bounding_box, place_rois, require_overlap, rois_in_raster_crs
 
 MAX_PENDING_WRITES = 32
 
@@ -84,19 +84,26 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
 
     def finish(k: int, arr: np.ndarray) -> None:
         p = placed[k]
-        outside = ~p.mask
-        gt = tif.window_geotransform(p.window.row, p.window.col)
+        mask = p.mask()
+        box = bounding_box(mask)   # the crop is the bounding box of the ROI's pixels
+        if box is None:
+            skipped[p.roi.name] = NO_PIXEL
+            return
+        r0, r1, c0, c1 = box
+        mask, arr = mask[r0:r1, c0:c1], arr[r0:r1, c0:c1]
+        gt = tif.window_geotransform(p.window.row + r0, p.window.col + c0)
         if kind == "rgb":
-            alpha = np.where(p.mask, 255, 0).astype(np.uint8)[..., None]
-            arr[outside] = 0
-            job = (paths[k], np.concatenate([arr, alpha], axis=2), gt, tif.geo_tags, None, True, (2,))
+            out = np.empty(arr.shape[:2] + (4,), np.uint8)
+            np.multiply(arr, mask[..., None], out=out[..., :3])
+            np.multiply(mask, 255, out=out[..., 3], casting="unsafe")
+            job = (paths[k], out, gt, tif.geo_tags, None, True, (2,))
         elif kind == "rgba":
-            arr[outside, tif.alpha_band] = 0
+            arr[..., tif.alpha_band] *= mask
             extras = (0,) * (tif.bands - 4) + (2,) if tif.bands >= 4 and tif.photometric == 2 else \
                 (0,) * (tif.bands - 2) + (2,)
             job = (paths[k], arr, gt, tif.geo_tags, tif.nodata_text, tif.photometric == 2, extras)
         else:
-            arr[outside] = nodata
+            np.copyto(arr, np.asarray(nodata, dtype=arr.dtype), where=~mask[..., None])
             job = (paths[k], arr, gt, tif.geo_tags, nodata_text, False, ())
         pending.append((k, pool.submit(write_geotiff, *job)))
         while len(pending) > MAX_PENDING_WRITES:
@@ -122,6 +129,9 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
             raise
         for item in pending:
             _collect(item)
+    if not result.files:
+        raise ROIError(f"None of the {len(rois)} ROIs contains a pixel centre of {raster}: they are "
+                       "smaller than a pixel or lie on its edges. Use all-touched to include them.")
     order = sorted(range(len(result.files)), key=lambda j: result.files[j])
     result.files = [result.files[j] for j in order]
     result.names = [result.names[j] for j in order]

@@ -13,7 +13,7 @@ from .geotiff import GeoTiff, open_geotiff
 from .progress import as_progress
 from .raster_sweep import Window, sweep_windows
 from .roi import ROI, ROISet
-from .roi_pixels import place_rois, require_overlap, rois_in_raster_crs
+from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
 
 STATISTICS = ("mean", "median", "min", "max", "percentile")
 SAMPLING = ("nearest", "bilinear")
@@ -173,9 +173,12 @@ def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = 
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]
         a = arr[..., 0]
-        sel = p.mask & _valid(tif, a)
+        mask = p.mask()
+        sel = mask & _valid(tif, a)
         if sel.any():
             values[p.index] = polygon_statistic(a[sel].astype(np.float64), statistic, percentile)
+        elif not mask.any():
+            missing[p.roi.name] = NO_PIXEL
         else:
             missing[p.roi.name] = "all DSM pixels inside it are nodata"
 

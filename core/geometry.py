@@ -109,10 +109,11 @@ def rasterize(rings_px: Rings, shape: Tuple[int, int], all_touched: bool = False
         start = np.clip(start, 0, cols)
         stop = np.clip(stop, 0, cols)
         ok = stop > start
-        diff = np.zeros((rows, cols + 1), dtype=np.int32)
-        np.add.at(diff, (prow[ok], start[ok]), 1)
-        np.add.at(diff, (prow[ok], stop[ok]), -1)
-        mask = np.cumsum(diff[:, :cols], axis=1) > 0
+        # spans of a row are disjoint: toggle at each start and stop, then XOR-accumulate
+        toggle = np.zeros((rows, cols + 1), dtype=bool)
+        np.logical_xor.at(toggle, (prow[ok], start[ok]), True)
+        np.logical_xor.at(toggle, (prow[ok], stop[ok]), True)
+        mask = np.logical_xor.accumulate(toggle[:, :cols], axis=1)
     if all_touched:
         for ring in rings_px:
             for (x0, y0), (x1, y1) in zip(ring, np.roll(ring, -1, axis=0)):

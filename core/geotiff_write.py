@@ -1,6 +1,6 @@
 """Writing cropped GeoTIFFs: georeferencing copied from the source, deflate-compressed, atomic."""
 import os
-import tempfile
+import threading
 from typing import Optional, Sequence, Tuple
 
 import numpy as np
@@ -12,8 +12,6 @@ from .geotiff import (TAG_GDAL_METADATA, TAG_GDAL_NODATA, TAG_GEOASCII, TAG_GEOD
 # Deflate level 1 with the horizontal (integers) or floating-point predictor: on orthomosaic crops
 # both faster and smaller than level 6 without a predictor (GDAL's default).
 DEFLATE_LEVEL = 1
-_UMASK = os.umask(0)
-os.umask(_UMASK)
 
 
 def epsg_geo_tags(epsg: int) -> dict:
@@ -66,10 +64,9 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
     if data.ndim == 2:
         data = data[..., None]
     rows, cols, bands = data.shape
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".easyidp-", suffix=".tif.part", dir=folder)
-    os.close(fd)
-    os.chmod(tmp, 0o666 & ~_UMASK)  # mkstemp makes 0600; outputs get the usual permissions
+    folder, name = os.path.split(os.path.abspath(path))
+    # a hidden name unique to this process and thread, renamed into place when complete
+    tmp = os.path.join(folder, f".{name}.{os.getpid()}-{threading.get_ident()}.part")
     try:
         if tile is None and rowsperstrip is None and rows * cols > 1024 * 1024:
             tile = 256

@@ -13,13 +13,44 @@ from .raster_sweep import Window
 from .roi import ROI, ROISet
 
 
+NO_PIXEL = ("contains no pixel centre of the raster (it is smaller than a pixel or lies on the "
+            "edge); use all-touched to include it")
+
+
 @dataclass
 class PixelROI:
-    """An ROI in pixel coordinates of one raster, with its clipped window and mask."""
+    """An ROI on one raster's grid: its window (the polygon's envelope, grown by the buffer and
+    clipped to the raster) and its rings in pixel coordinates relative to that window. The mask
+    is computed on demand, when the window's pixels arrive, so thousands of ROIs cost nothing
+    while they wait for the sweep."""
     index: int                 # position in the ROI set
     roi: ROI
     window: Window
-    mask: np.ndarray           # (rows, cols) bool, True inside
+    rings: List[np.ndarray]    # (col, row) relative to the window's top-left corner
+    all_touched: bool = False
+    buffer: float = 0.0        # map units
+    pixel_size: Tuple[float, float] = (1.0, 1.0)
+
+    def mask(self) -> np.ndarray:
+        """(rows, cols) bool over the window, True inside (see :func:`place_rois`)."""
+        w = self.window
+        if self.buffer == 0.0:
+            return geometry.rasterize(self.rings, (w.rows, w.cols), self.all_touched)
+        sx, sy = self.pixel_size   # distances in map units, also for non-square pixels
+        cc, rr = np.meshgrid((np.arange(w.cols) + 0.5) * sx, (np.arange(w.rows) + 0.5) * sy)
+        rings = [r * (sx, sy) for r in self.rings]
+        inside = geometry.points_in_rings(cc, rr, rings)
+        dist = geometry.distance_to_rings(cc, rr, rings)
+        return (inside | (dist <= self.buffer)) if self.buffer > 0 else (inside & (dist > -self.buffer))
+
+
+def bounding_box(mask: np.ndarray) -> Optional[Tuple[int, int, int, int]]:
+    """(row0, row1, col0, col1), end-exclusive, of the True pixels; None when there is none."""
+    rows = np.flatnonzero(mask.any(axis=1))
+    if not len(rows):
+        return None
+    cols = np.flatnonzero(mask.any(axis=0))
+    return int(rows[0]), int(rows[-1]) + 1, int(cols[0]), int(cols[-1]) + 1
 
 
 def rois_in_raster_crs(rois: ROISet, tif: GeoTiff) -> ROISet:
@@ -55,9 +86,7 @@ def to_pixels(tif: GeoTiff, roi: ROI) -> List[np.ndarray]:
 
 def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: float = 0.0,
                ) -> Tuple[List[PixelROI], dict]:
-    """Windows and masks of the ROIs on the raster grid; ROIs that miss it are returned as skipped.
-
-    The window of an ROI is the bounding box of its pixels (so no all-outside rows or columns).
+    """The ROIs on the raster grid; ROIs whose envelope misses the raster are returned as skipped.
 
     A pixel is inside when its centre is inside the polygon (or, with ``all_touched``, when the
     polygon touches it). ``buffer`` (map units) grows (> 0) or shrinks (< 0) the polygon: a pixel
@@ -66,31 +95,16 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
     Returns (placed ROIs, {name: reason} for the ROIs skipped).
     """
     placed, skipped = [], {}
-    px_size = abs(tif.geotransform[1])
-    grow_px = max(buffer, 0.0) / px_size
+    size = (abs(tif.geotransform[1]), abs(tif.geotransform[5]))
+    grow_px = max(buffer, 0.0) / min(size)
     for i, roi in enumerate(rois):
         rings = to_pixels(tif, roi)
         win = _window_of(tif, rings, grow_px)
         if win is None:
             skipped[roi.name] = "outside the raster"
             continue
-        shifted = [r - (win.col, win.row) for r in rings]
-        if buffer == 0.0:
-            mask = geometry.rasterize(shifted, (win.rows, win.cols), all_touched)
-        else:
-            cc, rr = np.meshgrid(np.arange(win.cols) + 0.5, np.arange(win.rows) + 0.5)
-            inside = geometry.points_in_rings(cc, rr, shifted)
-            dist = geometry.distance_to_rings(cc, rr, shifted) * px_size
-            mask = (inside | (dist <= buffer)) if buffer > 0 else (inside & (dist > -buffer))
-        if not mask.any():
-            skipped[roi.name] = ("contains no pixel centre of the raster (it is smaller than a "
-                                 "pixel or lies on the edge); use all-touched to include it")
-            continue
-        rows = np.flatnonzero(mask.any(axis=1))
-        cols = np.flatnonzero(mask.any(axis=0))
-        mask = mask[rows[0]:rows[-1] + 1, cols[0]:cols[-1] + 1]
-        win = Window(win.row + int(rows[0]), win.col + int(cols[0]), mask.shape[0], mask.shape[1])
-        placed.append(PixelROI(i, roi, win, mask))
+        placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
+                               all_touched, buffer, size))
     return placed, skipped
 
 

@@ -1,62 +1,149 @@
-"""``make demo``: build the demo field, run every EasyIDP tool on it through qgis_process, report.
+"""``make demo``: create the demo survey and run every EasyIDP tool on it through qgis_process.
 
+Prints what was produced, how long each step took, and the errors against the survey's truth;
+writes an overview picture (orthomosaic, plots, camera footprints) drawn by QGIS.
 Usage: python -m easyidp_toolbox.scripts.demo OUTPUT_FOLDER
 """
+import json
 import os
 import sys
 import time
 
-from ..core.demo_field import make_demo_field
+import numpy as np
+
 from .qgis_process import qgis_process_env, run_algorithm
+
+
+class Steps:
+    """Runs algorithms through qgis_process and keeps their wall times."""
+
+    def __init__(self):
+        self.env = qgis_process_env()
+        self.times = []
+
+    def run(self, label, alg, params):
+        t = time.time()
+        res = run_algorithm(alg, params, self.env)
+        self.times.append((label, time.time() - t))
+        print(f"  {self.times[-1][1]:6.1f} s  {label}", flush=True)
+        return res
+
+
+def _features(path: str, layer: int = 0):
+    from osgeo import ogr
+    ds = ogr.Open(path)  # keep the dataset alive while its layer is read
+    return [{**f.items(), "_geom": f.GetGeometryRef().Clone()} for f in ds.GetLayer(layer)]
 
 
 def main(out: str) -> int:
     out = os.path.abspath(out)
-    t0 = time.time()
-    field = make_demo_field(os.path.join(out, "data"))
-    steps = [("demo field (orthomosaic, DSM, 24 plots)", time.time() - t0)]
-    env = qgis_process_env()
+    os.makedirs(out, exist_ok=True)
+    print(f"EasyIDP demo: every tool on a generated survey, through qgis_process → {out}", flush=True)
+    steps = Steps()
+    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 2 projects, cloud)",
+                  "easyidp:createdemosurvey", {"OUTPUT_FOLDER": os.path.join(out, "survey")})
+    truth = json.load(open(s["TRUTH"]))
+    plots, dsm = s["PLOTS"], s["DSM"]
 
-    def step(label, alg, params):
-        t = time.time()
-        res = run_algorithm(alg, params, env)
-        steps.append((label, time.time() - t))
-        return res
+    dom = steps.run("crop orthomosaic by plots", "easyidp:croprasterbyrois",
+                    {"INPUT": s["ORTHOMOSAIC"], "ROIS": plots, "NAME_FIELD": "plot_id",
+                     "OUTPUT_FOLDER": os.path.join(out, "crops_orthomosaic")})
+    steps.run("crop DSM by plots", "easyidp:croprasterbyrois",
+              {"INPUT": dsm, "ROIS": plots, "NAME_FIELD": "plot_id",
+               "OUTPUT_FOLDER": os.path.join(out, "crops_dsm")})
+    top = steps.run("plot canopy top from DSM (95th percentile)", "easyidp:roiheightsfromdsm",
+                    {"ROIS": plots, "DSM": dsm, "MODE": 0, "STATISTIC": 4, "PERCENTILE": 95,
+                     "OUTPUT": os.path.join(out, "plots_top.gpkg")})
+    ground = steps.run("plot ground from DSM (2nd percentile, 0.3 m around)", "easyidp:roiheightsfromdsm",
+                       {"ROIS": plots, "DSM": dsm, "MODE": 0, "STATISTIC": 4, "PERCENTILE": 2,
+                        "BUFFER": 0.3, "OUTPUT": os.path.join(out, "plots_ground.gpkg")})
+    ms = steps.run("camera footprints on the DSM, Metashape project", "easyidp:camerafootprints",
+                   {"PROJECT": s["METASHAPE_PROJECT"], "DSM": dsm,
+                    "OUTPUT_CAMERAS": os.path.join(out, "metashape_cameras.gpkg"),
+                    "OUTPUT_FOOTPRINTS": os.path.join(out, "metashape_footprints.gpkg")})
+    steps.run("camera footprints on the DSM, Pix4D project", "easyidp:camerafootprints",
+              {"PROJECT": s["PIX4D_PROJECT"], "DSM": dsm,
+               "OUTPUT_CAMERAS": os.path.join(out, "pix4d_cameras.gpkg"),
+               "OUTPUT_FOOTPRINTS": os.path.join(out, "pix4d_footprints.gpkg")})
+    pc = steps.run("crop point cloud by plots (LAZ)", "easyidp:croppointcloudbyrois",
+                   {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "NAME_FIELD": "plot_id",
+                    "OUTPUT_FOLDER": os.path.join(out, "crops_pointcloud")})
+    stats = steps.run("point cloud statistics per plot", "easyidp:pointcloudroistatistics",
+                      {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "PERCENTILES": "50,95,99",
+                       "OUTPUT": os.path.join(out, "plots_pointcloud_stats.gpkg")})
 
-    dom = step("crop orthomosaic by plots", "easyidp:croprasterbyrois",
-               {"INPUT": field.orthomosaic, "ROIS": field.plots, "NAME_FIELD": "plot_id",
-                "OUTPUT_FOLDER": os.path.join(out, "crops_orthomosaic")})
-    dsm = step("crop DSM by plots", "easyidp:croprasterbyrois",
-               {"INPUT": field.dsm, "ROIS": field.plots, "NAME_FIELD": "plot_id",
-                "OUTPUT_FOLDER": os.path.join(out, "crops_dsm")})
-    heights_path = os.path.join(out, "plots_with_heights.gpkg")
-    step("plot heights from DSM (95th percentile)", "easyidp:roiheightsfromdsm",
-         {"ROIS": field.plots, "DSM": field.dsm, "MODE": 0, "STATISTIC": 4, "PERCENTILE": 95,
-          "OUTPUT": heights_path})
-    ground = step("plot ground from DSM (2nd percentile, 0.3 m around)", "easyidp:roiheightsfromdsm",
-                  {"ROIS": field.plots, "DSM": field.dsm, "MODE": 0, "STATISTIC": 4,
-                   "PERCENTILE": 2, "BUFFER": 0.3, "OUTPUT": os.path.join(out, "plots_ground.gpkg")})
+    # ---- checks against the truth ----------------------------------------------------------
+    crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}
+    t = {f["plot_id"]: f["height"] for f in _features(top["OUTPUT"])}
+    g = {f["plot_id"]: f["height"] for f in _features(ground["OUTPUT"])}
+    dsm_err = np.array([(t[k] - g[k]) - crop_h[k] for k in crop_h])
+    pc_err = np.array([f["h_p99"] - crop_h[f["plot_id"]] for f in _features(stats["OUTPUT"])])
+    proj = _projection_errors(s, truth)
+    inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
 
-    top, low = _heights(heights_path), _heights(ground["OUTPUT"])
-    err = [abs((top[k] - low[k]) - field.canopy_height[k]) for k in top]
+    from .overview import render_overview
+    png = render_overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
+                          [plots, ms["OUTPUT_FOOTPRINTS"]])
 
-    print(f"\nEasyIDP demo: results in {out}")
-    for label, seconds in steps:
-        print(f"  {seconds:6.2f} s  {label}")
-    print(f"  inputs:  {field.orthomosaic}\n           {field.dsm}\n           {field.plots}")
-    print(f"  outputs: {os.path.join(out, 'crops_orthomosaic')} ({dom['CROPPED']} GeoTIFFs)\n"
-          f"           {os.path.join(out, 'crops_dsm')} ({dsm['CROPPED']} GeoTIFFs)\n"
-          f"           {heights_path}")
-    print(f"Summary: {dom['CROPPED']} plots cropped from the orthomosaic and the DSM; plot canopy "
-          f"height (p95 - ground) vs the generated truth: mean error {100 * sum(err) / len(err):.1f} cm, "
-          f"max {100 * max(err):.1f} cm.")
+    print("\nResults")
+    print(f"  survey:      {s['OUTPUT_FOLDER']}")
+    print(f"  crops:       {dom['CROPPED']} orthomosaic + DSM GeoTIFFs, {pc['CROPPED']} LAZ "
+          f"in {out}/crops_*")
+    print(f"  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
+          f"metashape_/pix4d_ cameras and footprints (.gpkg)")
+    print(f"  picture:     {png}")
+    print("Errors against the truth")
+    print(f"  plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "
+          f"max {100 * np.max(np.abs(dsm_err)):.1f} cm over {len(dsm_err)} plots")
+    print(f"  plot crop height, cloud p99 − ground: mean {100 * np.mean(np.abs(pc_err)):.1f} cm, "
+          f"max {100 * np.max(np.abs(pc_err)):.1f} cm")
+    for name, err in proj.items():
+        print(f"  truth points → photo pixels, {name}: max {err:.1e} px over "
+              f"{len(truth['observations']['point'])} observations")
+    print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
+    total = sum(sec for _, sec in steps.times)
+    print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
+          f"from orthomosaic, DSM and point cloud; projections agree with the truth to "
+          f"{max(proj.values()):.0e} px; plot heights within {100 * np.mean(np.abs(dsm_err)):.0f} cm.")
     return 0
 
 
-def _heights(gpkg: str) -> dict:
-    from osgeo import ogr
-    ds = ogr.Open(gpkg)  # keep the dataset alive while its layer is read
-    return {f["plot_id"]: f["height"] for f in ds.GetLayer(0)}
+def _projection_errors(s, truth) -> dict:
+    """Max pixel error of the truth observations projected through both projects (core)."""
+    from ..core import open_reconstruction
+    xyz = np.array(truth["points"]["xyz"])
+    obs = truth["observations"]
+    out = {}
+    for name, path, suffix in (("Metashape", s["METASHAPE_PROJECT"], ""),
+                               ("Pix4D", s["PIX4D_PROJECT"], ".JPG")):
+        p = open_reconstruction(path).project_points(xyz, truth["crs"])
+        index = {lab: i for i, lab in enumerate(p.camera_labels)}
+        cam = np.array([index[lab + suffix] for lab in obs["photo"]])
+        uv = p.pixels[cam, np.array(obs["point"])]
+        out[name] = float(np.abs(uv - np.array(obs["pixel"])).max())
+    return out
+
+
+def _footprint_coverage(footprints: str, truth) -> float:
+    """Share of (point, photo) truth observations whose point lies in that photo's footprint."""
+    from osgeo import ogr, osr
+    feats = {f["label"]: f["_geom"] for f in _features(footprints)}
+    src = osr.SpatialReference()
+    src.SetFromUserInput(truth["crs"])
+    src.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
+    xyz = truth["points"]["xyz"]
+    hits = 0
+    obs = truth["observations"]
+    for k, label in zip(obs["point"], obs["photo"]):
+        geom = feats[label]
+        dst = geom.GetSpatialReference()
+        dst.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)
+        pt = ogr.Geometry(ogr.wkbPoint)
+        pt.AddPoint_2D(*xyz[k][:2])
+        pt.AssignSpatialReference(src)
+        pt.TransformTo(dst)
+        hits += geom.Contains(pt)
+    return hits / len(obs["point"])
 
 
 if __name__ == "__main__":

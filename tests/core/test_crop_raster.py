@@ -301,3 +301,14 @@ def test_outputs_get_the_usual_permissions(tmp_path):
     umask = os.umask(0)
     os.umask(umask)
     assert os.stat(res.files[0]).st_mode & 0o777 == 0o666 & ~umask
+
+
+def test_roi_without_any_pixel_centre_is_skipped_or_an_error(tmp_path):
+    src = write_tif(str(tmp_path / "dom.tif"), _rgb(), tile=64)
+    tiny = _px(10.6, 10.6, 10.9, 10.9)   # between pixel centres
+    res = crop_raster_by_rois(src, _rois(("ok", _px(1, 1, 9, 9)), ("tiny", tiny)), str(tmp_path / "o"))
+    assert list(res.skipped) == ["tiny"] and "no pixel centre" in res.skipped["tiny"]
+    with pytest.raises(ROIError, match="None of the 1 ROIs contains a pixel centre.*all-touched"):
+        crop_raster_by_rois(src, _rois(("tiny", tiny)), str(tmp_path / "o2"))
+    res = crop_raster_by_rois(src, _rois(("tiny", tiny)), str(tmp_path / "o3"), all_touched=True)
+    assert tifffile.imread(res.files[0]).shape[:2] == (1, 1)

@@ -1,0 +1,81 @@
+"""Processing tool: Create demo survey (easyidp:createdemosurvey)."""
+from qgis.core import (QgsProcessingContext, QgsProcessingOutputFile, QgsProcessingOutputRasterLayer,
+                       QgsProcessingOutputVectorLayer, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
+                       QgsProcessingParameterNumber)
+
+from .base import EasyIDPAlgorithm
+
+SIZES = ["small", "medium"]
+
+
+class CreateDemoSurvey(EasyIDPAlgorithm):
+    OUTPUT_FOLDER = "OUTPUT_FOLDER"
+    SEED = "SEED"
+    SIZE = "SIZE"
+    ORTHOMOSAIC = "ORTHOMOSAIC"
+    DSM = "DSM"
+    PLOTS = "PLOTS"
+    POINT_CLOUD = "POINT_CLOUD"
+    METASHAPE_PROJECT = "METASHAPE_PROJECT"
+    PIX4D_PROJECT = "PIX4D_PROJECT"
+    TRUTH = "TRUTH"
+
+    NAME = "createdemosurvey"
+    DISPLAY = "Create demo survey"
+    GROUP = "Demo data"
+    GROUP_ID = "demo"
+    HELP = (
+        "Writes a small, complete synthetic drone survey with a known truth, so that every "
+        "EasyIDP tool can be tried at once without downloading anything. The survey is a "
+        "60 m × 40 m field of 40 plots (UTM 54N):\n"
+        "- an orthomosaic (1 cm), a DSM (2 cm) and the plots (GeoPackage and GeoJSON, field "
+        "plot_id);\n"
+        "- a coloured point cloud (LAZ and PLY);\n"
+        "- 36 raw photos of a lawnmower flight, rendered through the camera model;\n"
+        "- the same flight as an Agisoft Metashape project and as a Pix4D project;\n"
+        "- LabelMe annotations on four photos;\n"
+        "- truth.json: where known ground points are in every photo.\n\n"
+        "The same seed gives the same files. Small takes seconds; medium has larger photos.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        self.addParameter(QgsProcessingParameterFolderDestination(
+            self.OUTPUT_FOLDER, self.tr("Output folder")))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.SIZE, self.tr("Size"), options=[self.tr("small (800 × 600 photos)"),
+                                                 self.tr("medium (1600 × 1200 photos)")],
+            defaultValue=0))
+        p = QgsProcessingParameterNumber(self.SEED, self.tr("Random seed"),
+                                         QgsProcessingParameterNumber.Integer, defaultValue=0,
+                                         minValue=0)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addOutput(QgsProcessingOutputRasterLayer(self.ORTHOMOSAIC, self.tr("Orthomosaic")))
+        self.addOutput(QgsProcessingOutputRasterLayer(self.DSM, self.tr("DSM")))
+        self.addOutput(QgsProcessingOutputVectorLayer(self.PLOTS, self.tr("Plots")))
+        self.addOutput(QgsProcessingOutputFile(self.POINT_CLOUD, self.tr("Point cloud (LAZ)")))
+        self.addOutput(QgsProcessingOutputFile(self.METASHAPE_PROJECT, self.tr("Metashape project")))
+        self.addOutput(QgsProcessingOutputFile(self.PIX4D_PROJECT, self.tr("Pix4D project")))
+        self.addOutput(QgsProcessingOutputFile(self.TRUTH, self.tr("Truth file")))
+
+    def run_tool(self, parameters, context, feedback):
+        from ...core.demo_survey import make_demo_survey
+
+        folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
+        size = SIZES[self.parameterAsEnum(parameters, self.SIZE, context)]
+        seed = self.parameterAsInt(parameters, self.SEED, context)
+        feedback.pushInfo(self.tr(f"Writing a {size} demo survey (seed {seed}) into {folder}"))
+        s = make_demo_survey(folder, seed=seed, size=size, progress=feedback.setProgress,
+                             is_cancelled=feedback.isCanceled)
+        feedback.pushInfo(self.tr(f"Done in {s.seconds:.1f} s: {len(s.photos)} photos, "
+                                  f"{len(s.plot_ids)} plots."))
+        if context.project() is not None:
+            for path, name, out in ((s.orthomosaic, "Demo orthomosaic", self.ORTHOMOSAIC),
+                                    (s.dsm, "Demo DSM", self.DSM),
+                                    (s.plots_gpkg, "Demo plots", self.PLOTS)):
+                context.addLayerToLoadOnCompletion(
+                    path, QgsProcessingContext.LayerDetails(name, context.project(), out))
+        return {self.OUTPUT_FOLDER: folder, self.ORTHOMOSAIC: s.orthomosaic, self.DSM: s.dsm,
+                self.PLOTS: s.plots_gpkg, self.POINT_CLOUD: s.point_cloud_laz,
+                self.METASHAPE_PROJECT: s.metashape_project, self.PIX4D_PROJECT: s.pix4d_project,
+                self.TRUTH: s.truth}
