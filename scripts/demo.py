@@ -6,6 +6,7 @@ Usage: python -m easyidp_toolbox.scripts.demo OUTPUT_FOLDER
 """
 import json
 import os
+import subprocess
 import sys
 import time
 
@@ -81,9 +82,8 @@ def main(out: str) -> int:
     proj = _projection_errors(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
 
-    from .overview import render_overview
-    png = render_overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
-                          [plots, ms["OUTPUT_FOOTPRINTS"]])
+    png = _overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
+                    [plots, ms["OUTPUT_FOOTPRINTS"]])
 
     print("\nResults")
     print(f"  survey:      {s['OUTPUT_FOLDER']}")
@@ -108,6 +108,16 @@ def main(out: str) -> int:
     return 0
 
 
+def _overview(png: str, raster: str, vectors) -> str:
+    """The overview picture, drawn by QGIS in a process of its own (a QgsApplication must not
+    start in a process that has already used GDAL's Python bindings)."""
+    proc = subprocess.run([sys.executable, "-m", f"{__package__}.overview", png, raster, *vectors],
+                          capture_output=True, text=True, env=dict(os.environ, QT_QPA_PLATFORM="offscreen"))
+    if proc.returncode != 0:
+        raise RuntimeError(f"the overview picture failed:\n{proc.stderr[-2000:]}")
+    return png
+
+
 def _projection_errors(s, truth) -> dict:
     """Max pixel error of the truth observations projected through both projects (core)."""
     from ..core import open_reconstruction
@@ -127,7 +137,7 @@ def _projection_errors(s, truth) -> dict:
 def _footprint_coverage(footprints: str, truth) -> float:
     """Share of (point, photo) truth observations whose point lies in that photo's footprint."""
     from osgeo import ogr, osr
-    feats = {f["label"]: f["_geom"] for f in _features(footprints)}
+    feats = {os.path.splitext(f["label"])[0]: f["_geom"] for f in _features(footprints)}
     src = osr.SpatialReference()
     src.SetFromUserInput(truth["crs"])
     src.SetAxisMappingStrategy(osr.OAMS_TRADITIONAL_GIS_ORDER)

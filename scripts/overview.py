@@ -11,51 +11,59 @@ COLOURS = ["#ffdd00", "#ff3b30", "#00c2ff", "#ff00ff"]
 
 
 def render_overview(png: str, raster: str, vectors: Sequence[str], width: int = 1600) -> str:
-    """Draw ``raster`` with ``vectors`` on top (outlines, labelled) into ``png``; returns the path."""
+    """Draw ``raster`` with ``vectors`` on top (outlines) into ``png``; returns the path.
+
+    Starts (and exits) a QgsApplication when none is running.
+    """
     os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-    from qgis.core import (QgsApplication, QgsFillSymbol, QgsMapRendererParallelJob, QgsMapSettings,
+    from qgis.core import QgsApplication
+
+    app = QgsApplication.instance()
+    if app is not None:
+        return _render(png, raster, vectors, width)
+    app = QgsApplication([], False)
+    app.initQgis()
+    try:
+        return _render(png, raster, vectors, width)  # its layers are gone before exitQgis
+    finally:
+        app.exitQgis()
+
+
+def _render(png: str, raster: str, vectors: Sequence[str], width: int) -> str:
+    from qgis.core import (QgsFillSymbol, QgsMapRendererParallelJob, QgsMapSettings,
                            QgsRasterLayer, QgsRectangle, QgsVectorLayer)
     from qgis.PyQt.QtCore import QSize
     from qgis.PyQt.QtGui import QColor
 
-    app = QgsApplication.instance()
-    own_app = app is None
-    if own_app:
-        app = QgsApplication([], False)
-        app.initQgis()
-    try:
-        layers = []
-        for k, path in enumerate(vectors):
-            v = QgsVectorLayer(path, os.path.splitext(os.path.basename(path))[0], "ogr")
-            if not v.isValid():
-                raise RuntimeError(f"cannot open {path} for the overview")
-            v.renderer().setSymbol(QgsFillSymbol.createSimple({
-                "color": "0,0,0,0", "outline_color": COLOURS[k % len(COLOURS)],
-                "outline_width": "0.5" if k == 0 else "0.3"}))
-            layers.append(v)
-        r = QgsRasterLayer(raster, "background")
-        if not r.isValid():
-            raise RuntimeError(f"cannot open {raster} for the overview")
-        extent = QgsRectangle(r.extent())
-        for v in layers:
-            extent.combineExtentWith(v.extent())
-        extent.scale(1.05)
-        settings = QgsMapSettings()
-        settings.setLayers(layers[::-1] + [r])   # the first vector on top
-        settings.setDestinationCrs(r.crs())
-        settings.setBackgroundColor(QColor("white"))
-        height = int(width * extent.height() / max(extent.width(), 1e-9))
-        settings.setOutputSize(QSize(width, max(height, 1)))
-        settings.setExtent(extent)
-        job = QgsMapRendererParallelJob(settings)
-        job.start()
-        job.waitForFinished()
-        if not job.renderedImage().save(png, "PNG"):
-            raise RuntimeError(f"cannot write {png}")
-        return png
-    finally:
-        if own_app:
-            app.exitQgis()
+    layers = []
+    for k, path in enumerate(vectors):
+        v = QgsVectorLayer(path, os.path.splitext(os.path.basename(path))[0], "ogr")
+        if not v.isValid():
+            raise RuntimeError(f"cannot open {path} for the overview")
+        v.renderer().setSymbol(QgsFillSymbol.createSimple({
+            "color": "0,0,0,0", "outline_color": COLOURS[k % len(COLOURS)],
+            "outline_width": "0.5" if k == 0 else "0.3"}))
+        layers.append(v)
+    r = QgsRasterLayer(raster, "background")
+    if not r.isValid():
+        raise RuntimeError(f"cannot open {raster} for the overview")
+    extent = QgsRectangle(r.extent())
+    settings = QgsMapSettings()
+    settings.setLayers(layers[::-1] + [r])   # the first vector on top
+    settings.setDestinationCrs(r.crs())
+    for v in layers:
+        extent.combineExtentWith(settings.layerExtentToOutputExtent(v, v.extent()))
+    extent.scale(1.05)
+    settings.setBackgroundColor(QColor("white"))
+    height = int(width * extent.height() / max(extent.width(), 1e-9))
+    settings.setOutputSize(QSize(width, max(height, 1)))
+    settings.setExtent(extent)
+    job = QgsMapRendererParallelJob(settings)
+    job.start()
+    job.waitForFinished()
+    if not job.renderedImage().save(png, "PNG"):
+        raise RuntimeError(f"cannot write {png}")
+    return png
 
 
 if __name__ == "__main__":

@@ -24,7 +24,9 @@ class Footprint:
     border order: top edge left→right, right edge, bottom, left); ``height_above_ground`` in
     metres (NaN if no ground under the camera); ``view_angle`` of the optical axis from the
     nadir, degrees; ``area`` of the ring on the local horizontal plane (m², local units for a
-    local CRS); ``complete`` False when some border rays miss the ground (ring partial).
+    local CRS); ``complete`` False when some border rays miss the ground (ring partial) or
+    land where the ground has no data (there the ring continues on a plane at the ground
+    height under the camera).
     """
     label: str
     photo_path: Optional[str]
@@ -98,10 +100,17 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         tmax = np.minimum(ref_h[i] / cos_t * 1.5, max_range * ref_h[i])
         t = tmax[:, None] * np.linspace(0.0, 1.0, samples + 1)[None, 1:]      # (k, samples)
 
+        g_fallback = cmap[i, 2] - ref_h[i]   # the ground under the camera
+
+        def ground_at(m):
+            """Ground heights at map points, the fallback plane where the ground has no data."""
+            z = gfn(m[:, 0], m[:, 1])
+            return np.where(np.isfinite(z), z, g_fallback), np.isfinite(z)
+
         def above(tt):
             p = origin + tt[..., None] * d[:, None, :] if tt.ndim == 2 else origin + tt[:, None] * d
             m = recon.from_model(p.reshape(-1, 3))
-            return (m[:, 2] - gfn(m[:, 0], m[:, 1])).reshape(tt.shape)
+            return (m[:, 2] - ground_at(m)[0]).reshape(tt.shape)
 
         f = above(t)
         below = f <= 0
@@ -119,13 +128,14 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
             hi = np.where(go_hi, mid, hi)
             lo = np.where(go_hi, lo, mid)
         pts_model = origin + hi[hit, None] * d[hit]
+        on_data = ground_at(recon.from_model(pts_model))[1] if hit.any() else np.array([False])
         ring = recon.from_model(pts_model, crs) if hit.sum() >= 3 else None
         area = _shoelace(pts_model @ _horizontal_basis(up[i])) if ring is not None else float("nan")
         axis = cam.R[2]                                            # optical axis in the model frame
         angle = float(np.degrees(np.arccos(np.clip(-(axis @ up[i]), -1.0, 1.0))))
         out.append(Footprint(cam.label, cam.photo_path, cam.enabled,
                              recon.from_model(C[i:i + 1], crs)[0], ring, float(hag[i]), angle,
-                             area, bool(hit.all())))
+                             area, bool(hit.all() and on_data.all())))
         prog.set(100.0 * (i + 1) / len(cams))
     return out
 
