@@ -26,13 +26,12 @@ def geotiff_source(layer, label: str) -> str:
         raise QgsProcessingException(
             f"{label}: layer '{layer.name()}' is not a local raster file ({layer.source()}). "
             "EasyIDP reads GeoTIFF files: save it as GeoTIFF first (Export ▸ Save As…).")
-    driver = layer.dataProvider().metadata().get("driver") if hasattr(layer.dataProvider(), "metadata") else None
     with open(path, "rb") as fh:
         magic = fh.read(4)
-    if magic not in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
+    if magic not in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):  # classic and BigTIFF
         raise QgsProcessingException(
-            f"{label}: {path} is not a GeoTIFF (it is read by GDAL as {driver or 'another format'}). "
-            "Convert it to GeoTIFF first (Raster ▸ Conversion ▸ Translate).")
+            f"{label}: {path} is not a GeoTIFF. Convert it to GeoTIFF first (Raster ▸ Conversion "
+            "▸ Translate).")
     return path
 
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ..demo_field import DOM_PIXEL, DSM_PIXEL
 from .flight import CameraModel, Shot
-from .scene import CROP_BLOCK, CROP_GROW, Scene, ortho_level
+from .scene import CROP_BLOCK, CROP_GROW, Scene, bilinear_grid, ortho_level
 
 STEP = 0.04          # m, horizontal marching step (two DSM pixels)
 RENDER_ITER = 2      # regula falsi iterations per crop pixel (then one interpolation)
@@ -81,7 +81,9 @@ class _Ray:
         """Height of the ray above the surface at t (any shape that broadcasts with idx)."""
         D = self.D if idx is None else self.D[idx]
         gx, gy = self.grid(t, idx)
-        return self.H0 + t * D - _rel_grid(self.scene.rel, gx.ravel(), gy.ravel()).reshape(gx.shape)
+        rel = bilinear_grid(self.scene.rel, np.array(gx, copy=True).ravel(),
+                            np.array(gy, copy=True).ravel())
+        return self.H0 + t * D - rel.reshape(gx.shape)
 
     def band_top(self):
         """(t at the band top, t at the band bottom, band top above the plane) per ray, the
@@ -91,24 +93,6 @@ class _Ray:
         t1 = (self.dtype(s.rel_min - 1e-3) - self.H0) / self.D
         top = _block_top(s, *self.grid(0.5 * (t0 + t1)))
         return (top + self.dtype(1e-3) - self.H0) / self.D, t1, top
-
-
-def _rel_grid(a: np.ndarray, fx, fy):
-    """Bilinear ``a`` at padded grid coordinates (clamped: the zero border outside)."""
-    fx = np.clip(fx, 0.0, a.shape[1] - 1.001)
-    fy = np.clip(fy, 0.0, a.shape[0] - 1.001)
-    ix, iy = fx.astype(np.int32), fy.astype(np.int32)
-    fx -= ix
-    fy -= iy
-    flat = iy * np.int32(a.shape[1]) + ix
-    r = a.ravel()
-    top = r[flat]
-    top += fx * (r[flat + 1] - top)
-    flat += a.shape[1]
-    bottom = r[flat]
-    bottom += fx * (r[flat + 1] - bottom)
-    top += fy * (bottom - top)
-    return top
 
 
 def _block_top(scene: Scene, gx, gy) -> np.ndarray:

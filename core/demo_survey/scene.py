@@ -28,6 +28,25 @@ CROP_BLOCK = 8      # DSM pixels per side of a surface-top block (16 cm)
 CROP_GROW = 3       # blocks by which block tops are spread (rays cross the crop slanted)
 
 
+def bilinear_grid(a: np.ndarray, fx: np.ndarray, fy: np.ndarray) -> np.ndarray:
+    """``a`` bilinear at fractional grid positions (column ``fx``, row ``fy``), clamped to the
+    grid. ``fx`` and ``fy`` are modified in place (they are scratch arrays of the callers)."""
+    np.clip(fx, 0.0, a.shape[1] - 1.001, out=fx)
+    np.clip(fy, 0.0, a.shape[0] - 1.001, out=fy)
+    ix, iy = fx.astype(np.int32), fy.astype(np.int32)
+    fx -= ix
+    fy -= iy
+    flat = iy * np.int32(a.shape[1]) + ix
+    r = a.ravel()
+    top = r[flat]
+    top += fx * (r[flat + 1] - top)
+    flat += a.shape[1]
+    bottom = r[flat]
+    bottom += fx * (r[flat + 1] - bottom)
+    top += fy * (bottom - top)
+    return top
+
+
 @dataclass
 class Scene:
     """Everything known about the ground. ``dsm`` float32 with ``NODATA``; ``ortho`` uint8
@@ -69,20 +88,7 @@ class Scene:
         fx += ox
         fy = np.asarray(y, dt) * dt(-1 / DSM_PIXEL)
         fy += oy
-        np.clip(fx, 0.0, a.shape[1] - 1.001, out=fx)
-        np.clip(fy, 0.0, a.shape[0] - 1.001, out=fy)
-        ix, iy = fx.astype(np.int32), fy.astype(np.int32)
-        fx -= ix
-        fy -= iy
-        flat = iy * np.int32(a.shape[1]) + ix
-        r = a.ravel()
-        top = r[flat]
-        top += fx * (r[flat + 1] - top)
-        flat += a.shape[1]
-        bottom = r[flat]
-        bottom += fx * (r[flat + 1] - bottom)
-        top += fy * (bottom - top)
-        return top
+        return bilinear_grid(a, fx, fy)
 
     def surface_local(self, x, y):
         """Surface height (local z) at local (x, y), float64."""

@@ -101,7 +101,10 @@ def test_multiband_uses_per_band_nodata(tmp_path):
     assert outside.any() and ((out == 0).any(axis=2) == outside).all()
 
 
-def test_each_block_is_decoded_at_most_once_whatever_the_roi_order(tmp_path, monkeypatch):
+@pytest.mark.parametrize("cell_width", [4096, 128, 64])
+def test_each_block_is_decoded_at_most_once_whatever_the_roi_order(tmp_path, monkeypatch, cell_width):
+    from easyidp_toolbox.core import raster_sweep
+    monkeypatch.setattr(raster_sweep, "CELL_MAX_WIDTH", cell_width)  # 1, 4 or 8 cells per band
     img = _rgb(512, 512)
     src = write_tif(str(tmp_path / "dom.tif"), img, tile=64)
     rng = np.random.default_rng(3)
