@@ -4,7 +4,7 @@ Heights are in the DSM's own vertical reference and units. Nodata pixels are ign
 or polygon without any valid pixel gets NaN and is reported, never 0.
 """
 from dataclasses import dataclass, field
-from typing import Callable, Dict, List, Optional
+from typing import Dict, List
 
 import numpy as np
 

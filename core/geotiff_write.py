@@ -1,7 +1,7 @@
 """Writing cropped GeoTIFFs: georeferencing copied from the source, deflate-compressed, atomic."""
 import os
 import threading
-from typing import Optional, Sequence, Tuple
+from typing import Optional, Sequence
 
 import numpy as np
 import tifffile

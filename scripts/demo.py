@@ -89,8 +89,8 @@ def main(out: str) -> int:
     print(f"  survey:      {s['OUTPUT_FOLDER']}")
     print(f"  crops:       {dom['CROPPED']} orthomosaic + DSM GeoTIFFs, {pc['CROPPED']} LAZ "
           f"in {out}/crops_*")
-    print(f"  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
-          f"metashape_/pix4d_ cameras and footprints (.gpkg)")
+    print("  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
+          "metashape_/pix4d_ cameras and footprints (.gpkg)")
     print(f"  picture:     {png}")
     print("Errors against the truth")
     print(f"  plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "

@@ -1,5 +1,4 @@
 """Bad input: every message names the file and says what is missing."""
-import io
 import shutil
 import zipfile
 

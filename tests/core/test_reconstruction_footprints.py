@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import open_reconstruction
-from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
+from easyidp_toolbox.core.reconstruction import camera_footprints
 
 
 @pytest.fixture(scope="module")

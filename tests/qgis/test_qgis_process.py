@@ -3,8 +3,6 @@ import json
 import os
 from pathlib import Path
 
-import pytest
-
 from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
 
 MODEL = Path(__file__).parent / "data" / "heights_then_crop.model3"
@@ -35,7 +33,7 @@ def test_crop_json_output_is_clean(qp_env, realdata, tmp_path):
 
 def test_heights_to_geopackage(qp_env, realdata, tmp_path):
     out = tmp_path / "h.gpkg"
-    res = run_algorithm("easyidp:roiheightsfromdsm", {
+    run_algorithm("easyidp:roiheightsfromdsm", {
         "ROIS": realdata / "data-to-science/zones_inside_test_tif.geojson",
         "DSM": realdata / "data-to-science/test.tif", "MODE": 0, "STATISTIC": 4, "PERCENTILE": 95,
         "OUTPUT": out}, qp_env)
