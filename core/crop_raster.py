@@ -15,7 +15,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from .errors import Cancelled, InputError, ROIError
+from .errors import InputError, ROIError
 from .geotiff import GeoTiff, open_geotiff
 from .geotiff_write import write_geotiff
 from .naming import unique_names
@@ -117,7 +117,7 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
     with thread_pool(workers) as pool:  # writers; the sweep has its own pool of decoders
         try:
             sweep_windows(tif, [p.window for p in placed], finish, prog, workers)
-        except (Cancelled, Exception):
+        except Exception:  # also Cancelled: finish or drop pending writes, then re-raise
             for k, fut in pending:
                 fut.cancel()
             for k, fut in pending:
