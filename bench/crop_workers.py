@@ -20,7 +20,7 @@ def emit(files, rois, loop_s, **extra):
 
 
 def ours(raster, geojson, out_dir):
-    from easyidp_toolbox.core.crop_raster import crop_raster_by_rois
+    from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
     from easyidp_toolbox.core.vector_io import read_geojson
 
     rois = read_geojson(geojson, name_field="name")
@@ -85,7 +85,7 @@ def floor(raster, geojson, out_dir):
     once and deflate-encode (tifffile.imwrite) one RGBA array the size of each ROI's bounding
     window (its real pixels, alpha constant), on all cores. No mask, no georeferencing, no
     reprojection: a lower bound, not a tool."""
-    from easyidp_toolbox.core.geotiff_write import DEFLATE_LEVEL  # encode as ours does
+    from easyidp_toolbox.core.raster.geotiff_write import DEFLATE_LEVEL  # encode as ours does
     from concurrent.futures import ThreadPoolExecutor
 
     import numpy as np

@@ -11,7 +11,6 @@ Conventions (see ARCHITECTURE.md): map coordinates are (x, y) = (easting, northi
 (lon, lat); image pixels have their origin at the top-left *corner*, x right, y down, so the
 centre of the top-left pixel is (0.5, 0.5).
 """
-from .demo_survey import DemoSurvey, make_demo_survey
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
 from .progress import Progress

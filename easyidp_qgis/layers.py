@@ -41,8 +41,8 @@ def dsm_ground(layer, label: str, points_crs=None):
     they differ; ``points_crs=None`` takes the points to be in the DSM's own frame."""
     import numpy as np
     from ..core.crs import same_crs, transform_xy
-    from ..core.dsm_heights import sample_points
-    from ..core.geotiff import open_geotiff
+    from ..core.raster.dsm_heights import sample_points
+    from ..core.raster.geotiff import open_geotiff
 
     dsm = open_geotiff(geotiff_source(layer, label), crs=crs_string(layer.crs()))
     if dsm.crs is None or points_crs is None or same_crs(dsm.crs, points_crs):

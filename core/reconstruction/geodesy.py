@@ -52,6 +52,15 @@ def geocentric_of(crs: CRS) -> CRS:
     return CRS.from_epsg(code) if code else out
 
 
+def enu_rotation(lon_deg: float, lat_deg: float) -> np.ndarray:
+    """(3, 3) rotation whose rows are east, north, up at (lon, lat), in geocentric coordinates:
+    ``enu = R · (ecef − origin)`` for a local east-north-up frame at that place."""
+    lo, la = np.radians(lon_deg), np.radians(lat_deg)
+    return np.array([[-np.sin(lo), np.cos(lo), 0.0],
+                     [-np.sin(la) * np.cos(lo), -np.sin(la) * np.sin(lo), np.cos(la)],
+                     [np.cos(la) * np.cos(lo), np.cos(la) * np.sin(lo), np.sin(la)]])
+
+
 def _check_vertical(src: CRS, dst: CRS) -> None:
     """Refuse a transformation that would silently drop a geoid model (grid not installed)."""
     if not any(s.is_vertical for s in (src.sub_crs_list or [])) and not src.is_vertical:
@@ -115,11 +124,7 @@ class GeocentricFrame(ModelFrame):
         self.origin = np.asarray(origin_ecef, dtype=np.float64)
         geog = self.crs.geodetic_crs                        # geographic, same datum
         lon, lat, _ = transformer(self.ecef, geog).transform(*self.origin)
-        lo, la = np.radians(lon), np.radians(lat)
-        self.rotation = np.array([
-            [-np.sin(lo), np.cos(lo), 0.0],
-            [-np.sin(la) * np.cos(lo), -np.sin(la) * np.sin(lo), np.cos(la)],
-            [np.cos(la) * np.cos(lo), np.cos(la) * np.sin(lo), np.sin(la)]])
+        self.rotation = enu_rotation(lon, lat)
 
     def ecef_to_model(self, ecef: np.ndarray) -> np.ndarray:
         return (ecef - self.origin) @ self.rotation.T

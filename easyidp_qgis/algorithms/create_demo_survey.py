@@ -59,7 +59,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputFile(self.TRUTH, self.tr("Truth file")))
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.demo_survey import make_demo_survey
+        from ...core.demo import make_demo_survey
 
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         size = SIZES[self.parameterAsEnum(parameters, self.SIZE, context)]

@@ -59,7 +59,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputNumber(self.SKIPPED, self.tr("Number of ROIs skipped")))
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.crop_raster import crop_raster_by_rois
+        from ...core.raster.crop import crop_raster_by_rois
 
         layer = self.parameterAsRasterLayer(parameters, self.INPUT, context)
         raster = geotiff_source(layer, self.tr("Raster"))

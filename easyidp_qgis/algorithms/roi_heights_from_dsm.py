@@ -69,8 +69,8 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
 
     def run_tool(self, parameters, context, feedback):
         from ...core.crs import as_crs, transform_xy
-        from ...core.dsm_heights import roi_heights, vertex_heights
-        from ...core.geotiff import open_geotiff
+        from ...core.raster.dsm_heights import roi_heights, vertex_heights
+        from ...core.raster.geotiff import open_geotiff
 
         source = self.parameterAsSource(parameters, self.ROIS, context)
         rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback)

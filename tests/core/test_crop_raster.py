@@ -8,9 +8,9 @@ import pytest
 import tifffile
 
 from easyidp_toolbox.core import ROI, ROISet, read_geojson
-from easyidp_toolbox.core.crop_raster import crop_raster_by_rois
+from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
 from easyidp_toolbox.core.errors import Cancelled, InputError, ROIError
-from easyidp_toolbox.core.geotiff import GeoTiff, open_geotiff
+from easyidp_toolbox.core.raster.geotiff import GeoTiff, open_geotiff
 from synthetic import rect, write_tif
 
 ORIGIN = (368000.0, 3956000.0)
@@ -103,7 +103,7 @@ def test_multiband_uses_per_band_nodata(tmp_path):
 
 @pytest.mark.parametrize("cell_width", [4096, 128, 64])
 def test_each_block_is_decoded_at_most_once_whatever_the_roi_order(tmp_path, monkeypatch, cell_width):
-    from easyidp_toolbox.core import raster_sweep
+    from easyidp_toolbox.core.raster import sweep as raster_sweep
     monkeypatch.setattr(raster_sweep, "CELL_MAX_WIDTH", cell_width)  # 1, 4 or 8 cells per band
     img = _rgb(512, 512)
     src = write_tif(str(tmp_path / "dom.tif"), img, tile=64)

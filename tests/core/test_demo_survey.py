@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import open_reconstruction
-from easyidp_toolbox.core.demo_survey import make_demo_survey
+from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.reconstruction import INSIDE
 
 TIME_LIMIT = float(os.environ.get("EASYIDP_DEMO_TIME_LIMIT", "20"))  # s, small survey
@@ -137,7 +137,7 @@ def _dsm_ground(dsm_path):
     """ground(x, y) in EPSG:32654: the DSM (in memory, bilinear between pixel centres), or a
     plane fitted to it where it has no data."""
     import tifffile
-    from easyidp_toolbox.core.geotiff import open_geotiff
+    from easyidp_toolbox.core.raster.geotiff import open_geotiff
     info = open_geotiff(dsm_path)
     z = tifffile.imread(dsm_path).astype(float)
     z[z == info.nodata] = np.nan
@@ -239,7 +239,7 @@ def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth
 
 
 def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
-    from easyidp_toolbox.core.dsm_heights import sample_points
+    from easyidp_toolbox.core.raster.dsm_heights import sample_points
     assert len(survey.labelme) == 4
     ms = open_reconstruction(survey.metashape_project)
     p4 = open_reconstruction(survey.pix4d_project)
@@ -274,7 +274,7 @@ def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
 def test_plot_layers_and_point_cloud(survey):
     import sqlite3
     from easyidp_toolbox.core import read_geojson, read_point_cloud
-    from easyidp_toolbox.core.dsm_heights import sample_points
+    from easyidp_toolbox.core.raster.dsm_heights import sample_points
     rois = read_geojson(survey.plots_geojson, "plot_id")
     assert len(rois) == 40
     con = sqlite3.connect(survey.plots_gpkg)

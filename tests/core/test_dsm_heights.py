@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import ROI, ROISet, read_geojson
-from easyidp_toolbox.core.dsm_heights import roi_heights, sample_points, vertex_heights
+from easyidp_toolbox.core.raster.dsm_heights import roi_heights, sample_points, vertex_heights
 from easyidp_toolbox.core.errors import InputError
 from synthetic import write_tif
 

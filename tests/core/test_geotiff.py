@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core.errors import InputError
-from easyidp_toolbox.core.geotiff import open_geotiff
+from easyidp_toolbox.core.raster.geotiff import open_geotiff
 from synthetic import write_tif
 
 

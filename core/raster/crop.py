@@ -15,13 +15,13 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from .errors import InputError, ROIError
+from ..errors import InputError, ROIError
 from .geotiff import GeoTiff, open_geotiff
 from .geotiff_write import write_geotiff
-from .naming import unique_names
-from .progress import as_progress
-from .raster_sweep import sweep_windows, thread_pool
-from .roi import ROISet
+from ..naming import unique_names
+from ..progress import as_progress
+from .sweep import sweep_windows, thread_pool
+from ..roi import ROISet
 from .roi_pixels import NO_PIXEL, bounding_box, place_rois, require_overlap, rois_in_raster_crs
 
 MAX_PENDING_WRITES = 32

@@ -13,7 +13,6 @@ from typing import List, Tuple
 
 import numpy as np
 
-from .geotiff_write import epsg_geo_tags, write_geotiff
 
 DOM_PIXEL, DSM_PIXEL = 0.01, 0.02
 NODATA = -9999.0
@@ -53,18 +52,6 @@ class FieldLayout:
     def geotransform(self, pixel: float):
         return (self.origin[0], pixel, 0.0, self.origin[1], 0.0, -pixel)
 
-
-DEMO_FIELD = FieldLayout()
-
-
-@dataclass
-class DemoField:
-    folder: str
-    orthomosaic: str
-    dsm: str
-    plots: str
-    plot_ids: List[str]
-    canopy_height: dict   # plot_id -> maximum crop height above the ground (m)
 
 
 def make_plots(layout: FieldLayout, rng) -> List[dict]:
@@ -137,36 +124,3 @@ def write_plots_geojson(path: str, plots: List[dict], epsg: int) -> str:
                    "features": features}, fh)
     return path
 
-
-def make_demo_field(folder: str, seed: int = 0) -> DemoField:
-    """Write ``orthomosaic.tif``, ``dsm.tif`` and ``plots.geojson`` into ``folder``."""
-    layout = DEMO_FIELD
-    os.makedirs(folder, exist_ok=True)
-    rng = np.random.default_rng(seed)
-    plots = make_plots(layout, rng)
-
-    # DSM at 2 cm
-    ny, nx = layout.grid_shape(DSM_PIXEL)
-    y = layout.origin[1] - (np.arange(ny) + 0.5)[:, None] * DSM_PIXEL
-    x = layout.origin[0] + (np.arange(nx) + 0.5)[None, :] * DSM_PIXEL
-    canopy = canopy_grid(layout, plots, DSM_PIXEL)
-    dsm = (layout.ground_height(x, y) + canopy + rng.normal(0, 0.004, (ny, nx))).astype(np.float32)
-    dsm[:, :layout.nodata_cols] = NODATA  # a strip without data along the western edge
-    dsm_path = write_geotiff(os.path.join(folder, "dsm.tif"), dsm, layout.geotransform(DSM_PIXEL),
-                             epsg_geo_tags(layout.epsg), nodata_text="-9999", tile=256)
-
-    # orthomosaic at 1 cm: canopy upsampled from the DSM grid, soil and leaves textured
-    up = np.repeat(np.repeat(canopy, 2, axis=0), 2, axis=1)
-    noise = rng.normal(0, 1, up.shape).astype(np.float32)
-    leaf = np.clip(up / 0.15, 0, 1)[..., None]
-    soil = np.array([120, 95, 70], np.float32) + 12 * noise[..., None]
-    green = np.array([60, 140, 50], np.float32) * (0.8 + 0.4 * np.clip(up / 0.7, 0, 1))[..., None] \
-        + 10 * noise[..., None]
-    dom = np.clip(soil * (1 - leaf) + green * leaf, 0, 255).astype(np.uint8)
-    dom_path = write_geotiff(os.path.join(folder, "orthomosaic.tif"), dom,
-                             layout.geotransform(DOM_PIXEL), epsg_geo_tags(layout.epsg), rgb=True,
-                             tile=256)
-
-    plots_path = write_plots_geojson(os.path.join(folder, "plots.geojson"), plots, layout.epsg)
-    return DemoField(folder, dom_path, dsm_path, plots_path, [p["plot_id"] for p in plots],
-                     {p["plot_id"]: p["height"] for p in plots})

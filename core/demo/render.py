@@ -14,7 +14,7 @@ the exact float64 version used for truth.
 """
 import numpy as np
 
-from ..demo_field import DOM_PIXEL, DSM_PIXEL
+from .field import DOM_PIXEL, DSM_PIXEL
 from .flight import CameraModel, Shot
 from .scene import CROP_BLOCK, CROP_GROW, Scene, bilinear_grid, ortho_level
 

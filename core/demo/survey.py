@@ -27,9 +27,9 @@ from typing import List
 
 import numpy as np
 
-from ..demo_field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
+from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
 from ..errors import InputError
-from ..geotiff_write import epsg_geo_tags, write_geotiff
+from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
 from ..progress import as_progress
 from .flight import ALTITUDE, SIZES, make_camera, plan_flight
 from .geo import UTM54_WKT

@@ -5,12 +5,12 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from . import geometry
-from .crs import same_crs
-from .errors import InputError, ROIError
+from .. import geometry
+from ..crs import same_crs
+from ..errors import InputError, ROIError
 from .geotiff import GeoTiff
-from .raster_sweep import Window
-from .roi import ROI, ROISet
+from .sweep import Window
+from ..roi import ROI, ROISet
 
 
 NO_PIXEL = ("contains no pixel centre of the raster (it is smaller than a pixel or lies on the "

@@ -12,7 +12,7 @@ from typing import Dict, List
 
 import numpy as np
 
-from ..demo_field import plot_corners
+from .field import plot_corners
 from ..reconstruction.frame_model import INSIDE, project_block
 from .flight import CameraModel, Shot
 from .scene import Scene

@@ -15,7 +15,7 @@ from typing import List
 
 import numpy as np
 
-from ..demo_field import DOM_PIXEL, DSM_PIXEL, NODATA, FieldLayout, canopy_grid, make_plots
+from .field import DOM_PIXEL, DSM_PIXEL, NODATA, FieldLayout, canopy_grid, make_plots
 
 SURVEY_FIELD = FieldLayout(origin=(319800.0, 3956050.0), size=(60.0, 40.0), rows=5, cols=8,
                            plot_size=(4.0, 2.5), first_plot=(5.0, 4.5), pitch=(7.0, 7.5),

@@ -10,6 +10,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..crs import transformer
+from ..reconstruction.geodesy import enu_rotation
 
 MAP_EPSG = 32654
 # WGS 84 / UTM 54N as GDAL writes WKT1 (Pix4D *_wkt.prj, GeoPackage, LAS).
@@ -44,14 +45,6 @@ def map_to_lonlat(xyz: np.ndarray) -> np.ndarray:
     """(n, 3) EPSG:32654 → (n, 3) longitude, latitude (degrees), ellipsoidal height."""
     x, y, z = _t(MAP_EPSG, 4326).transform(xyz[:, 0], xyz[:, 1], xyz[:, 2])
     return np.column_stack([x, y, z])
-
-
-def enu_rotation(lon_deg: float, lat_deg: float) -> np.ndarray:
-    """Rows east, north, up at (lon, lat) in geocentric coordinates (ECEF → ENU)."""
-    lo, la = np.radians(lon_deg), np.radians(lat_deg)
-    return np.array([[-np.sin(lo), np.cos(lo), 0.0],
-                     [-np.sin(la) * np.cos(lo), -np.sin(la) * np.sin(lo), np.cos(la)],
-                     [np.cos(la) * np.cos(lo), np.cos(la) * np.sin(lo), np.sin(la)]])
 
 
 class ENUFrame:

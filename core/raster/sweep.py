@@ -14,7 +14,7 @@ from typing import Callable, Dict, Iterator, List, NamedTuple, Optional, Sequenc
 import numpy as np
 
 from .geotiff import GeoTiff
-from .progress import Progress
+from ..progress import Progress
 
 BAND_MIN_ROWS = 256    # group strips so that a cell has at least this many rows
 CELL_MAX_WIDTH = 4096  # pixels of tile columns per cell (strips are one cell wide)

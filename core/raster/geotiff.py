@@ -14,7 +14,7 @@ import numpy as np
 import tifffile
 from pyproj import CRS
 
-from .errors import InputError
+from ..errors import InputError
 
 # GeoTIFF and GDAL private tags
 TAG_PIXEL_SCALE = 33550
@@ -152,7 +152,7 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
     if extras and extras[-1] in EXTRASAMPLE_ALPHA:
         alpha = page.samplesperpixel - 1
     if crs is not None:
-        from .crs import as_crs
+        from ..crs import as_crs
         crs = as_crs(crs, f"CRS of {path}")
     else:
         crs = crs_from_geokeys(geokeys)

@@ -8,11 +8,11 @@ from typing import Dict, List
 
 import numpy as np
 
-from .errors import InputError
+from ..errors import InputError
 from .geotiff import GeoTiff, open_geotiff
-from .progress import as_progress
-from .raster_sweep import Window, sweep_windows
-from .roi import ROI, ROISet
+from ..progress import as_progress
+from .sweep import Window, sweep_windows
+from ..roi import ROI, ROISet
 from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
 
 STATISTICS = ("mean", "median", "min", "max", "percentile")
