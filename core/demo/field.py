@@ -6,12 +6,12 @@ some decimetres tall. The orthomosaic is RGB at 1 cm, tiled 256, deflate; the DS
 2 cm with nodata -9999 (heights in metres above the ellipsoid, the truth being
 ``ground + canopy``). :class:`FieldLayout` describes other fields (the demo survey uses one).
 """
-import json
-import os
 from dataclasses import dataclass
 from typing import List, Tuple
 
 import numpy as np
+
+from ..files import write_json
 
 
 DOM_PIXEL, DSM_PIXEL = 0.01, 0.02
@@ -118,9 +118,8 @@ def write_plots_geojson(path: str, plots: List[dict], epsg: int) -> str:
                  "geometry": {"type": "Polygon",
                               "coordinates": [np.vstack([plot_corners(p), plot_corners(p)[:1]]).tolist()]}}
                 for p in plots]
-    with open(path, "w") as fh:
-        json.dump({"type": "FeatureCollection", "name": "plots",
-                   "crs": {"type": "name", "properties": {"name": f"urn:ogc:def:crs:EPSG::{epsg}"}},
-                   "features": features}, fh)
+    write_json(path, {"type": "FeatureCollection", "name": "plots",
+                      "crs": {"type": "name", "properties": {"name": f"urn:ogc:def:crs:EPSG::{epsg}"}},
+                      "features": features})
     return path
 

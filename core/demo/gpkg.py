@@ -3,14 +3,15 @@
 Writes the required tables (``gpkg_spatial_ref_sys``, ``gpkg_contents``,
 ``gpkg_geometry_columns``) and one feature table whose geometries are GeoPackage binary blobs
 (header with an xy envelope, then little-endian WKB). No spatial index; readers (GDAL, QGIS)
-do not need one for a few dozen features. The file is written to a temporary name, then renamed.
+do not need one for a few dozen features. The file is written atomically.
 """
-import os
 import sqlite3
 import struct
 from typing import Dict, List, Sequence
 
 import numpy as np
+
+from ..files import atomic_output
 
 LAST_CHANGE = "2024-06-01T12:00:00.000Z"   # fixed, so the same input gives the same bytes
 
@@ -31,54 +32,56 @@ def write_gpkg_polygons(path: str, layer: str, polygons: List[np.ndarray],
                         srs_name: str, srs_wkt: str) -> str:
     """Write ``polygons`` (each an (n, 2) closed exterior ring) with ``attributes`` (dicts with
     the keys of ``fields``: name → SQL type, TEXT/INTEGER/REAL) as layer ``layer``."""
-    tmp = f"{path}.part"
-    if os.path.exists(tmp):
-        os.remove(tmp)
-    con = sqlite3.connect(tmp)
-    try:
-        c = con.cursor()
-        c.execute("PRAGMA application_id = 1196444487")      # 'GPKG'
-        c.execute("PRAGMA user_version = 10200")
-        c.execute("""CREATE TABLE gpkg_spatial_ref_sys (srs_name TEXT NOT NULL,
-            srs_id INTEGER NOT NULL PRIMARY KEY, organization TEXT NOT NULL,
-            organization_coordsys_id INTEGER NOT NULL, definition TEXT NOT NULL, description TEXT)""")
-        c.executemany("INSERT INTO gpkg_spatial_ref_sys VALUES (?,?,?,?,?,?)", [
-            ("Undefined cartesian SRS", -1, "NONE", -1, "undefined", "undefined cartesian coordinate reference system"),
-            ("Undefined geographic SRS", 0, "NONE", 0, "undefined", "undefined geographic coordinate reference system"),
-            ("WGS 84 geodetic", 4326, "EPSG", 4326,
-             'GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563,'
-             'AUTHORITY["EPSG","7030"]],AUTHORITY["EPSG","6326"]],PRIMEM["Greenwich",0,'
-             'AUTHORITY["EPSG","8901"]],UNIT["degree",0.0174532925199433,AUTHORITY["EPSG","9122"]],'
-             'AXIS["Latitude",NORTH],AXIS["Longitude",EAST],AUTHORITY["EPSG","4326"]]',
-             "longitude/latitude coordinates in decimal degrees on the WGS 84 spheroid"),
-            (srs_name, epsg, "EPSG", epsg, srs_wkt, None)])
-        c.execute("""CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY,
-            data_type TEXT NOT NULL, identifier TEXT UNIQUE, description TEXT DEFAULT '',
-            last_change DATETIME NOT NULL, min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE,
-            srs_id INTEGER, CONSTRAINT fk_gc_r_srs_id FOREIGN KEY (srs_id)
-            REFERENCES gpkg_spatial_ref_sys(srs_id))""")
-        c.execute("""CREATE TABLE gpkg_geometry_columns (table_name TEXT NOT NULL,
-            column_name TEXT NOT NULL, geometry_type_name TEXT NOT NULL, srs_id INTEGER NOT NULL,
-            z TINYINT NOT NULL, m TINYINT NOT NULL,
-            CONSTRAINT pk_geom_cols PRIMARY KEY (table_name, column_name),
-            CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) REFERENCES gpkg_contents(table_name),
-            CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys (srs_id))""")
-        cols = "".join(f', "{k}" {v}' for k, v in fields.items())
-        c.execute(f'CREATE TABLE "{layer}" (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, '
-                  f'geom POLYGON{cols})')
-        allpts = np.vstack(polygons)
-        c.execute("INSERT INTO gpkg_contents VALUES (?,?,?,?,?,?,?,?,?,?)",
-                  (layer, "features", layer, "", LAST_CHANGE, float(allpts[:, 0].min()),
-                   float(allpts[:, 1].min()), float(allpts[:, 0].max()), float(allpts[:, 1].max()), epsg))
-        c.execute("INSERT INTO gpkg_geometry_columns VALUES (?,?,?,?,?,?)",
-                  (layer, "geom", "POLYGON", epsg, 0, 0))
-        names = list(fields)
-        columns = "".join(f', "{n}"' for n in names)
-        marks = ",".join("?" * (len(names) + 1))
-        c.executemany(f'INSERT INTO "{layer}" (geom{columns}) VALUES ({marks})',
-                      [(_blob([p], epsg), *(a[n] for n in names)) for p, a in zip(polygons, attributes)])
-        con.commit()
-    finally:
-        con.close()
-    os.replace(tmp, path)
+    with atomic_output(path) as tmp:
+        con = sqlite3.connect(tmp)
+        try:
+            _fill(con, layer, polygons, attributes, fields, epsg, srs_name, srs_wkt)
+            con.commit()
+        finally:
+            con.close()
     return path
+
+
+def _fill(con, layer, polygons, attributes, fields, epsg, srs_name, srs_wkt) -> None:
+    """The GeoPackage tables and the features, through the connection ``con``."""
+    c = con.cursor()
+    c.execute("PRAGMA application_id = 1196444487")      # 'GPKG'
+    c.execute("PRAGMA user_version = 10200")
+    c.execute("""CREATE TABLE gpkg_spatial_ref_sys (srs_name TEXT NOT NULL,
+        srs_id INTEGER NOT NULL PRIMARY KEY, organization TEXT NOT NULL,
+        organization_coordsys_id INTEGER NOT NULL, definition TEXT NOT NULL, description TEXT)""")
+    c.executemany("INSERT INTO gpkg_spatial_ref_sys VALUES (?,?,?,?,?,?)", [
+        ("Undefined cartesian SRS", -1, "NONE", -1, "undefined", "undefined cartesian coordinate reference system"),
+        ("Undefined geographic SRS", 0, "NONE", 0, "undefined", "undefined geographic coordinate reference system"),
+        ("WGS 84 geodetic", 4326, "EPSG", 4326,
+         'GEOGCS["WGS 84",DATUM["WGS_1984",SPHEROID["WGS 84",6378137,298.257223563,'
+         'AUTHORITY["EPSG","7030"]],AUTHORITY["EPSG","6326"]],PRIMEM["Greenwich",0,'
+         'AUTHORITY["EPSG","8901"]],UNIT["degree",0.0174532925199433,AUTHORITY["EPSG","9122"]],'
+         'AXIS["Latitude",NORTH],AXIS["Longitude",EAST],AUTHORITY["EPSG","4326"]]',
+         "longitude/latitude coordinates in decimal degrees on the WGS 84 spheroid"),
+        (srs_name, epsg, "EPSG", epsg, srs_wkt, None)])
+    c.execute("""CREATE TABLE gpkg_contents (table_name TEXT NOT NULL PRIMARY KEY,
+        data_type TEXT NOT NULL, identifier TEXT UNIQUE, description TEXT DEFAULT '',
+        last_change DATETIME NOT NULL, min_x DOUBLE, min_y DOUBLE, max_x DOUBLE, max_y DOUBLE,
+        srs_id INTEGER, CONSTRAINT fk_gc_r_srs_id FOREIGN KEY (srs_id)
+        REFERENCES gpkg_spatial_ref_sys(srs_id))""")
+    c.execute("""CREATE TABLE gpkg_geometry_columns (table_name TEXT NOT NULL,
+        column_name TEXT NOT NULL, geometry_type_name TEXT NOT NULL, srs_id INTEGER NOT NULL,
+        z TINYINT NOT NULL, m TINYINT NOT NULL,
+        CONSTRAINT pk_geom_cols PRIMARY KEY (table_name, column_name),
+        CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) REFERENCES gpkg_contents(table_name),
+        CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys (srs_id))""")
+    cols = "".join(f', "{k}" {v}' for k, v in fields.items())
+    c.execute(f'CREATE TABLE "{layer}" (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, '
+              f'geom POLYGON{cols})')
+    allpts = np.vstack(polygons)
+    c.execute("INSERT INTO gpkg_contents VALUES (?,?,?,?,?,?,?,?,?,?)",
+              (layer, "features", layer, "", LAST_CHANGE, float(allpts[:, 0].min()),
+               float(allpts[:, 1].min()), float(allpts[:, 0].max()), float(allpts[:, 1].max()), epsg))
+    c.execute("INSERT INTO gpkg_geometry_columns VALUES (?,?,?,?,?,?)",
+              (layer, "geom", "POLYGON", epsg, 0, 0))
+    names = list(fields)
+    columns = "".join(f', "{n}"' for n in names)
+    marks = ",".join("?" * (len(names) + 1))
+    c.executemany(f'INSERT INTO "{layer}" (geom{columns}) VALUES ({marks})',
+                  [(_blob([p], epsg), *(a[n] for n in names)) for p, a in zip(polygons, attributes)])

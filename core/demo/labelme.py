@@ -6,12 +6,12 @@ at most 2 px). LabelMe point coordinates use our pixel convention (origin at the
 top-left corner; LabelMe stores Qt scene coordinates, where pixel (0, 0) covers [0, 1)²), so no
 shift is applied. The truth of each vertex is where its pixel's ray meets the surface.
 """
-import json
 import os
 from typing import Dict, List
 
 import numpy as np
 
+from ..files import write_json
 from .field import plot_corners
 from .flight import CameraModel, Shot
 from .render import intersect
@@ -57,8 +57,7 @@ def write_labelme(folder: str, photo_dir: str, scene: Scene, camera: CameraModel
         image = os.path.relpath(os.path.join(photo_dir, shot.filename), folder).replace(os.sep, "/")
         doc = {"version": LABELME_VERSION, "flags": {}, "shapes": shapes, "imagePath": image,
                "imageData": None, "imageHeight": camera.height, "imageWidth": camera.width}
-        with open(os.path.join(folder, name), "w") as fh:
-            json.dump(doc, fh, indent=2)
+        write_json(os.path.join(folder, name), doc, indent=2)
         truth[f"{os.path.basename(folder)}/{name}"] = {
             "image": f"photos/{shot.filename}", "photo": shot.label, "shapes": shapes_truth}
     return truth

@@ -19,6 +19,7 @@ from typing import Dict, List, Sequence
 
 import numpy as np
 
+from ..files import write_bytes
 from .flight import CameraModel, Shot, rotation_from_vector
 from .geo import METASHAPE_WGS84_WKT, ENUFrame, map_to_ecef, map_to_lonlat
 from .scene import Scene
@@ -43,7 +44,7 @@ def _zip_doc(path: Path, xml: str) -> None:
         info.compress_type = zipfile.ZIP_DEFLATED
         z.writestr(info, xml.encode("utf-8"))
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_bytes(buf.getvalue())
+    write_bytes(path, buf.getvalue())
 
 
 # --- poses -------------------------------------------------------------------------------------
@@ -287,8 +288,8 @@ def write_metashape(folder, name: str, scene: Scene, camera: CameraModel, shots:
     _zip_doc(files / "0" / "chunk.zip", _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers))
     _zip_doc(frame_dir / "frame.zip", _frame_doc(camera, shots, rel, gps_lla, markers))
     psx = folder / f"{name}.psx"
-    psx.write_text('<?xml version="1.0" encoding="UTF-8"?>\n'
-                   '<document version="1.2.0" path="{projectname}.files/project.zip"/>\n')
+    write_bytes(psx, b'<?xml version="1.0" encoding="UTF-8"?>\n'
+                     b'<document version="1.2.0" path="{projectname}.files/project.zip"/>\n')
     return {"psx": str(psx), "max_fit_px": worst}
 
 

@@ -19,6 +19,7 @@ from typing import Dict, List, Sequence
 
 import numpy as np
 
+from ..files import write_bytes
 from .flight import CameraModel, Shot
 from .geo import UTM54_WKT, map_to_lonlat
 
@@ -151,8 +152,8 @@ def write_pix4d(folder, name: str, camera: CameraModel, shots: List[Shot], offse
         "wkt.prj": UTM54_WKT,
     }
     for suffix, text in files.items():
-        (params / f"{name}_{suffix}").write_text(text)
+        write_bytes(params / f"{name}_{suffix}", text.encode())
     rel = [Path(os.path.relpath(os.path.abspath(p), folder.resolve())).as_posix() for p in photo_paths]
     p4d = folder / f"{name}.p4d"
-    p4d.write_text(_p4d(camera, shots, rel, off))
+    write_bytes(p4d, _p4d(camera, shots, rel, off).encode())
     return {"p4d": str(p4d), "params": str(params)}

@@ -29,6 +29,7 @@ import numpy as np
 
 from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
 from ..errors import InputError
+from ..files import write_bytes
 from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
 from ..progress import as_progress
 from .flight import ALTITUDE, SIZES, make_camera, plan_flight
@@ -185,10 +186,7 @@ def _truth_and_projects(folder: str, scene, camera, shots, photos, rng):
 def _write_jpeg(path: str, img: np.ndarray) -> None:
     import imagecodecs
     data = imagecodecs.jpeg8_encode(np.ascontiguousarray(img), level=JPEG_QUALITY)
-    tmp = path + ".part"
-    with open(tmp, "wb") as fh:
-        fh.write(data)
-    os.replace(tmp, path)
+    write_bytes(path, data)
 
 
 def _write_clouds(folder: str, xyz: np.ndarray, rgb: np.ndarray, epsg: int) -> None:

@@ -12,6 +12,7 @@ from typing import Dict, List
 
 import numpy as np
 
+from ..files import write_bytes
 from .field import plot_corners
 from ..reconstruction.frame_model import INSIDE, project_block
 from .flight import CameraModel, Shot
@@ -163,7 +164,7 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
         "plots": truth.plots,
         "labelme": truth.labelme,
     }
-    with open(path, "w") as fh:   # one line per top-level member, values compact
-        fh.write("{\n" + ",\n".join(f"{json.dumps(k)}: {json.dumps(v, separators=(',', ':'))}"
-                                     for k, v in doc.items()) + "\n}\n")
+    # one line per top-level member, values compact
+    write_bytes(path, ("{\n" + ",\n".join(f"{json.dumps(k)}: {json.dumps(v, separators=(',', ':'))}"
+                                         for k, v in doc.items()) + "\n}\n").encode())
     return path

@@ -17,7 +17,7 @@ from ..naming import unique_names
 from ..progress import as_progress
 from ..roi import ROISet
 from .cloud import PointCloud
-from .files import check_not_inputs
+from ..files import check_not_inputs
 from .formats import read_point_cloud, write_point_cloud
 from .index import one_pass
 

@@ -19,7 +19,7 @@ from pyproj import CRS
 from ..crs import as_crs, same_crs
 from ..errors import InputError
 from .cloud import PointCloud
-from .files import atomic_target, check_not_inputs
+from ..files import atomic_output, check_not_inputs
 
 _COLOUR = ("red", "green", "blue")
 
@@ -235,7 +235,7 @@ def _fast_write_las(cloud: PointCloud, records: np.ndarray, path: Path, template
     if minor >= 4:
         struct.pack_into("<Q", h, 247, n)
         struct.pack_into("<15Q", h, 255, *[int(c) for c in by_ret])
-    with atomic_target(path) as tmp:
+    with atomic_output(path) as tmp:
         with open(tmp, "wb") as f:
             f.write(h)
             f.write(np.ascontiguousarray(records).tobytes())
@@ -273,7 +273,7 @@ def write_las(cloud: PointCloud, path, compress: Optional[bool] = None,
     header.point_count = len(records)
     points = laspy.PackedPointRecord(np.ascontiguousarray(records), header.point_format)
     data = laspy.LasData(header, points)
-    with atomic_target(path) as tmp:
+    with atomic_output(path) as tmp:
         with open(tmp, "wb") as f:
             data.write(f, do_compress=compress, laz_backend=laspy.LazBackend.Lazrs)
     return path

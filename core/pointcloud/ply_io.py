@@ -13,7 +13,7 @@ import numpy as np
 from ..crs import as_crs
 from ..errors import InputError
 from .cloud import XYZ_PLY, PlyHeader, PointCloud
-from .files import atomic_target, check_not_inputs
+from ..files import atomic_output, check_not_inputs
 
 # numpy kinds plyfile can write; 64-bit integers (e.g. from LAS extra bytes) go to float64
 _PLY_OK = {"i1", "u1", "i2", "u2", "i4", "u4", "f4", "f8"}
@@ -97,6 +97,6 @@ def write_ply(cloud: PointCloud, path, text: Optional[bool] = None,
     el = PlyElement.describe(np.ascontiguousarray(records), "vertex")
     ply = PlyData([el], text=text, byte_order=byte_order, comments=comments,
                   obj_info=list(src.obj_info))
-    with atomic_target(path) as tmp:
+    with atomic_output(path) as tmp:
         ply.write(str(tmp))
     return path

@@ -1,10 +1,10 @@
 """Writing cropped GeoTIFFs: georeferencing copied from the source, deflate-compressed, atomic."""
-import os
-import threading
 from typing import Optional, Sequence
 
 import numpy as np
 import tifffile
+
+from ..files import atomic_output
 
 from .geotiff import (TAG_GDAL_METADATA, TAG_GDAL_NODATA, TAG_GEOASCII, TAG_GEODOUBLES, TAG_GEOKEYS,
                       TAG_PIXEL_SCALE, TAG_TIEPOINT)
@@ -54,7 +54,7 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
                   nodata_text: Optional[str] = None, rgb: bool = False,
                   extrasamples: Sequence[int] = (), tile: Optional[int] = None,
                   rowsperstrip: Optional[int] = None) -> str:
-    """Write ``data`` (rows, cols[, bands]) to ``path`` atomically (temp file, then rename).
+    """Write ``data`` (rows, cols[, bands]) to ``path`` atomically (:func:`..files.atomic_output`).
 
     ``geotransform`` in GDAL order (north-up); ``rgb``: photometric RGB (the first three
     bands), else min-is-black; ``extrasamples``: TIFF ExtraSamples codes of the bands after the
@@ -64,26 +64,18 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
     if data.ndim == 2:
         data = data[..., None]
     rows, cols, bands = data.shape
-    folder, name = os.path.split(os.path.abspath(path))
-    # a hidden name unique to this process and thread, renamed into place when complete
-    tmp = os.path.join(folder, f".{name}.{os.getpid()}-{threading.get_ident()}.part")
-    try:
-        if tile is None and rowsperstrip is None and rows * cols > 1024 * 1024:
-            tile = 256
-        if tile:
-            kw = {"tile": (tile, tile)}
-        else:
-            kw = {"rowsperstrip": rowsperstrip or
-                  max(1, 65536 // max(1, cols * bands * data.dtype.itemsize))}
+    if tile is None and rowsperstrip is None and rows * cols > 1024 * 1024:
+        tile = 256
+    if tile:
+        kw = {"tile": (tile, tile)}
+    else:
+        kw = {"rowsperstrip": rowsperstrip or
+              max(1, 65536 // max(1, cols * bands * data.dtype.itemsize))}
+    with atomic_output(path) as tmp:
         tifffile.imwrite(
             tmp, data if bands > 1 else data[..., 0],
             photometric="rgb" if rgb else "minisblack", planarconfig="contig",
             extrasamples=tuple(extrasamples) or None,
             compression="zlib", compressionargs={"level": DEFLATE_LEVEL}, predictor=True,
             extratags=geotiff_tags(geo_tags, geotransform, nodata_text), metadata=None, **kw)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
     return path
