@@ -21,7 +21,7 @@ def emit(files, rois, loop_s, **extra):
 
 def ours(raster, geojson, out_dir):
     from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
-    from easyidp_toolbox.core.vector_io import read_geojson
+    from easyidp_toolbox.core.roi import read_geojson
 
     rois = read_geojson(geojson, name_field="name")
     t0 = time.perf_counter()

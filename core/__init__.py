@@ -15,8 +15,7 @@ from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
 from .progress import Progress
 from .reconstruction import Reconstruction, open_reconstruction
-from .roi import ROI, ROISet, roi_from_coordinates
-from .vector_io import read_geojson
+from .roi import ROI, ROISet, read_geojson, roi_from_coordinates
 
 __all__ = [
     "Cancelled", "EasyIDPError", "InputError", "ROIError", "Progress",

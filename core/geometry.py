@@ -15,16 +15,24 @@ import numpy as np
 Rings = Sequence[np.ndarray]
 
 
-def close_ring(ring: np.ndarray) -> np.ndarray:
-    """Drop a repeated closing vertex and consecutive duplicates; returns an open ring."""
+def ring_keep(ring: np.ndarray) -> np.ndarray:
+    """Indices of the vertices :func:`close_ring` keeps: consecutive duplicates and a repeated
+    closing vertex are dropped."""
     ring = np.asarray(ring, dtype=np.float64)[:, :2]
+    keep = np.ones(len(ring), bool)
     if len(ring) > 1:
-        keep = np.ones(len(ring), bool)
         keep[1:] = np.any(ring[1:] != ring[:-1], axis=1)
-        ring = ring[keep]
-    if len(ring) > 1 and np.all(ring[0] == ring[-1]):
-        ring = ring[:-1]
-    return ring
+    idx = np.flatnonzero(keep)
+    if len(idx) > 1 and np.all(ring[idx[0]] == ring[idx[-1]]):
+        idx = idx[:-1]
+    return idx
+
+
+def close_ring(ring: np.ndarray, keep: np.ndarray = None) -> np.ndarray:
+    """Drop a repeated closing vertex and consecutive duplicates; returns an open (n, 2) ring.
+    ``keep``: the indices from :func:`ring_keep`, when already computed."""
+    ring = np.asarray(ring, dtype=np.float64)[:, :2]
+    return ring[ring_keep(ring) if keep is None else keep]
 
 
 def _edges(rings: Rings) -> Tuple[np.ndarray, np.ndarray]:

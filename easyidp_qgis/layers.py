@@ -1,7 +1,8 @@
 """Adapters from QGIS layers and parameters to the core's plain data."""
 import os
 
-from qgis.core import (QgsCoordinateReferenceSystem, QgsFeatureRequest, QgsProcessingException,
+from qgis.core import (QgsCoordinateReferenceSystem, QgsCsException, QgsFeatureRequest,
+                       QgsProcessingException, QgsProject,
                        QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
                        QgsProcessingParameterFile, QgsProcessingParameterNumber, QgsWkbTypes)
 
@@ -61,10 +62,13 @@ def optional_number(alg, parameters, name: str, context):
     return alg.parameterAsDouble(parameters, name, context)
 
 
-def rois_from_source(source, name_field: str, label: str, feedback=None):
-    """ROIs from a feature source: (ROISet in the layer CRS, list of features in the same order).
+def rois_from_source(source, name_field: str, label: str, feedback=None, crs=None, context=None):
+    """ROIs from a feature source: (ROISet, list of features in the same order).
 
-    Names come from ``name_field``, else the feature id.
+    Names come from ``name_field``, else the feature id. With ``crs`` (a
+    QgsCoordinateReferenceSystem) the geometries are transformed by QGIS into it, with the
+    transform context of ``context`` (the project's datum transformation choices); otherwise
+    they stay in the layer's CRS. A Z coordinate is kept as the ROI's vertex heights.
     """
     if source is None:
         raise QgsProcessingException(f"{label}: no ROI layer given, or it could not be loaded.")
@@ -75,23 +79,50 @@ def rois_from_source(source, name_field: str, label: str, feedback=None):
             "polygons. Buffer points or lines first (Vector geometry ▸ Buffer).")
     if name_field and source.fields().indexFromName(name_field) < 0:
         raise QgsProcessingException(f"{label}: the ROI layer has no field '{name_field}'.")
+    request = QgsFeatureRequest()
+    out_crs = source.sourceCrs()
+    if crs is not None and crs.isValid() and crs != source.sourceCrs():
+        if not source.sourceCrs().isValid():
+            raise QgsProcessingException(
+                f"{label}: the ROI layer '{source.sourceName()}' has no CRS, so it cannot be "
+                f"placed on {crs.authid() or crs.description()}. Set the layer's CRS (Layer "
+                "Properties ▸ Source, or Vector general ▸ Assign projection) and run again.")
+        request.setDestinationCrs(crs, context.transformContext() if context is not None
+                                  else QgsProject.instance().transformContext())
+        out_crs = crs
     rois, features = [], []
     total = max(source.featureCount(), 1)
-    for k, feat in enumerate(source.getFeatures(QgsFeatureRequest())):
-        if feedback is not None and feedback.isCanceled():
-            break
-        g = feat.geometry()
-        name = feat[name_field] if name_field else feat.id()
-        name = str(feat.id()) if name is None or str(name) == "NULL" else str(name)
-        polys = []
-        if not g.isNull() and not g.isEmpty():
-            polys = g.asMultiPolygon() if g.isMultipart() else [g.asPolygon()]
-        coords = [[[(p.x(), p.y()) for p in ring] for ring in poly] for poly in polys]
-        rois.append(roi_from_coordinates(name, "MultiPolygon", coords))
-        features.append(feat)
-        if feedback is not None:
-            feedback.setProgress(5.0 * k / total)
-    return ROISet(rois, crs_string(source.sourceCrs())), features
+    try:
+        for k, feat in enumerate(source.getFeatures(request)):
+            if feedback is not None and feedback.isCanceled():
+                break
+            name = feat[name_field] if name_field else feat.id()
+            name = str(feat.id()) if name is None or str(name) == "NULL" else str(name)
+            rois.append(roi_from_coordinates(name, "MultiPolygon", _polygon_coordinates(feat.geometry())))
+            features.append(feat)
+            if feedback is not None:
+                feedback.setProgress(5.0 * k / total)
+    except QgsCsException as exc:
+        raise QgsProcessingException(
+            f"{label}: the ROI layer '{source.sourceName()}' cannot be transformed from "
+            f"{source.sourceCrs().authid() or source.sourceCrs().description()} to "
+            f"{crs.authid() or crs.description()} ({exc}). Check that the layer's CRS is set "
+            "correctly.") from None
+    return ROISet(rois, crs_string(out_crs)), features
+
+
+def _polygon_coordinates(g) -> list:
+    """MultiPolygon coordinates [[[(x, y[, z]), …] ring …] polygon …] of a QgsGeometry."""
+    if g is None or g.isNull() or g.isEmpty():
+        return []
+    geom = g.constGet()
+    polys = [geom.geometryN(i) for i in range(geom.numGeometries())] if g.isMultipart() else [geom]
+    has_z = QgsWkbTypes.hasZ(geom.wkbType())
+
+    def ring(r):
+        return [(p.x(), p.y(), p.z()) if has_z else (p.x(), p.y()) for p in r.points()]
+    return [[ring(p.exteriorRing())] + [ring(p.interiorRing(k)) for k in range(p.numInteriorRings())]
+            for p in polys if p is not None and p.exteriorRing() is not None]
 
 
 # ---- point clouds: the INPUT / INPUT_CRS / Z_MIN / Z_MAX parameters the point-cloud tools share

@@ -6,7 +6,7 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
 from easyidp_toolbox.core.reconstruction.pix4d import (
     calibration_from_ccp, read_cam_file, read_calibrated_camera_parameters, read_pmatrix)
-from easyidp_toolbox.core.shapefile_io import read_polygons
+from easyidp_toolbox.core.roi.shapefile import read_polygons
 
 UTM54 = "EPSG:32654"
 

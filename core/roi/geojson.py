@@ -3,8 +3,8 @@ import json
 import os
 from typing import Optional
 
-from .errors import InputError
-from .roi import ROISet, roi_from_coordinates
+from ..errors import InputError
+from .model import ROISet, roi_from_coordinates
 
 
 def read_geojson(path: str, name_field: Optional[str] = None) -> ROISet:

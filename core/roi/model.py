@@ -2,6 +2,8 @@
 
 ``ROI.parts`` is a list of polygons, each a list of rings ``[exterior, hole, ...]``; a ring is an
 open (n, 2) float64 array of map coordinates (x, y) = (easting, northing) or (lon, lat).
+``ROI.z`` is None, or the vertex heights of a 3-D geometry (PolygonZ), nested like ``parts``:
+one (n,) float64 array per ring, in the vertical reference of the source.
 """
 from dataclasses import dataclass, field
 from typing import Callable, Iterator, List, Optional, Sequence, Tuple
@@ -9,9 +11,9 @@ from typing import Callable, Iterator, List, Optional, Sequence, Tuple
 import numpy as np
 from pyproj import CRS
 
-from . import geometry
-from .crs import as_crs, same_crs, transform_xy
-from .errors import ROIError
+from .. import geometry
+from ..crs import as_crs, same_crs, transform_xy
+from ..errors import ROIError
 
 
 @dataclass
@@ -19,6 +21,7 @@ class ROI:
     name: str
     parts: List[List[np.ndarray]]
     attributes: dict = field(default_factory=dict)
+    z: Optional[List[List[np.ndarray]]] = None
 
     @property
     def rings(self) -> List[np.ndarray]:
@@ -36,9 +39,15 @@ class ROI:
     def area(self) -> float:
         return geometry.area(self.rings)
 
+    @property
+    def ring_z(self) -> Optional[List[np.ndarray]]:
+        """Vertex heights of all rings (aligned with :attr:`rings`), or None for a 2-D ROI."""
+        return None if self.z is None else [z for part in self.z for z in part]
+
     def map_xy(self, fn: Callable[[np.ndarray], np.ndarray]) -> "ROI":
-        """A copy with ``fn`` ((n, 2) → (n, 2)) applied to every ring."""
-        return ROI(self.name, [[fn(r) for r in part] for part in self.parts], dict(self.attributes))
+        """A copy with ``fn`` ((n, 2) → (n, 2)) applied to every ring (heights kept)."""
+        return ROI(self.name, [[fn(r) for r in part] for part in self.parts], dict(self.attributes),
+                   self.z)
 
     def validate(self) -> "ROI":
         """Raise :class:`ROIError` naming this ROI if it is empty or not a valid polygon."""
@@ -61,7 +70,11 @@ class ROI:
 
 
 def roi_from_coordinates(name: str, geom_type: str, coordinates, attributes=None) -> ROI:
-    """An ROI from GeoJSON-style ``Polygon`` or ``MultiPolygon`` coordinates (z is dropped)."""
+    """An ROI from GeoJSON-style ``Polygon`` or ``MultiPolygon`` coordinates.
+
+    A third coordinate is kept as the ROI's vertex heights (:attr:`ROI.z`) when every vertex
+    has one; a repeated closing vertex and consecutive duplicates are dropped.
+    """
     if geom_type == "Polygon":
         polys = [coordinates]
     elif geom_type == "MultiPolygon":
@@ -69,12 +82,28 @@ def roi_from_coordinates(name: str, geom_type: str, coordinates, attributes=None
     else:
         raise ROIError(f"ROI {name!r} is a {geom_type}, not a polygon: ROIs must be polygons or "
                        "multipolygons (buffer points or lines first).")
-    parts = []
+    parts, heights = [], []
     for poly in polys or []:
-        rings = [geometry.close_ring(np.asarray(r, dtype=np.float64)) for r in poly if len(r)]
+        rings = [_ring_xyz(name, r) for r in poly if len(r)]
         if rings:
-            parts.append(rings)
-    return ROI(str(name), parts, dict(attributes or {}))
+            parts.append([geometry.close_ring(r[:, :2], keep=keep) for r, keep in rings])
+            heights.append([r[keep, 2] if r.shape[1] > 2 else None for r, keep in rings])
+    has_z = bool(parts) and all(z is not None for zs in heights for z in zs)
+    return ROI(str(name), parts, dict(attributes or {}), heights if has_z else None)
+
+
+def _ring_xyz(name: str, ring):
+    """(ring as an (n, 2 or 3) float array, indices of the vertices :func:`close_ring` keeps)."""
+    try:
+        arr = np.asarray([tuple(v) for v in ring], dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ROIError(f"ROI {name!r}: a ring's coordinates are not numbers: "
+                       f"{str(ring)[:80]}.") from None
+    if arr.ndim != 2 or arr.shape[1] < 2:
+        raise ROIError(f"ROI {name!r}: a ring's coordinates are not (x, y[, z]) pairs.")
+    if arr.shape[1] > 3:
+        arr = arr[:, :3]                                    # x, y, z; an M value is dropped
+    return arr, geometry.ring_keep(arr[:, :2])
 
 
 class ROISet(Sequence[ROI]):

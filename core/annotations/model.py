@@ -1,0 +1,35 @@
+"""Shapes on one photo, in pixels, as the annotation readers return them."""
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+POLYGON, LINE, POINT = "polygon", "line", "point"
+
+
+@dataclass
+class PhotoShape:
+    """One annotated object on a photo.
+
+    ``kind``: ``polygon`` (``rings`` = [exterior, hole, …], open (n, 2) rings), ``line`` (one
+    open (n, 2) polyline) or ``point`` (one (1, 2) array). Pixels in the project convention.
+    ``source_type``: the shape type as the file names it (e.g. LabelMe ``rectangle``).
+    """
+    label: str
+    kind: str
+    rings: List[np.ndarray]
+    source_type: str = ""
+    score: Optional[float] = None
+    group_id: Optional[object] = None
+    attributes: dict = field(default_factory=dict)
+
+
+@dataclass
+class PhotoAnnotations:
+    """The shapes of one photo. ``image``: the image name or path as the file gives it;
+    ``width``/``height``: the image size the file declares (None when it says nothing)."""
+    source: str
+    image: str
+    width: Optional[int]
+    height: Optional[int]
+    shapes: List[PhotoShape] = field(default_factory=list)
