@@ -15,12 +15,11 @@ from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
 from .progress import Progress
 from .reconstruction import Reconstruction, open_reconstruction
-from .roi import ROI, ROISet, read_geojson, roi_from_coordinates
+from .roi import ROI, ROISet, open_rois, read_geojson, roi_from_coordinates
 
 __all__ = [
     "Cancelled", "EasyIDPError", "InputError", "ROIError", "Progress",
-    "ROI", "ROISet", "roi_from_coordinates", "read_geojson",
+    "ROI", "ROISet", "roi_from_coordinates", "open_rois", "read_geojson",
     "PointCloud", "read_point_cloud", "write_point_cloud", "crop_point_cloud", "canopy_summary",
     "Reconstruction", "open_reconstruction",
-    "DemoSurvey", "make_demo_survey",
 ]

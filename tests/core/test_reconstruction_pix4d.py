@@ -6,7 +6,7 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
 from easyidp_toolbox.core.reconstruction.pix4d import (
     calibration_from_ccp, read_cam_file, read_calibrated_camera_parameters, read_pmatrix)
-from easyidp_toolbox.core.roi.shapefile import read_polygons
+from easyidp_toolbox.core.roi import open_rois
 
 UTM54 = "EPSG:32654"
 
@@ -110,20 +110,21 @@ def test_cam_file_and_calibrated_parameters_give_same_distortion(params):
 
 
 def test_roi_polygons_land_in_expected_photos(p4, recon):
-    polys, wkt, records = read_polygons(p4 / "roi" / "roi.shp")
-    assert len(polys) == 3 and [len(p[0]) for p in polys] == [13, 9, 48]
-    assert "UTM_Zone_54N" in wkt and [r["id"] for r in records] == [0, 1, 2]
+    rois = open_rois(p4 / "roi" / "roi.shp", name_field="id")   # closing vertex dropped
+    assert rois.names == ["0", "1", "2"] and [len(r.rings[0]) for r in rois] == [12, 8, 47]
+    assert rois.crs.to_epsg() == 32654
+    wkt = rois.crs
     ground = 96.0                                    # offset z: the local origin height
-    c0 = polys[0][0][:-1].mean(axis=0)
+    c0 = rois[0].rings[0].mean(axis=0)
     hits = recon.project_points([[c0[0], c0[1], ground]], wkt)
     assert int(hits.inside.sum()) == 17              # count measured independently (SOURCES.md)
     fps = {f.label: f for f in camera_footprints(recon, ground, per_edge=8)}
-    for ring in (p[0] for p in polys):
+    for ring in (r.rings[0] for r in rois):
         xyz = np.column_stack([ring, np.full(len(ring), ground)])
         proj = recon.project_points(xyz, wkt)
         full = [lab for lab, ins in zip(proj.camera_labels, proj.inside.all(axis=1)) if ins]
         assert len(full) >= 5
-        centroid = ring[:-1].mean(axis=0)
+        centroid = ring.mean(axis=0)
         for lab in full:                             # backward and forward agree
             fp = fps[lab].ring[:, :2]
             assert _inside(centroid, fp), lab

@@ -1,0 +1,202 @@
+"""open_rois on the files users have: real shapefiles and GeoJSONs (../shared/realdata), LabelMe
+on a georeferenced raster, CloudCompare lists, __geo_interface__ objects; every bad input."""
+import json
+
+import numpy as np
+import pytest
+import shapefile
+
+from easyidp_toolbox.core.errors import EasyIDPError, InputError, ROIError
+from easyidp_toolbox.core.roi import open_rois, rois_from_geo_interface
+
+from synthetic import write_tif
+
+
+# ---- real files ------------------------------------------------------------------------------
+def test_real_pix4d_shapefile_with_prj(realdata):
+    rois = open_rois(realdata / "easyidp/pix4d_origin/roi/roi.shp", name_field="id")
+    assert rois.crs.to_epsg() == 32654                        # ESRI-flavoured WKT in the .prj
+    assert rois.names == ["0", "1", "2"]
+    assert [len(r.rings[0]) for r in rois] == [12, 8, 47]      # 13, 9, 48 stored, closing dropped
+    x0, y0, x1, y1 = rois[0].bounds                            # SOURCES.md: 368101–368110 E
+    assert 368100 < x0 < x1 < 368111 and 3956025 < y0 < y1 < 3956050
+    assert rois[0].z is None and rois[0].attributes == {"id": 0}
+
+
+def test_real_zipped_shapefile(realdata):
+    rois = open_rois(realdata / "data-to-science/multi_field.zip")
+    assert len(rois) == 4 and rois.crs.to_epsg() == 4326
+    lon, lat = rois[0].rings[0].mean(axis=0)
+    assert -87.1 < lon < -86.9 and 40.4 < lat < 40.6            # SOURCES.md: 40.47 N, -86.99 W
+
+
+def test_real_geojson_single_feature_rfc7946(realdata):
+    rois = open_rois(realdata / "d2spy/feature_in_dsm.geojson")
+    assert len(rois) == 1 and rois.crs.name.startswith("WGS 84")  # no crs member: CRS84
+    assert rois.crs.axis_info[0].direction == "east"               # lon, lat order
+
+
+def test_real_geojson_3d_polygons_keep_z(realdata):
+    rois = open_rois(realdata / "data-to-science/zones_inside_test_tif.geojson")
+    assert len(rois) == 20
+    assert all(r.z is not None and np.all(r.ring_z[0] == 0) for r in rois)
+    assert all(len(z) == len(ring) for r in rois for z, ring in zip(r.ring_z, r.rings))
+
+
+def test_real_pix4d_shapefile_matches_its_geojson_twin(tmp_path, realdata):
+    """The same polygons written by pyshp-independent code (GeoJSON by hand) read the same."""
+    shp = open_rois(realdata / "easyidp/pix4d_origin/roi/roi.shp")
+    doc = {"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": "EPSG:32654"}},
+           "features": [{"type": "Feature", "properties": {}, "geometry": {
+               "type": "Polygon", "coordinates": [r.rings[0].tolist()]}} for r in shp]}
+    (tmp_path / "twin.geojson").write_text(json.dumps(doc))
+    gj = open_rois(tmp_path / "twin.geojson")
+    for a, b in zip(shp, gj):
+        np.testing.assert_array_equal(a.rings[0], b.rings[0])
+
+
+# ---- shapefile structure: holes, multipart, Z, encoding ---------------------------------------
+def _write_shp(path, shape_type, shapes, records, fields=(("name", "C"),), prj="EPSG:32654",
+               encoding="utf-8", cpg=None):
+    with shapefile.Writer(str(path), shapeType=shape_type, encoding=encoding) as w:
+        for name, typ in fields:
+            w.field(name, typ)
+        for shp, rec in zip(shapes, records):
+            shp(w)
+            w.record(*rec)
+    if prj:
+        from pyproj import CRS
+        path.with_suffix(".prj").write_text(CRS.from_user_input(prj).to_wkt("WKT1_ESRI"))
+    if cpg:
+        path.with_suffix(".cpg").write_text(cpg)
+    return path
+
+
+def test_shapefile_holes_multipart_and_z(tmp_path):
+    outer = [[0, 0], [0, 10], [10, 10], [10, 0], [0, 0]]        # clockwise (exterior)
+    hole = [[2, 2], [8, 2], [8, 8], [2, 8], [2, 2]]            # counter-clockwise (hole)
+    other = [[20, 0], [20, 5], [25, 5], [25, 0], [20, 0]]
+    p = _write_shp(tmp_path / "a.shp", shapefile.POLYGONZ, [
+        lambda w: w.polyz([[(x, y, 100 + x) for x, y in outer], [(x, y, 1) for x, y in hole],
+                           [(x, y, 7) for x, y in other]])], [["plot é"]])
+    (roi,) = open_rois(p, name_field="name")
+    assert roi.name == "plot é"
+    assert len(roi.parts) == 2 and len(roi.parts[0]) == 2      # exterior + hole, then the other
+    assert roi.area == pytest.approx(100 - 36 + 25)
+    np.testing.assert_array_equal(roi.z[0][0], 100 + roi.parts[0][0][:, 0])
+    assert np.all(roi.z[1][0] == 7)
+
+
+def test_shapefile_encoding_from_cpg(tmp_path):
+    p = _write_shp(tmp_path / "b.shp", shapefile.POLYGON,
+                   [lambda w: w.poly([[[0, 0], [0, 1], [1, 1], [1, 0], [0, 0]]])], [["Ölfeld"]],
+                   encoding="latin-1", cpg="ISO-8859-1")
+    assert open_rois(p, name_field="name").names == ["Ölfeld"]
+
+
+# ---- LabelMe on a georeferenced raster, CloudCompare, geo_interface ---------------------------
+def test_labelme_real_file_on_a_raster(tmp_path, realdata):
+    lm = realdata / "easyidp/labelme/labelme_demo_img.json"      # 4608 x 3456, one polygon "1"
+    tif = write_tif(tmp_path / "ortho.tif", np.zeros((3456, 4608), np.uint8), origin=(1000.0, 2000.0),
+                    pixel=0.01, tile=256)
+    rois = open_rois(lm, raster=tif)
+    assert rois.names == ["1"] and rois.crs.to_epsg() == 32654
+    px = np.array(json.loads(lm.read_text())["shapes"][0]["points"])
+    np.testing.assert_allclose(rois[0].rings[0], np.column_stack([1000 + 0.01 * px[:, 0],
+                                                                  2000 - 0.01 * px[:, 1]]))
+
+
+def test_labelme_needs_its_raster(tmp_path, realdata):
+    with pytest.raises(InputError, match="give the georeferenced raster"):
+        open_rois(realdata / "easyidp/labelme/labelme_demo_img.json")
+    small = write_tif(tmp_path / "small.tif", np.zeros((10, 10), np.uint8))
+    with pytest.raises(InputError, match="4608 × 3456 image"):
+        open_rois(realdata / "easyidp/labelme/labelme_demo_img.json", raster=small)
+
+
+def test_cloudcompare_point_lists(tmp_path):
+    a = tmp_path / "tree_7.txt"
+    a.write_text("1.5,2.0,30.1\n4.0,2.0,30.2\n4.0,5.5,30.3\n1.5,2.0,30.1\n")
+    b = tmp_path / "labels.txt"
+    b.write_text("Point #0, 1, 2, 3\nPoint #1, 5, 2, 3\nPoint #2, 5, 6, 4\n")
+    (ra,) = open_rois(a, crs="EPSG:32654")
+    assert ra.name == "tree_7" and len(ra.rings[0]) == 3 and ra.area == pytest.approx(4.375)
+    np.testing.assert_allclose(ra.ring_z[0], [30.1, 30.2, 30.3])
+    (rb,) = open_rois(b, crs="EPSG:32654")
+    np.testing.assert_allclose(rb.rings[0], [[1, 2], [5, 2], [5, 6]])
+    with pytest.raises(InputError, match="carry no CRS"):
+        open_rois(a)
+    bad = tmp_path / "bad.txt"
+    bad.write_text("1,2,3\nhello world\n4,5,6\n")
+    with pytest.raises(InputError, match="line 2"):
+        open_rois(bad, crs="EPSG:32654")
+
+
+def test_geodataframe_and_shapely(realdata):
+    """geopandas and shapely (independent readers) against our shapefile reader."""
+    import geopandas as gpd
+    from shapely.geometry import Polygon
+    gdf = gpd.read_file(realdata / "easyidp/pix4d_origin/roi/roi.shp")
+    rois = open_rois(gdf, name_field="id")                      # CRS from gdf.crs
+    ref = open_rois(realdata / "easyidp/pix4d_origin/roi/roi.shp", name_field="id")
+    assert rois.names == ref.names and rois.crs.equals(ref.crs)
+    for a, b in zip(rois, ref):
+        np.testing.assert_allclose(a.rings[0], b.rings[0])
+    sq = rois_from_geo_interface([Polygon([(0, 0), (1, 0), (1, 1)]), Polygon([(5, 5), (6, 5), (6, 6)])],
+                                 crs="EPSG:32654")
+    assert sq.names == ["0", "1"] and sq[1].area == pytest.approx(0.5)
+    with pytest.raises(InputError, match="CRS is unknown"):
+        rois_from_geo_interface(Polygon([(0, 0), (1, 0), (1, 1)]))
+
+
+# ---- bad input -------------------------------------------------------------------------------
+def test_bad_inputs_name_the_file(tmp_path):
+    with pytest.raises(InputError, match="not found"):
+        open_rois(tmp_path / "missing.shp")
+    p = _write_shp(tmp_path / "noprj.shp", shapefile.POLYGON,
+                   [lambda w: w.poly([[[0, 0], [0, 1], [1, 1], [0, 0]]])], [["a"]], prj=None)
+    with pytest.raises(InputError, match="no .prj file"):
+        open_rois(p)
+    assert open_rois(p, crs="EPSG:32654").crs.to_epsg() == 32654
+    pts = _write_shp(tmp_path / "pts.shp", shapefile.POINT, [lambda w: w.point(1, 2)], [["a"]])
+    with pytest.raises(InputError, match="Point shapes, not polygons"):
+        open_rois(pts)
+    trunc = tmp_path / "trunc.shp"
+    data = (tmp_path / "noprj.shp").read_bytes()
+    for ext in (".shx", ".dbf", ".prj"):
+        src = (tmp_path / "noprj").with_suffix(ext)
+        if src.exists():
+            trunc.with_suffix(ext).write_bytes(src.read_bytes())
+    trunc.write_bytes(data[:120])
+    with pytest.raises(InputError, match="trunc.shp"):
+        open_rois(trunc, crs="EPSG:32654")
+    empty = tmp_path / "empty.geojson"
+    empty.write_text('{"type": "FeatureCollection", "features": []}')
+    with pytest.raises(InputError, match="empty"):
+        open_rois(empty)
+    line = tmp_path / "line.geojson"
+    line.write_text('{"type": "Feature", "properties": {}, "geometry": '
+                    '{"type": "LineString", "coordinates": [[0, 0], [1, 1]]}}')
+    with pytest.raises(ROIError, match="LineString, not a polygon"):
+        open_rois(line)
+    nogeom = tmp_path / "nogeom.geojson"
+    nogeom.write_text('{"type": "FeatureCollection", "features": [{"type": "Feature", '
+                      '"properties": {"id": "A1"}, "geometry": null}]}')
+    with pytest.raises(InputError, match="has no geometry"):
+        open_rois(nogeom)
+    with pytest.raises(InputError, match="no field 'plot'"):
+        open_rois(nogeom, name_field="plot")
+    broken = tmp_path / "broken.geojson"
+    broken.write_text('{"type": "FeatureCollection", "features": [')
+    with pytest.raises(InputError, match="not valid GeoJSON"):
+        open_rois(broken)
+    other = tmp_path / "plots.kml"
+    other.write_text("<kml/>")
+    with pytest.raises(InputError, match="not an ROI format"):
+        open_rois(other)
+    badprj = _write_shp(tmp_path / "badprj.shp", shapefile.POLYGON,
+                        [lambda w: w.poly([[[0, 0], [0, 1], [1, 1], [0, 0]]])], [["a"]], prj=None)
+    badprj.with_suffix(".prj").write_text("this is not WKT")
+    with pytest.raises(InputError, match="not a CRS"):
+        open_rois(badprj)
+    assert issubclass(InputError, EasyIDPError)
