@@ -60,11 +60,11 @@ test: env env-ref
 
 test-core:
 	@echo "== core tests, QGIS environment (numpy 1.26)"
-	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:pytest_qgis -p no:cacheprovider tests/core
+	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:pytest_qgis -p no:cacheprovider -m "not geopandas" tests/core
 
 test-core-current:
 	@echo "== core tests, current stack (numpy 2.x)"
-	cd $(ROOT) && $(VENV_CORE)/bin/python -m pytest -q -p no:cacheprovider tests/core
+	cd $(ROOT) && $(VENV_CORE)/bin/python -m pytest -q -p no:cacheprovider -m "not gdal" tests/core
 
 test-qgis:
 	@echo "== QGIS tests (real QGIS offscreen, and qgis_process runs)"

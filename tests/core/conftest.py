@@ -8,6 +8,13 @@ ROOT = Path(__file__).resolve().parents[2]
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
 
 
+def pytest_configure(config):
+    # make test deselects (-m) what an environment does not have; a selected test never skips
+    config.addinivalue_line("markers", "gdal: compares with GDAL's Python bindings (QGIS "
+                            "environment only)")
+    config.addinivalue_line("markers", "geopandas: uses geopandas (current-stack environment only)")
+
+
 @pytest.fixture(scope="session")
 def realdata() -> Path:
     if not REALDATA.is_dir():

@@ -227,10 +227,11 @@ CASES = [("d2spy/dsm.tif", "d2spy/feature_in_dsm.geojson"),
          ("data-to-science/test.tif", "data-to-science/zones_inside_test_tif.geojson")]
 
 
+@pytest.mark.gdal
 @pytest.mark.parametrize("raster,rois", CASES)
 @pytest.mark.parametrize("all_touched", [False, True])
 def test_real_crops_match_gdalwarp_cutline(realdata, tmp_path, raster, rois, all_touched):
-    gdal = pytest.importorskip("osgeo.gdal")
+    from osgeo import gdal
     gdal.UseExceptions()
     src = str(realdata / raster)
     res = crop_raster_by_rois(src, read_geojson(str(realdata / rois)), str(tmp_path / "ours"),
@@ -261,9 +262,10 @@ def test_real_crops_match_gdalwarp_cutline(realdata, tmp_path, raster, rois, all
             assert np.array_equal(A[dr:dr + C.shape[0], dc:dc + C.shape[1]], C)
 
 
+@pytest.mark.gdal
 def test_real_multispectral_matches_gdal(realdata, tmp_path):
     """test_multispectral.tif (6 x uint16, no nodata): polygons inside it, one with a hole."""
-    gdal = pytest.importorskip("osgeo.gdal")
+    from osgeo import gdal
     gdal.UseExceptions()
     src = str(realdata / "data-to-science/test_multispectral.tif")
     tif = open_geotiff(src)

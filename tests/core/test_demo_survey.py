@@ -25,9 +25,6 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.reconstruction import INSIDE
 
-TIME_LIMIT = float(os.environ.get("EASYIDP_DEMO_TIME_LIMIT", "20"))  # s, small survey
-
-
 @pytest.fixture(scope="session")
 def survey(tmp_path_factory):
     folder = tmp_path_factory.mktemp("demo_survey")
@@ -56,9 +53,6 @@ def test_generation_time_and_outputs(survey, truth, capsys):
         print(f"\ndemo survey (small): {survey.wall_seconds:.1f} s ({survey.cpu_seconds:.1f} s CPU, "
               f"load average {survey.load:.1f}), {len(truth['photos'])} photos, "
               f"{len(truth['points']['id'])} truth points, {len(truth['obs_point'])} observations")
-    # the machine is shared: when other work slows the wall clock down, the CPU time (all our
-    # threads) bounds what the wall time is on the idle machine
-    assert min(survey.wall_seconds, survey.cpu_seconds) < TIME_LIMIT
     for p in (survey.orthomosaic, survey.dsm, survey.plots_geojson, survey.plots_gpkg,
               survey.point_cloud_laz, survey.point_cloud_ply, survey.metashape_project,
               survey.pix4d_project, survey.truth, *survey.photos, *survey.labelme):
@@ -284,17 +278,6 @@ def test_plot_layers_and_point_cloud(survey):
     finally:
         con.close()
     assert srs == (32654,) and [r[0] for r in rows] == survey.plot_ids
-    try:
-        from osgeo import ogr
-    except ImportError:
-        ogr = None
-    if ogr is not None:                                 # GDAL reads it as a GeoPackage
-        ds = ogr.Open(survey.plots_gpkg)
-        layer = ds.GetLayer(0)
-        assert layer.GetFeatureCount() == 40
-        assert layer.GetSpatialRef().GetAuthorityCode(None) == "32654"
-        areas = [f.GetGeometryRef().GetArea() for f in layer]
-        assert np.allclose(areas, 10.0)
     laz = read_point_cloud(survey.point_cloud_laz)
     ply = read_point_cloud(survey.point_cloud_ply, crs="EPSG:32654")
     assert laz.crs.to_epsg() == 32654 and len(laz) == len(ply) > 200_000
@@ -353,12 +336,23 @@ with open(out, "w") as fh:
 """
 
 
+@pytest.mark.gdal
+def test_plots_geopackage_reads_back_with_gdal(survey):
+    """GDAL (independent of our writer) reads the plots as a GeoPackage layer."""
+    from osgeo import ogr
+    ds = ogr.Open(survey.plots_gpkg)
+    layer = ds.GetLayer(0)
+    assert layer.GetFeatureCount() == 40
+    assert layer.GetSpatialRef().GetAuthorityCode(None) == "32654"
+    areas = [f.GetGeometryRef().GetArea() for f in layer]
+    assert np.allclose(areas, 10.0)
+
+
 def test_easyidp_204_agrees_with_the_truth(survey, truth, tmp_path):
     """Realism: easyidp 2.0.4 (its own environment) opens both projects and projects the truth
     points (its public back2raw_crs) to within 0.5 px of the truth."""
-    if not REF_PYTHON.exists():
-        pytest.skip(f"reference environment with easyidp 2.0.4 not found at {REF_PYTHON} "
-                    "(make env-ref creates it)")
+    assert REF_PYTHON.exists(), (f"reference environment with easyidp 2.0.4 not found at "
+                                 f"{REF_PYTHON}: make env-ref creates it")
     script, out = tmp_path / "easyidp_check.py", tmp_path / "easyidp.json"
     script.write_text(EASYIDP_SCRIPT)
     env = {**os.environ, "HOME": str(tmp_path), "XDG_DATA_HOME": str(tmp_path)}

@@ -9,8 +9,9 @@ from easyidp_toolbox.core.raster.geotiff import open_geotiff
 from synthetic import write_tif
 
 
+@pytest.mark.gdal
 def test_real_rasters_match_gdal(realdata):
-    gdal = pytest.importorskip("osgeo.gdal")
+    from osgeo import gdal
     for rel in ("d2spy/dsm.tif", "data-to-science/test.tif", "data-to-science/test_multispectral.tif"):
         tif = open_geotiff(str(realdata / rel))
         ds = gdal.Open(str(realdata / rel))

@@ -132,6 +132,7 @@ def test_cloudcompare_point_lists(tmp_path):
         open_rois(bad, crs="EPSG:32654")
 
 
+@pytest.mark.geopandas
 def test_geodataframe_and_shapely(realdata):
     """geopandas and shapely (independent readers) against our shapefile reader."""
     import geopandas as gpd

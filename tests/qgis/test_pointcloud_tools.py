@@ -135,9 +135,11 @@ def test_crop_counts_equal_an_independent_count(provider, realdata, autzen, tmp_
         assert np.array_equal(got[np.lexsort(got.T)], truth[np.lexsort(truth.T)])
         assert out.header.parse_crs() is not None and out.header.point_format.id == 3
     assert any("far" in w and "outside the point cloud" in w for w in log.warnings)
-    # Debian's QGIS 3.22 has no PDAL provider: nothing queued, and the log says why
-    assert any("no point cloud provider" in i for i in log.infos)
-    assert not context.layersToLoadOnCompletion()
+    from easyidp_toolbox.easyidp_qgis.algorithms.crop_point_cloud_by_rois import \
+        point_cloud_provider_available
+    if not point_cloud_provider_available():        # the log says why nothing was queued
+        assert any("no point cloud provider" in i for i in log.infos)
+        assert not context.layersToLoadOnCompletion()
 
 
 def test_crop_queues_las_outputs_where_qgis_has_a_point_cloud_provider(provider, realdata, tmp_path,
