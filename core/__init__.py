@@ -4,7 +4,7 @@ Plain data in (numpy arrays, file paths, CRS as pyproj.CRS / EPSG / WKT), plain 
 Never imports qgis or PyQt. Progress and cancellation come in as callables
 (``progress(percent)``, ``is_cancelled()``).
 
-ROI heights: ``core.dsm_heights.roi_heights`` (from a DSM) and ``core.pointcloud.roi_heights``
+ROI heights: ``core.raster.roi_heights`` (from a DSM) and ``core.pointcloud.roi_heights``
 (from a point cloud).
 
 Conventions (see ARCHITECTURE.md): map coordinates are (x, y) = (easting, northing) or

@@ -1,22 +1,19 @@
 """ROI heights and canopy summaries from a point cloud (heights in the cloud's z units/reference).
 
-Statistics (``stat``), NaN when no value: ``mean``, ``median``, ``min``, ``max``, ``std``;
-``pNN`` = the NN-th percentile (numpy linear interpolation, e.g. ``p95``, ``p99.5``);
-``pminNN`` / ``pmaxNN`` = EasyIDP's kernels: mean of the values ≤ the NN-th percentile /
-≥ the (100-NN)-th percentile.
-
-Modes, as for a DSM: ``polygon`` (alias ``face``): one value per ROI from the points inside it;
-``vertex`` (alias ``point``): one value per vertex of every ring (in ``ROI.rings`` order), from
-the points within ``buffer`` (xy distance, cloud CRS units) of the vertex, or with ``buffer=0``
-the z of the nearest point in xy.
+:func:`roi_heights` speaks the vocabulary of the DSM version (:mod:`..heights`: ``mode``,
+``statistic``, ``percentile``, a :class:`~..heights.HeightResult` aligned with the ROI order):
+``polygon`` (EasyIDP: ``face``): one value per ROI from the points inside it; ``vertex``
+(EasyIDP: ``point``): one value per vertex of every ring, from the points within ``buffer``
+(xy distance, cloud CRS units) of the vertex, or with ``buffer=0`` the z of the nearest point
+in xy.
 """
-import re
 from pathlib import Path
-from typing import Callable, Dict, Optional, Sequence, Union
+from typing import Callable, Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
 from ..errors import EasyIDPError, InputError
+from ..heights import HeightResult, check_heights_args, statistic_of, vertex_result
 from ..progress import as_progress
 from ..roi import ROISet
 from .cloud import PointCloud
@@ -24,71 +21,32 @@ from .crop import as_cloud, cloud_name, crop_indices, rois_in_cloud_crs
 from .index import one_pass
 
 Ground = Union[None, float, np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]
-_STAT = re.compile(r"^(mean|median|min|max|std|p(min|max)?(\d+(\.\d+)?))$")
-
-
-def check_stat(stat: str) -> str:
-    s = str(stat).strip().lower()
-    m = _STAT.match(s)
-    if not m or (m.group(3) is not None and not 0 <= float(m.group(3)) <= 100):
-        raise EasyIDPError(f"Unknown statistic {stat!r}: use mean, median, min, max, std, pNN "
-                           "(percentile, 0–100), pminNN or pmaxNN.")
-    return s
-
-
-def reduce(values: np.ndarray, stat: str) -> float:
-    """One statistic of ``values`` (NaNs ignored); NaN when there are none."""
-    v = np.asarray(values, dtype=np.float64)
-    v = v[np.isfinite(v)]
-    if not len(v):
-        return float("nan")
-    s = check_stat(stat)
-    if s in ("mean", "median", "min", "max", "std"):
-        return float(getattr(np, s)(v))
-    m = _STAT.match(s)
-    q = float(m.group(3))
-    if m.group(2) == "min":
-        return float(v[v <= np.percentile(v, q)].mean())
-    if m.group(2) == "max":
-        return float(v[v >= np.percentile(v, 100 - q)].mean())
-    return float(np.percentile(v, q))
-
-
-def _mode(mode: str) -> str:
-    m = {"polygon": "polygon", "face": "polygon", "vertex": "vertex", "point": "vertex"}.get(
-        str(mode).lower())
-    if m is None:
-        raise EasyIDPError(f"Unknown mode {mode!r}: use 'polygon' (face) or 'vertex' (point).")
-    return m
 
 
 def roi_heights(cloud: Union[PointCloud, str, Path], rois: ROISet, mode: str = "polygon",
-                stat: str = "mean", buffer: float = 0.0, z_min: Optional[float] = None,
-                z_max: Optional[float] = None, crs=None, progress=None, is_cancelled=None
-                ) -> Dict[str, Union[float, np.ndarray]]:
-    """Heights of ROIs from the cloud's z: ROI name → float (polygon mode) or → (m,) float64
-    array, one per vertex of ``roi.rings`` in order (vertex mode). NaN where no point counts."""
-    mode, stat = _mode(mode), check_stat(stat)
+                statistic: str = "mean", percentile: float = 50.0, buffer: float = 0.0,
+                z_min: Optional[float] = None, z_max: Optional[float] = None, crs=None,
+                progress=None, is_cancelled=None) -> HeightResult:
+    """Heights of ROIs from the cloud's z (see the module docstring); NaN where no point counts,
+    with the reason in ``missing``."""
+    mode = check_heights_args(mode, statistic, percentile)
     prog = as_progress(progress, is_cancelled)
     cloud = as_cloud(cloud, crs)
     if mode == "polygon":
         if buffer:
             raise EasyIDPError("buffer applies to the vertex mode only; buffer the ROIs first "
                                "for a polygon statistic over a larger area.")
-        idx, _, rois = crop_indices(cloud, rois, z_min, z_max, prog)
-        return {r.name: reduce(_z(cloud, ii), stat) for r, ii in zip(rois, idx)}
+        idx, _, _ = crop_indices(cloud, rois, z_min, z_max, prog)
+        values = [statistic_of(_z(cloud, ii), statistic, percentile) for ii in idx]
+        return HeightResult("polygon", values, {i: "no point of the cloud inside it"
+                                                for i, v in enumerate(values) if np.isnan(v)})
     if buffer < 0:
         raise EasyIDPError(f"buffer must be ≥ 0 (got {buffer}).")
-    rois = rois_in_cloud_crs(cloud, rois)
-    verts = [np.concatenate(r.rings) for r in rois]
-    allv = np.concatenate(verts)
-    vz = (_disc_stat(cloud, allv, buffer, stat, (z_min, z_max), prog) if buffer > 0
-          else _nearest_z(cloud, allv, (z_min, z_max), prog))
-    out, k = {}, 0
-    for r, v in zip(rois, verts):
-        out[r.name] = vz[k:k + len(v)]
-        k += len(v)
-    return out
+    local = rois_in_cloud_crs(cloud, rois)
+    allv = np.concatenate([r for roi in local for r in roi.rings])
+    vz = (_disc_stat(cloud, allv, buffer, statistic, percentile, (z_min, z_max), prog)
+          if buffer > 0 else _nearest_z(cloud, allv, (z_min, z_max), prog))
+    return vertex_result(vz, local, "no point of the cloud near some vertices")
 
 
 def _z(cloud: PointCloud, idx: np.ndarray) -> np.ndarray:
@@ -101,9 +59,9 @@ def _discs(cloud, v, r, z_range, prog):
     return one_pass(cloud, boxes, test, z_range, prog)
 
 
-def _disc_stat(cloud, v, r, stat, z_range, prog) -> np.ndarray:
+def _disc_stat(cloud, v, r, statistic, percentile, z_range, prog) -> np.ndarray:
     idx, _ = _discs(cloud, v, float(r), z_range, prog)
-    return np.array([reduce(_z(cloud, ii), stat) for ii in idx])
+    return np.array([statistic_of(_z(cloud, ii), statistic, percentile) for ii in idx])
 
 
 def _nearest_z(cloud, v, z_range, prog) -> np.ndarray:
@@ -138,15 +96,16 @@ def _nearest_z(cloud, v, z_range, prog) -> np.ndarray:
 def canopy_summary(cloud: Union[PointCloud, str, Path], rois: ROISet, ground: Ground = None,
                    percentiles: Sequence[float] = (5, 50, 95, 99), ground_percentile: float = 1.0,
                    z_min: Optional[float] = None, z_max: Optional[float] = None, crs=None,
-                   progress=None, is_cancelled=None) -> Dict[str, Dict[str, float]]:
+                   progress=None, is_cancelled=None) -> List[Dict[str, float]]:
     """Per-ROI point count and height statistics above a ground.
 
     ``ground``: a number (z of the ground, cloud z units); an array of one ground z per cloud
     point; a callable ``ground(x, y) -> z`` on arrays in the cloud CRS (e.g. a DTM sampler; NaN =
     no ground there, those points get no height); or None: the ROI's own
-    ``ground_percentile``-th percentile of z. Returns ROI name → {count, density (points per
-    CRS unit², using the ROI area), z_min, z_mean, z_max, ground (mean ground z used),
-    h_mean, h_max, h_pNN for each NN in ``percentiles``}; NaN values when no point counts.
+    ``ground_percentile``-th percentile of z. Returns one row per ROI, in the ROI order:
+    {count, density (points per CRS unit², using the ROI area), z_min, z_mean, z_max, ground
+    (mean ground z used), h_mean, h_max, h_pNN for each NN in ``percentiles``}; NaN values when
+    no point counts.
     """
     prog = as_progress(progress, is_cancelled)
     cloud = as_cloud(cloud, crs)
@@ -157,7 +116,7 @@ def canopy_summary(cloud: Union[PointCloud, str, Path], rois: ROISet, ground: Gr
         if not 0 <= float(q) <= 100:
             raise EasyIDPError(f"Percentile {q} is outside 0–100.")
     idx, _, rois = crop_indices(cloud, rois, z_min, z_max, prog.sub(0, 80))
-    out: Dict[str, Dict[str, float]] = {}
+    out: List[Dict[str, float]] = []
     for roi, ii in zip(rois, idx):
         prog.check()
         xyz = cloud.take(ii).xyz if len(ii) else np.zeros((0, 3))
@@ -174,10 +133,11 @@ def canopy_summary(cloud: Union[PointCloud, str, Path], rois: ROISet, ground: Gr
         h = h[np.isfinite(h)]
         area = roi.area
         row = {"count": len(z), "density": len(z) / area if area > 0 else float("nan"),
-               "z_min": reduce(z, "min"), "z_mean": reduce(z, "mean"), "z_max": reduce(z, "max"),
-               "ground": reduce(g, "mean"), "h_mean": reduce(h, "mean"), "h_max": reduce(h, "max")}
+               "z_min": statistic_of(z, "min"), "z_mean": statistic_of(z, "mean"),
+               "z_max": statistic_of(z, "max"), "ground": statistic_of(g, "mean"),
+               "h_mean": statistic_of(h, "mean"), "h_max": statistic_of(h, "max")}
         for q in percentiles:
-            row[f"h_p{q:g}"] = reduce(h, f"p{q:g}")
-        out[roi.name] = row
+            row[f"h_p{q:g}"] = statistic_of(h, "percentile", float(q))
+        out.append(row)
     prog.set(100)
     return out

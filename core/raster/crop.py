@@ -31,7 +31,7 @@ MAX_PENDING_WRITES = 32
 class CropResult:
     files: List[str] = field(default_factory=list)
     names: List[str] = field(default_factory=list)        # ROI name of each file
-    skipped: Dict[str, str] = field(default_factory=dict)  # ROI name -> reason
+    skipped: Dict[int, str] = field(default_factory=dict)  # ROI index -> reason
     nodata: Optional[float] = None
 
 
@@ -87,7 +87,7 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
         mask = p.mask()
         box = bounding_box(mask)   # the crop is the bounding box of the ROI's pixels
         if box is None:
-            skipped[p.roi.name] = NO_PIXEL
+            skipped[p.index] = NO_PIXEL
             return
         r0, r1, c0, c1 = box
         mask, arr = mask[r0:r1, c0:c1], arr[r0:r1, c0:c1]

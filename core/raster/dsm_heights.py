@@ -3,30 +3,18 @@
 Heights are in the DSM's own vertical reference and units. Nodata pixels are ignored; a vertex
 or polygon without any valid pixel gets NaN and is reported, never 0.
 """
-from dataclasses import dataclass, field
-from typing import Dict, List
-
 import numpy as np
 
 from ..errors import InputError
-from .geotiff import GeoTiff, open_geotiff
+from ..heights import HeightResult, check_heights_args, statistic_of, vertex_result
 from ..progress import as_progress
-from .sweep import Window, sweep_windows
 from ..roi import ROI, ROISet
+from .geotiff import GeoTiff, open_geotiff
 from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
+from .sweep import Window, sweep_windows
 
-STATISTICS = ("mean", "median", "min", "max", "percentile")
 SAMPLING = ("nearest", "bilinear")
 SAMPLE_CELL = 256  # pixels: points are read from the DSM in windows of at most this size (+1)
-
-
-@dataclass
-class HeightResult:
-    """``values[i]``: for per-polygon mode a float; for per-vertex mode a list (per part) of lists
-    (per ring) of (n,) arrays, aligned with ``rois[i].parts`` as given (in the ROIs' own CRS)."""
-    values: List[object]
-    missing: Dict[str, str] = field(default_factory=dict)  # ROI name -> why it has no height
-
 
 def _valid(tif: GeoTiff, arr: np.ndarray) -> np.ndarray:
     ok = np.isfinite(arr) if arr.dtype.kind == "f" else np.ones(arr.shape, bool)
@@ -118,57 +106,31 @@ def sample_points(dsm, x: np.ndarray, y: np.ndarray, method: str = "bilinear", p
     return out.reshape(np.shape(x))
 
 
-def polygon_statistic(values: np.ndarray, statistic: str, percentile: float = 50.0) -> float:
-    """One statistic of the valid heights of a polygon."""
-    if statistic == "mean":
-        return float(values.mean())
-    if statistic == "median":
-        return float(np.median(values))
-    if statistic == "min":
-        return float(values.min())
-    if statistic == "max":
-        return float(values.max())
-    if statistic == "percentile":
-        return float(np.percentile(values, percentile))
-    raise ValueError(f"statistic must be one of {STATISTICS}, not {statistic!r}")
-
-
-def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = "mean",
+def roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean",
                 percentile: float = 50.0, buffer: float = 0.0, sampling: str = "bilinear",
                 dsm_crs=None, progress=None, is_cancelled=None) -> HeightResult:
-    """Heights of ROIs from a DSM.
+    """Heights of ROIs from a DSM (a path or an opened :class:`GeoTiff`).
 
     ``mode="vertex"``: the DSM sampled at every vertex (``sampling`` nearest or bilinear); with
     ``buffer`` > 0, the ``statistic`` of the valid pixels whose centres lie within ``buffer``
     (map units of the DSM CRS) of the vertex instead.
-    ``mode="polygon"``: the ``statistic`` (mean, median, min, max, percentile) of the valid
-    pixels whose centres are inside the polygon grown (``buffer`` > 0) or shrunk (< 0) by
-    ``buffer``. ROIs in another CRS are reprojected to the DSM's for sampling; vertex heights
-    stay aligned with the ROIs' own vertices.
+    ``mode="polygon"``: the ``statistic`` (see :mod:`..heights`) of the valid pixels whose
+    centres are inside the polygon grown (``buffer`` > 0) or shrunk (< 0) by ``buffer``. ROIs in
+    another CRS are reprojected to the DSM's for sampling; vertex heights stay aligned with the
+    ROIs' own vertices.
     """
-    if mode not in ("vertex", "polygon"):
-        raise ValueError(f"mode must be 'vertex' or 'polygon', not {mode!r}")
-    if statistic not in STATISTICS:
-        raise ValueError(f"statistic must be one of {STATISTICS}, not {statistic!r}")
-    if statistic == "percentile" and not 0 <= percentile <= 100:
-        raise ValueError(f"percentile must be between 0 and 100, not {percentile}")
+    mode = check_heights_args(mode, statistic, percentile)
     prog = as_progress(progress, is_cancelled)
-    tif = open_geotiff(dsm, crs=dsm_crs)
+    tif = dsm if isinstance(dsm, GeoTiff) else open_geotiff(dsm, crs=dsm_crs)
     _single_band(tif)
     local = rois_in_raster_crs(rois, tif)
-    missing: Dict[str, str] = {}
     if mode == "vertex":
         xy = np.concatenate([r for roi in local for r in roi.rings])
         z = vertex_heights(tif, xy[:, 0], xy[:, 1], sampling, buffer, statistic, percentile, prog)
-        values = _split_by_ring(z, local)
-        for roi, parts in zip(local, values):
-            if np.isnan(np.concatenate([r for p in parts for r in p])).any():
-                missing[roi.name] = "some vertices fall outside the DSM or on nodata"
-        return HeightResult(values, missing)
+        return vertex_result(z, local, "some vertices fall outside the DSM or on nodata")
     placed, skipped = place_rois(tif, local, buffer=buffer)
     require_overlap(placed, skipped, local, tif)
-    missing.update(skipped)
-    values: List[object] = [np.nan] * len(local)
+    result = HeightResult("polygon", [np.nan] * len(local), dict(skipped))
 
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]
@@ -176,29 +138,14 @@ def roi_heights(dsm: str, rois: ROISet, mode: str = "polygon", statistic: str = 
         mask = p.mask()
         sel = mask & _valid(tif, a)
         if sel.any():
-            values[p.index] = polygon_statistic(a[sel].astype(np.float64), statistic, percentile)
+            result.values[p.index] = statistic_of(a[sel], statistic, percentile)
         elif not mask.any():
-            missing[p.roi.name] = NO_PIXEL
+            result.missing[p.index] = NO_PIXEL
         else:
-            missing[p.roi.name] = "all DSM pixels inside it are nodata"
+            result.missing[p.index] = "all DSM pixels inside it are nodata"
 
     sweep_windows(tif, [p.window for p in placed], consume, prog)
-    return HeightResult(values, missing)
-
-
-def _split_by_ring(values: np.ndarray, rois: ROISet) -> list:
-    """Per-vertex values (all rings of all ROIs, in order) → [roi][part][ring] arrays."""
-    out, k = [], 0
-    for roi in rois:
-        parts = []
-        for part in roi.parts:
-            rings = []
-            for ring in part:
-                rings.append(values[k:k + len(ring)])
-                k += len(ring)
-            parts.append(rings)
-        out.append(parts)
-    return out
+    return result
 
 
 def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear",
@@ -228,7 +175,7 @@ def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear"
         a = arr[..., 0]
         sel = (np.hypot(mx - x[p.index], my - y[p.index]) <= buffer) & _valid(tif, a)
         if sel.any():
-            out[p.index] = polygon_statistic(a[sel].astype(np.float64), statistic, percentile)
+            out[p.index] = statistic_of(a[sel], statistic, percentile)
 
     if placed:
         sweep_windows(tif, [p.window for p in placed], consume, prog)

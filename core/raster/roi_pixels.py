@@ -92,7 +92,7 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
     polygon touches it). ``buffer`` (map units) grows (> 0) or shrinks (< 0) the polygon: a pixel
     is inside when its centre is within ``buffer`` of the polygon (or inside and further than
     ``-buffer`` from its boundary).
-    Returns (placed ROIs, {name: reason} for the ROIs skipped).
+    Returns (placed ROIs, {ROI index: reason} for the ROIs skipped).
     """
     placed, skipped = [], {}
     size = (abs(tif.geotransform[1]), abs(tif.geotransform[5]))
@@ -101,7 +101,7 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
         rings = to_pixels(tif, roi)
         win = _window_of(tif, rings, grow_px)
         if win is None:
-            skipped[roi.name] = "outside the raster"
+            skipped[i] = "outside the raster"
             continue
         placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
                                all_touched, buffer, size))

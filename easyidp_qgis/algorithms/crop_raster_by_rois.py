@@ -72,8 +72,9 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         result = crop_raster_by_rois(
             raster, rois, folder, all_touched=all_touched, raster_crs=crs_string(layer.crs()),
             progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
-        for name, reason in result.skipped.items():
-            feedback.pushWarning(self.tr(f"ROI '{name}' skipped: {reason}"))
+        for i, reason in result.skipped.items():
+            feedback.pushWarning(self.tr("ROI '{name}' skipped: {reason}").format(
+                name=rois[i].name, reason=reason))
         feedback.pushInfo(self.tr(f"{len(result.files)} GeoTIFFs written, {len(result.skipped)} "
                                   "ROIs skipped."))
         self._load(result, layer.name(), context, feedback)

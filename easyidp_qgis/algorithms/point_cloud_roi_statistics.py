@@ -146,8 +146,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         empty = []
-        for roi, feat in zip(rois, features):
-            row = summary[roi.name]
+        for roi, feat, row in zip(rois, features, summary):
             if not row["count"]:
                 empty.append(roi.name)
             attrs = feat.attributes()

@@ -14,7 +14,7 @@ from .base import EasyIDPAlgorithm
 
 MODES = [("polygon", "Per polygon: one statistic of the DSM pixels inside"),
          ("vertex", "Per vertex: the DSM height at each vertex")]
-STATS = ["mean", "median", "min", "max", "percentile"]
+STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]  # core.heights
 SAMPLING = ["bilinear", "nearest"]
 
 
@@ -36,8 +36,10 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         "Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as "
         "the attribute 'height' (in the DSM's units and vertical reference). The result is the "
         "ROI layer as PolygonZ, ready for backward projection into raw photos.\n\n"
-        "Per polygon: the statistic (mean, median, min, max or a percentile, e.g. 90 for canopy "
-        "top, 5 for ground) of the DSM pixels whose centres are inside the ROI, grown by a "
+        "Per polygon: the statistic (mean, median, min, max, a percentile, e.g. 90 for canopy "
+        "top, 5 for ground, the standard deviation, or EasyIDP's pmin/pmax: the mean of the "
+        "values below the percentile / above 100 minus the percentile) of the DSM pixels whose "
+        "centres are inside the ROI, grown by a "
         "positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets "
         "that height.\n"
         "Per vertex: the DSM height at each vertex (bilinear or nearest pixel), or, with a buffer, "
@@ -55,7 +57,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterEnum(
             self.STATISTIC, self.tr("Statistic"), options=STATS, defaultValue=0))
         self.addParameter(QgsProcessingParameterNumber(
-            self.PERCENTILE, self.tr("Percentile (for the 'percentile' statistic)"),
+            self.PERCENTILE, self.tr("Percentile (0–100, for the percentile, pmin and pmax statistics)"),
             QgsProcessingParameterNumber.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0))
         self.addParameter(QgsProcessingParameterNumber(
             self.BUFFER, self.tr("Buffer (DSM map units; negative shrinks the polygon)"),
@@ -100,12 +102,12 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             z = vertex_heights(dsm, xy[:, 0], xy[:, 1], sampling, buffer, stat, pct, progress,
                                feedback.isCanceled)
             per_feature, k, missing = [], 0, {}
-            for roi, polys in zip(rois, rings):
+            for i, (roi, polys) in enumerate(zip(rois, rings)):
                 n = sum(len(r) for poly in polys for r in poly)
                 zs = z[k:k + n]
                 k += n
                 if np.isnan(zs).any():
-                    missing[roi.name] = "some vertices fall outside the DSM or on nodata"
+                    missing[i] = "some vertices fall outside the DSM or on nodata"
                 per_feature.append((float(np.nanmean(zs)) if np.isfinite(zs).any() else math.nan, zs))
 
         fields = QgsFields(source.fields())
@@ -120,8 +122,9 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
             out.setGeometry(_with_z(_rings(feat.geometry()), height, zs))
             sink.addFeature(out, QgsFeatureSink.FastInsert)
-        for name, reason in missing.items():
-            feedback.pushWarning(self.tr(f"ROI '{name}': {reason}; its height is left empty."))
+        for i, reason in missing.items():
+            feedback.pushWarning(self.tr("ROI '{name}': {reason}; its height is left empty.").format(
+                name=rois[i].name, reason=reason))
         feedback.setProgress(100)
         return {self.OUTPUT: dest_id}
 

@@ -68,9 +68,13 @@ def test_all_nodata_polygon_is_reported_never_zero(tmp_path):
                                          [O[0] + 35, O[1] - 35]])]])], 32654)
     res = roi_heights(path, rois)
     assert np.isnan(res.values[0]) and res.values[1] == 7.0
-    assert "hole" in res.missing and "nodata" in res.missing["hole"]
+    assert list(res.missing) == [0] and "nodata" in res.missing[0]
     v = roi_heights(path, rois, mode="vertex")
-    assert np.isnan(v.values[0][0][0]).all() and "hole" in v.missing
+    assert np.isnan(v.values[0][0][0]).all() and list(v.missing) == [0]
+    # results are aligned with the ROI order: two ROIs with one name keep their own heights
+    twins = ROISet([ROI("A1", rois[0].parts), ROI("A1", rois[1].parts)], 32654)
+    res = roi_heights(path, twins, statistic="max")
+    assert np.isnan(res.values[0]) and res.values[1] == 7.0 and list(res.missing) == [0]
 
 
 def test_buffer_grows_and_shrinks_the_polygon(tmp_path):
