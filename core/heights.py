@@ -59,11 +59,13 @@ class HeightResult:
 
     ``values[i]``: polygon mode, a float (NaN: no height); vertex mode, a list (per part) of
     lists (per ring) of (n,) arrays, aligned with ``rois[i].parts``. ``missing``: ROI index →
-    why (some of) its heights are NaN.
+    why (some of) its heights are NaN. ``notes``: problems met reading the inputs (e.g. a CRS
+    that could not be read), for the caller to show.
     """
     mode: str
     values: List[object]
     missing: Dict[int, str] = field(default_factory=dict)
+    notes: List[str] = field(default_factory=list)
 
 
 def split_by_ring(values: np.ndarray, rois) -> list:

@@ -154,6 +154,8 @@ def read_point_cloud_parameter(alg, parameters, context, feedback):
     if qcrs.isValid() and cloud.file_crs is not None and not same_crs(cloud.file_crs, cloud.crs):
         feedback.pushWarning(f"The point cloud CRS given ({qcrs.authid() or qcrs.description()}) "
                              f"replaces the CRS stored in {name} ({cloud.file_crs.name}).")
+    for note in cloud.notes:
+        feedback.pushWarning(note)
     crs = cloud.crs.name if cloud.crs is not None else "no CRS"
     feedback.pushInfo(f"{name}: {len(cloud):,} points ({cloud.fmt.upper()}), {crs}.")
     return cloud

@@ -55,6 +55,7 @@ class PointCloud:
         self.path = Path(path) if path is not None else None
         self._xyz: Optional[np.ndarray] = None
         self.file_crs = self.crs  # the CRS the file itself declares (LAS VLRs), if any
+        self.notes: List[str] = []  # problems met while reading (e.g. an unreadable CRS record)
 
     # ---- construction -----------------------------------------------------------------------
     @classmethod
@@ -156,6 +157,7 @@ class PointCloud:
     def take(self, index: np.ndarray) -> "PointCloud":
         """A new in-memory cloud of the points at ``index`` (same format, header and CRS)."""
         sub = PointCloud(self.records[np.asarray(index)], self.fmt, self.header, self.crs, self.path)
+        sub.file_crs, sub.notes = self.file_crs, list(self.notes)
         if self._xyz is not None:
             sub._xyz = self._xyz[index]
         return sub
@@ -171,7 +173,7 @@ class PointCloud:
                 parts.append(self._rows(start, min(start + chunk_size, len(self)))[index[a:b] - start])
         rec = np.concatenate(parts) if parts else self.records[:0].copy()
         sub = PointCloud(np.asarray(rec), self.fmt, self.header, self.crs, self.path)
-        sub.file_crs = self.file_crs
+        sub.file_crs, sub.notes = self.file_crs, list(self.notes)
         if self._xyz is not None:
             sub._xyz = self._xyz[index]
         if getattr(self, "_las_template", None) is not None:

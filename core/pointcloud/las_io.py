@@ -11,7 +11,7 @@ import io
 import os
 import struct
 from pathlib import Path
-from typing import Dict, Optional
+from typing import Dict, Optional, Tuple
 
 import numpy as np
 from pyproj import CRS
@@ -29,12 +29,13 @@ def _laspy():
     return laspy
 
 
-def las_crs(header) -> Optional[CRS]:
-    """The CRS stored in a LAS header (WKT VLR preferred, else GeoTIFF keys), or None."""
+def las_crs(header) -> Tuple[Optional[CRS], Optional[str]]:
+    """(CRS stored in a LAS header (WKT VLR preferred, else GeoTIFF keys) or None, why a CRS
+    record that is there could not be read, or None)."""
     try:
-        return header.parse_crs()
-    except Exception:  # unparseable or user-defined GeoTIFF keys: treat as no CRS
-        return None
+        return header.parse_crs(), None
+    except Exception as exc:  # unparseable or user-defined GeoTIFF keys
+        return None, f"its CRS record cannot be read ({type(exc).__name__}: {exc})"
 
 
 def read_las(path, crs=None) -> PointCloud:
@@ -74,16 +75,20 @@ def read_las(path, crs=None) -> PointCloud:
         raise InputError(f"Point cloud {path.name!r} is truncated: {len(records)} of {n} points "
                          "could be decompressed. Export or copy it again.")
     fmt = "laz" if compressed else "las"
-    file_crs = las_crs(header)
+    file_crs, problem = las_crs(header)
     cloud = PointCloud(records, fmt, header, as_crs(crs, f"CRS of {path.name}") or file_crs, path)
     cloud.file_crs = file_crs
+    if problem:
+        cloud.notes.append(f"{path.name}: {problem}; " + (
+            "the CRS given is used." if crs is not None else
+            "it is treated as having no CRS. Give the point cloud's CRS."))
     return cloud
 
 
 def _set_crs(header, crs: Optional[CRS]) -> None:
     """Write ``crs`` into the header: GeoTIFF keys where LAS < 1.4 readers expect them (when the
     CRS has an EPSG code) plus a WKT VLR; LAS 1.4 / point formats ≥ 6 get the WKT VLR."""
-    if crs is None or same_crs(las_crs(header), crs):
+    if crs is None or same_crs(las_crs(header)[0], crs):
         return
     laspy = _laspy()
     try:

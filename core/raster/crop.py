@@ -33,6 +33,7 @@ class CropResult:
     names: List[str] = field(default_factory=list)        # ROI name of each file
     skipped: Dict[int, str] = field(default_factory=dict)  # ROI index -> reason
     nodata: Optional[float] = None
+    notes: List[str] = field(default_factory=list)         # problems met reading the raster
 
 
 def declared_nodata(tif: GeoTiff):
@@ -79,7 +80,8 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
 
     nodata, nodata_text = declared_nodata(tif)
     kind = tif.kind
-    result = CropResult(skipped=skipped, nodata=None if kind == "rgb" else nodata)
+    result = CropResult(skipped=skipped, nodata=None if kind == "rgb" else nodata,
+                        notes=list(tif.notes))
     pending = []
 
     def finish(k: int, arr: np.ndarray) -> None:

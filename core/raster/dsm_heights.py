@@ -127,10 +127,12 @@ def roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean
     if mode == "vertex":
         xy = np.concatenate([r for roi in local for r in roi.rings])
         z = vertex_heights(tif, xy[:, 0], xy[:, 1], sampling, buffer, statistic, percentile, prog)
-        return vertex_result(z, local, "some vertices fall outside the DSM or on nodata")
+        result = vertex_result(z, local, "some vertices fall outside the DSM or on nodata")
+        result.notes.extend(tif.notes)
+        return result
     placed, skipped = place_rois(tif, local, buffer=buffer)
     require_overlap(placed, skipped, local, tif)
-    result = HeightResult("polygon", [np.nan] * len(local), dict(skipped))
+    result = HeightResult("polygon", [np.nan] * len(local), dict(skipped), list(tif.notes))
 
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]

@@ -8,7 +8,7 @@ Rotated geotransforms (b or d non-zero) are refused with a clear message.
 import logging
 import os
 from dataclasses import dataclass, field
-from typing import Dict, Optional, Tuple
+from typing import Dict, List, Optional, Tuple
 
 import numpy as np
 import tifffile
@@ -50,6 +50,7 @@ class GeoTiff:
     block_width: int                   # tile width, or image width for strips
     compression: str
     geo_tags: Dict[int, tuple] = field(default_factory=dict)  # raw GeoKey tags to copy to outputs
+    notes: List[str] = field(default_factory=list)  # problems met while reading (e.g. the CRS)
     _page: object = field(default=None, repr=False)
 
     # ---- layout -----------------------------------------------------------------------------
@@ -143,7 +144,8 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
         log.setLevel(level)
     geo_tags = {code: tags[code].value for code in
                 (TAG_GEOKEYS, TAG_GEODOUBLES, TAG_GEOASCII, TAG_GDAL_METADATA) if code in tags}
-    geokeys = _geokeys(tif, page)
+    notes: List[str] = []
+    geokeys = _geokeys(tif, page, path, notes)
     gt = _geotransform(path, tags, geokeys)
     nodata_text = tags[TAG_GDAL_NODATA].value.strip("\x00 ") if TAG_GDAL_NODATA in tags else None
     nodata = _parse_nodata(nodata_text, page.dtype)
@@ -155,7 +157,10 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
         from ..crs import as_crs
         crs = as_crs(crs, f"CRS of {path}")
     else:
-        crs = crs_from_geokeys(geokeys)
+        crs, problem = crs_from_geokeys(geokeys)
+        if problem:
+            notes.append(f"{path}: {problem}; it is treated as having no CRS. Give the raster's "
+                         "CRS (in QGIS: set the layer's CRS).")
     info = GeoTiff(
         path=path, width=int(page.imagewidth), height=int(page.imagelength),
         bands=int(page.samplesperpixel), dtype=np.dtype(page.dtype), geotransform=gt, crs=crs,
@@ -165,7 +170,7 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
         block_height=int(page.tilelength if page.is_tiled else min(page.rowsperstrip, page.imagelength)),
         block_width=int(page.tilewidth if page.is_tiled else page.imagewidth),
         compression=page.compression.name if hasattr(page.compression, "name") else str(page.compression),
-        geo_tags=geo_tags, _page=page,
+        geo_tags=geo_tags, notes=notes, _page=page,
     )
     page.decode  # noqa: B018 (build the decoder while the file is open; blocks are read via os.pread)
     tif.close()
@@ -174,10 +179,13 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
     return info
 
 
-def _geokeys(tif, page) -> dict:
+def _geokeys(tif, page, path: str, notes: List[str]) -> dict:
+    """The parsed GeoKeys of the first page; a parse failure is noted, not raised (the
+    geotransform comes from other tags and may still be usable)."""
     try:
         return dict(tif.geotiff_metadata or {}) if page.index == 0 else {}
-    except Exception:
+    except Exception as exc:
+        notes.append(f"{path}: its GeoKeys cannot be parsed ({type(exc).__name__}: {exc})")
         return {}
 
 
@@ -221,20 +229,28 @@ def _parse_nodata(text: Optional[str], dtype) -> Optional[float]:
     return value
 
 
-def crs_from_geokeys(keys: dict) -> Optional[CRS]:
-    """pyproj CRS from parsed GeoKeys: EPSG projected/geographic codes, or an ESRI PE string."""
+def crs_from_geokeys(keys: dict) -> Tuple[Optional[CRS], Optional[str]]:
+    """(pyproj CRS, problem) from parsed GeoKeys: EPSG projected/geographic codes, or an ESRI PE
+    string. ``problem`` says why GeoKeys that declare a CRS could not be turned into one (None
+    when there was no CRS to read, or it was read)."""
+    problem = None
     for key in ("ProjectedCSTypeGeoKey", "GeographicTypeGeoKey"):
         code = keys.get(key)
-        if code is not None and 1024 <= int(code) < 32767:
-            try:
-                return CRS.from_epsg(int(code))
-            except Exception:
-                pass
+        if code is None:
+            continue
+        try:
+            if 1024 <= int(code) < 32767:
+                return CRS.from_epsg(int(code)), None
+        except Exception as exc:
+            problem = f"its {key} {code} is not a CRS PROJ knows ({exc})"
     for key in ("PCSCitationGeoKey", "GTCitationGeoKey", "GeogCitationGeoKey"):
         text = str(keys.get(key, ""))
         if "ESRI PE String = " in text:
             try:
-                return CRS.from_wkt(text.split("ESRI PE String = ", 1)[1])
-            except Exception:
-                pass
-    return None
+                return CRS.from_wkt(text.split("ESRI PE String = ", 1)[1]), None
+            except Exception as exc:
+                problem = f"the ESRI PE string of its {key} cannot be read ({exc})"
+    if problem is None and any(int(keys.get(k) or 0) == 32767 for k in
+                               ("ProjectedCSTypeGeoKey", "GeographicTypeGeoKey")):
+        problem = "its CRS is user-defined in the GeoKeys, which this reader cannot decode"
+    return None, problem

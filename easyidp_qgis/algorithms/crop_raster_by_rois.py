@@ -72,6 +72,8 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         result = crop_raster_by_rois(
             raster, rois, folder, all_touched=all_touched, raster_crs=crs_string(layer.crs()),
             progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+        for note in result.notes:
+            feedback.pushWarning(note)
         for i, reason in result.skipped.items():
             feedback.pushWarning(self.tr("ROI '{name}' skipped: {reason}").format(
                 name=rois[i].name, reason=reason))

@@ -78,6 +78,8 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
+        for note in dsm.notes:
+            feedback.pushWarning(note)
         mode = MODES[self.parameterAsEnum(parameters, self.MODE, context)][0]
         stat = STATS[self.parameterAsEnum(parameters, self.STATISTIC, context)]
         pct = self.parameterAsDouble(parameters, self.PERCENTILE, context)

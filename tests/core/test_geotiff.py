@@ -99,3 +99,23 @@ def test_copy_keeps_metadata(tmp_path, realdata):
     p = tmp_path / "copy.tif"
     shutil.copy(realdata / "d2spy/dsm.tif", p)
     assert open_geotiff(str(p)).nodata == pytest.approx(3.4028234663852886e38)
+
+
+def test_unreadable_crs_is_noted_never_silently_dropped(tmp_path):
+    """GeoKeys naming a CRS that cannot be read leave a note; a given CRS needs none."""
+    from synthetic import geokeys
+    import tifffile
+    data = np.zeros((4, 4), np.float32)
+    for code, words in ((32767, "user-defined"), (9999, "not a CRS PROJ knows")):
+        path = str(tmp_path / f"k{code}.tif")
+        keys = list(geokeys())
+        keys[-1] = code                               # ProjectedCSTypeGeoKey
+        tifffile.imwrite(path, data, extratags=[
+            (33550, "d", 3, (1.0, 1.0, 0.0), True), (33922, "d", 6, (0, 0, 0, 0, 10, 0), True),
+            (34735, "H", len(keys), tuple(keys), True)], metadata=None)
+        tif = open_geotiff(path)
+        assert tif.crs is None and len(tif.notes) == 1 and words in tif.notes[0], tif.notes
+        assert path in tif.notes[0] and "Give the raster's CRS" in tif.notes[0]
+        assert open_geotiff(path, crs="EPSG:32654").notes == []
+    ok = open_geotiff(write_tif(str(tmp_path / "ok.tif"), data))
+    assert ok.crs.to_epsg() == 32654 and ok.notes == []

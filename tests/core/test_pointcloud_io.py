@@ -243,3 +243,17 @@ def test_fast_las_writer_is_byte_identical_to_laspy(realdata, tmp_path, name):
                                                 cloud.header.point_format))
     ref.write(str(tmp_path / "ref.las"))
     assert fast.read_bytes() == (tmp_path / "ref.las").read_bytes()
+
+
+def test_unreadable_crs_record_is_noted(realdata, tmp_path):
+    """A LAS whose WKT VLR is garbage: read, noted, never silently 'no CRS'."""
+    las = laspy.read(str(realdata / "laspy/simple.las"))
+    las.header.vlrs.append(laspy.vlrs.known.WktCoordinateSystemVlr("this is not WKT"))
+    path = tmp_path / "badcrs.las"
+    las.write(str(path))
+    cloud = read_point_cloud(path)
+    assert cloud.crs is None and len(cloud.notes) == 1
+    assert "badcrs.las" in cloud.notes[0] and "CRS record cannot be read" in cloud.notes[0]
+    given = read_point_cloud(path, crs="EPSG:32654")
+    assert given.crs.to_epsg() == 32654 and "the CRS given is used" in given.notes[0]
+    assert read_point_cloud(realdata / "laspy/autzen_geo_proj.las").notes == []

@@ -329,3 +329,14 @@ def test_statistics_bad_input(provider, realdata, tmp_path):
     with pytest.raises(QgsProcessingException, match="Cancelled"):
         _run(STATS, {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS), "OUTPUT": "memory:"},
              _Log(cancel_after=4))
+
+
+def test_unreadable_crs_record_is_a_warning_in_the_log(provider, realdata, tmp_path):
+    las = laspy.read(str(realdata / SIMPLE))
+    las.header.vlrs.append(laspy.vlrs.known.WktCoordinateSystemVlr("this is not WKT"))
+    path = tmp_path / "badcrs.las"
+    las.write(str(path))
+    log = _Log()
+    _run(CROP, {"INPUT": str(path), "INPUT_CRS": CRS, "ROIS": _rois([("s", SIMPLE_ROI)]),
+                "OUTPUT_FOLDER": str(tmp_path / "o")}, log)
+    assert any("badcrs.las" in w and "CRS record cannot be read" in w for w in log.warnings)
