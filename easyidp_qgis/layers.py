@@ -1,8 +1,8 @@
 """Adapters from QGIS layers and parameters to the core's plain data."""
 import os
 
-from qgis.core import (QgsCoordinateReferenceSystem, QgsCsException, QgsFeatureRequest,
-                       QgsProcessingException, QgsProject,
+from qgis.core import (QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsCsException,
+                       QgsFeatureRequest, QgsGeometry, QgsProcessingException, QgsProject,
                        QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
                        QgsProcessingParameterFile, QgsProcessingParameterNumber, QgsWkbTypes)
 
@@ -16,6 +16,17 @@ def crs_string(crs: QgsCoordinateReferenceSystem):
     if crs.authid().upper().startswith("EPSG:"):
         return crs.authid()
     return crs.toWkt(QgsCoordinateReferenceSystem.WKT_PREFERRED)
+
+
+def qgis_crs(crs) -> QgsCoordinateReferenceSystem:
+    """A QgsCoordinateReferenceSystem from a pyproj CRS (by EPSG code when it has one), or an
+    invalid one for None."""
+    if crs is None:
+        return QgsCoordinateReferenceSystem()
+    code = crs.to_epsg(min_confidence=100)
+    if code:
+        return QgsCoordinateReferenceSystem(f"EPSG:{code}")
+    return QgsCoordinateReferenceSystem.fromWkt(crs.to_wkt())
 
 
 def geotiff_source(layer, label: str) -> str:
@@ -63,12 +74,13 @@ def optional_number(alg, parameters, name: str, context):
 
 
 def rois_from_source(source, name_field: str, label: str, feedback=None, crs=None, context=None):
-    """ROIs from a feature source: (ROISet, list of features in the same order).
+    """ROIs from a feature source: (ROISet, list of the features, untouched, in the same order).
 
     Names come from ``name_field``, else the feature id. With ``crs`` (a
-    QgsCoordinateReferenceSystem) the geometries are transformed by QGIS into it, with the
-    transform context of ``context`` (the project's datum transformation choices); otherwise
-    they stay in the layer's CRS. A Z coordinate is kept as the ROI's vertex heights.
+    QgsCoordinateReferenceSystem) the ROIs are transformed by QGIS into it, with the transform
+    context of ``context`` (the project's datum transformation choices, as QGIS's own tools
+    and ``QgsFeatureRequest.setDestinationCrs`` do); otherwise they stay in the layer's CRS. A Z
+    coordinate is kept as the ROI's vertex heights.
     """
     if source is None:
         raise QgsProcessingException(f"{label}: no ROI layer given, or it could not be loaded.")
@@ -79,35 +91,39 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
             "polygons. Buffer points or lines first (Vector geometry ▸ Buffer).")
     if name_field and source.fields().indexFromName(name_field) < 0:
         raise QgsProcessingException(f"{label}: the ROI layer has no field '{name_field}'.")
-    request = QgsFeatureRequest()
-    out_crs = source.sourceCrs()
+    transform, out_crs = None, source.sourceCrs()
     if crs is not None and crs.isValid() and crs != source.sourceCrs():
         if not source.sourceCrs().isValid():
             raise QgsProcessingException(
                 f"{label}: the ROI layer '{source.sourceName()}' has no CRS, so it cannot be "
                 f"placed on {crs.authid() or crs.description()}. Set the layer's CRS (Layer "
                 "Properties ▸ Source, or Vector general ▸ Assign projection) and run again.")
-        request.setDestinationCrs(crs, context.transformContext() if context is not None
-                                  else QgsProject.instance().transformContext())
+        # QGIS's own transformation, with the project's datum transformation choices
+        transform = QgsCoordinateTransform(source.sourceCrs(), crs, context.transformContext()
+                                           if context is not None else
+                                           QgsProject.instance().transformContext())
         out_crs = crs
     rois, features = [], []
     total = max(source.featureCount(), 1)
-    try:
-        for k, feat in enumerate(source.getFeatures(request)):
-            if feedback is not None and feedback.isCanceled():
-                break
-            name = feat[name_field] if name_field else feat.id()
-            name = str(feat.id()) if name is None or str(name) == "NULL" else str(name)
-            rois.append(roi_from_coordinates(name, "MultiPolygon", _polygon_coordinates(feat.geometry())))
-            features.append(feat)
-            if feedback is not None:
-                feedback.setProgress(5.0 * k / total)
-    except QgsCsException as exc:
-        raise QgsProcessingException(
-            f"{label}: the ROI layer '{source.sourceName()}' cannot be transformed from "
-            f"{source.sourceCrs().authid() or source.sourceCrs().description()} to "
-            f"{crs.authid() or crs.description()} ({exc}). Check that the layer's CRS is set "
-            "correctly.") from None
+    for k, feat in enumerate(source.getFeatures(QgsFeatureRequest())):
+        if feedback is not None and feedback.isCanceled():
+            break
+        name = feat[name_field] if name_field else feat.id()
+        name = str(feat.id()) if name is None or str(name) == "NULL" else str(name)
+        geom = QgsGeometry(feat.geometry())
+        if transform is not None and not geom.isNull():
+            try:
+                geom.transform(transform)
+            except QgsCsException as exc:
+                raise QgsProcessingException(
+                    f"{label}: ROI '{name}' of the layer '{source.sourceName()}' cannot be "
+                    f"transformed from {source.sourceCrs().authid() or source.sourceCrs().description()}"
+                    f" to {crs.authid() or crs.description()} ({exc}). Check that the layer's CRS "
+                    "is set correctly.") from None
+        rois.append(roi_from_coordinates(name, "MultiPolygon", _polygon_coordinates(geom)))
+        features.append(feat)
+        if feedback is not None:
+            feedback.setProgress(5.0 * k / total)
     return ROISet(rois, crs_string(out_crs)), features
 
 

@@ -9,7 +9,7 @@ from qgis.core import (QgsProcessing, QgsProcessingContext, QgsProcessingExcepti
                        QgsProcessingUtils, QgsProviderRegistry)
 
 from ..layers import (add_point_cloud_parameters, add_z_range_parameters,
-                      read_point_cloud_parameter, rois_from_source, z_range)
+                      qgis_crs, read_point_cloud_parameter, rois_from_source, z_range)
 from .base import EasyIDPAlgorithm
 from .crop_raster_by_rois import MAX_LAYERS_TO_LOAD
 
@@ -88,7 +88,8 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
+                                   qgis_crs(cloud.crs), context)
         z_min, z_max = z_range(self, parameters, context)
         fmt = FORMATS[self.parameterAsEnum(parameters, self.FORMAT, context)][0]
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)

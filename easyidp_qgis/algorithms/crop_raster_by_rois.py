@@ -65,7 +65,8 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         raster = geotiff_source(layer, self.tr("Raster"))
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback, layer.crs(),
+                                   context)
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         all_touched = self.parameterAsBool(parameters, self.ALL_TOUCHED, context)
         feedback.pushInfo(self.tr(f"Cropping {len(rois)} ROIs out of {raster} into {folder}"))

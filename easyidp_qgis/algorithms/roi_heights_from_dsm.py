@@ -2,8 +2,9 @@
 import math
 
 import numpy as np
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry, QgsLineString,
-                       QgsMultiPolygon, QgsPolygon, QgsProcessing, QgsProcessingException,
+from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsFeatureSink, QgsField, QgsFields,
+                       QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPointXY, QgsPolygon,
+                       QgsProcessing, QgsProcessingException,
                        QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer, QgsWkbTypes)
@@ -70,14 +71,15 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.OUTPUT, self.tr("ROIs with heights"), QgsProcessing.TypeVectorPolygon))
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.crs import as_crs, transform_xy
         from ...core.raster.dsm_heights import roi_heights, vertex_heights
         from ...core.raster.geotiff import open_geotiff
 
         source = self.parameterAsSource(parameters, self.ROIS, context)
-        rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
+        # the ROIs on the DSM's CRS, transformed by QGIS; the features keep their own geometry
+        rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback, layer.crs(),
+                                          context)
         for note in dsm.notes:
             feedback.pushWarning(note)
         mode = MODES[self.parameterAsEnum(parameters, self.MODE, context)][0]
@@ -89,18 +91,18 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         progress = lambda p: feedback.setProgress(5 + 0.9 * p)  # noqa: E731
 
         if mode == "polygon":
-            result = roi_heights(dsm.path, rois, "polygon", stat, pct, buffer,
-                                 dsm_crs=crs_string(layer.crs()), progress=progress,
+            result = roi_heights(dsm, rois, "polygon", stat, pct, buffer, progress=progress,
                                  is_cancelled=feedback.isCanceled)
             per_feature = [(v, None) for v in result.values]
             missing = result.missing
         else:
             # sample at the layer's own vertices (closing vertices included), in the DSM CRS
             rings = [_rings(f.geometry()) for f in features]
-            xy = np.array([pt for polys in rings for poly in polys for ring in poly for pt in ring],
+            to_dsm = QgsCoordinateTransform(source.sourceCrs(), layer.crs(),
+                                            context.transformContext())
+            xy = np.array([(q.x(), q.y()) for q in (to_dsm.transform(QgsPointXY(*pt)) for polys
+                           in rings for poly in polys for ring in poly for pt in ring)],
                           dtype=float).reshape(-1, 2)
-            if rois.crs is not None and dsm.crs is not None:
-                xy = transform_xy(as_crs(rois.crs), dsm.crs, xy)
             z = vertex_heights(dsm, xy[:, 0], xy[:, 1], sampling, buffer, stat, pct, progress,
                                feedback.isCanceled)
             per_feature, k, missing = [], 0, {}

@@ -243,3 +243,34 @@ def test_missing_raster_file_is_named(provider, realdata, tmp_path):
     with pytest.raises(QgsProcessingException, match="/no/such/dsm.tif"):
         _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES), "DSM": "/no/such/dsm.tif",
                                            "OUTPUT": "memory:"})
+
+
+def test_rois_are_reprojected_with_the_projects_transform_context(provider, tmp_path):
+    """A datum transformation chosen in the project (here a custom operation that adds 10 m of
+    easting) is what the tools use to bring lon/lat ROIs onto a UTM raster, as QGIS's own
+    tools do; without it, PROJ's default is used."""
+    from qgis.core import QgsCoordinateReferenceSystem, QgsCoordinateTransformContext
+    import tifffile
+    src = write_tif(str(tmp_path / "dem.tif"), np.zeros((200, 200), np.float32),
+                    origin=(368000.0, 3956100.0), pixel=0.5)
+    from pyproj import Transformer
+    lon, lat = Transformer.from_crs(32654, 4326, always_xy=True).transform(368040.0, 3956040.0)
+    d = 0.0002
+    rois = _memory_polygons("EPSG:4326", [("p", f"POLYGON(({lon} {lat}, {lon + d} {lat}, "
+                                                f"{lon + d} {lat + d}, {lon} {lat + d}, {lon} {lat}))")])
+    plain = _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois,
+                                              "OUTPUT_FOLDER": str(tmp_path / "a")})
+    tc = QgsCoordinateTransformContext()
+    assert tc.addCoordinateOperation(
+        QgsCoordinateReferenceSystem("EPSG:4326"), QgsCoordinateReferenceSystem("EPSG:32654"),
+        "+proj=pipeline +step +proj=unitconvert +xy_in=deg "
+        "+xy_out=rad +step +proj=utm +zone=54 +ellps=WGS84 +step +proj=affine +xoff=10")
+    context = QgsProcessingContext()
+    context.setTransformContext(tc)
+    shifted = _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois,
+                                                "OUTPUT_FOLDER": str(tmp_path / "b")}, context=context)
+
+    def origin(path):
+        with tifffile.TiffFile(path) as t:
+            return t.pages[0].tags[33922].value[3]
+    assert origin(shifted["OUTPUT_FILES"][0]) - origin(plain["OUTPUT_FILES"][0]) == pytest.approx(10, abs=0.5)
