@@ -100,9 +100,9 @@ class CameraFootprints(EasyIDPAlgorithm):
         out_crs = self.parameterAsCrs(parameters, self.OUTPUT_CRS, context)
         if recon.is_local:
             qcrs = QgsCoordinateReferenceSystem.fromWkt(recon.crs.to_wkt())
-            feedback.pushWarning(self.tr(f"The project is in a local coordinate system "
-                                         f"({recon.crs.name}): the outputs will not line up with "
-                                         "map layers."))
+            feedback.pushWarning(self.tr("The project is in a local coordinate system ({name}): "
+                                         "the outputs will not line up with map layers.").format(
+                                     name=recon.crs.name))
             target = None
         elif out_crs.isValid():
             qcrs, target = out_crs, crs_string(out_crs)
@@ -147,10 +147,10 @@ class CameraFootprints(EasyIDPAlgorithm):
             fp_sink.addFeature(g, QgsFeatureSink.FastInsert)
             partial += not fp.complete
         if partial:
-            feedback.pushWarning(self.tr(f"{partial} footprints are partial: some of the photo "
+            feedback.pushWarning(self.tr("{partial} footprints are partial: some of the photo "
                                          "border does not reach the ground (oblique views or the "
-                                         "DSM edge)."))
-        feedback.pushInfo(self.tr(f"{len(prints)} cameras written."))
+                                         "DSM edge).").format(partial=partial))
+        feedback.pushInfo(self.tr("{n_prints} cameras written.").format(n_prints=len(prints)))
         return {self.OUTPUT_CAMERAS: cam_id, self.OUTPUT_FOOTPRINTS: fp_id}
 
 

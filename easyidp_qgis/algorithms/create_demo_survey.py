@@ -64,11 +64,13 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         size = SIZES[self.parameterAsEnum(parameters, self.SIZE, context)]
         seed = self.parameterAsInt(parameters, self.SEED, context)
-        feedback.pushInfo(self.tr(f"Writing a {size} demo survey (seed {seed}) into {folder}"))
+        feedback.pushInfo(self.tr("Writing a {size} demo survey (seed {seed}) into {folder}").format(
+                              size=size, seed=seed, folder=folder))
         s = make_demo_survey(folder, seed=seed, size=size, progress=feedback.setProgress,
                              is_cancelled=feedback.isCanceled)
-        feedback.pushInfo(self.tr(f"Done in {s.seconds:.1f} s: {len(s.photos)} photos, "
-                                  f"{len(s.plot_ids)} plots."))
+        feedback.pushInfo(self.tr("Done in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots.").format(
+                              seconds=s.seconds, n_photos=len(s.photos),
+                              n_plot_ids=len(s.plot_ids)))
         if context.project() is not None:
             for path, name, out in ((s.orthomosaic, "Demo orthomosaic", self.ORTHOMOSAIC),
                                     (s.dsm, "Demo DSM", self.DSM),

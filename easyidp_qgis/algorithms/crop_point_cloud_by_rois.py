@@ -94,23 +94,26 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         fmt = FORMATS[self.parameterAsEnum(parameters, self.FORMAT, context)][0]
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         write_empty = self.parameterAsBool(parameters, self.WRITE_EMPTY, context)
-        feedback.pushInfo(self.tr(f"Cropping {len(rois)} ROIs into {folder}"))
+        feedback.pushInfo(self.tr("Cropping {n_rois} ROIs into {folder}").format(
+                              n_rois=len(rois), folder=folder))
         result = crop_point_cloud(
             cloud, rois, folder, fmt=fmt, z_min=z_min, z_max=z_max, write_empty=write_empty,
             progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
         if result.items and len(result.missed) == len(result.items):
-            raise QgsProcessingException(self.tr(
-                f"None of the {len(result.items)} ROIs overlaps the point cloud: check that the "
-                "ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has "
-                "none or a wrong one)."))
+            raise QgsProcessingException(self.tr("None of the {n_items} ROIs overlaps the point "
+                                                 "cloud: check that the ROIs and the cloud are in "
+                                                 "the right CRS (set 'Point cloud CRS' if the "
+                                                 "file has none or a wrong one).").format(
+                                             n_items=len(result.items)))
         for message in result.messages:
             feedback.pushWarning(message)
         written = [item for item in result.items if item.file is not None]
         cropped = sum(item.status == "written" for item in result.items)
         points = sum(item.count for item in result.items if item.status == "written")
-        feedback.pushInfo(self.tr(f"{cropped} ROIs cropped ({points:,} points), "
-                                  f"{len(result.empty)} without points, {len(result.missed)} "
-                                  "outside the cloud."))
+        feedback.pushInfo(self.tr("{cropped} ROIs cropped ({points:,} points), {n_empty} without "
+                                  "points, {n_missed} outside the cloud.").format(
+                              cropped=cropped, points=points, n_empty=len(result.empty),
+                              n_missed=len(result.missed)))
         self._load(written, os.path.splitext(os.path.basename(str(cloud.path)))[0], context,
                    feedback)
         return {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: [str(i.file) for i in written],
@@ -133,8 +136,9 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
             feedback.pushInfo(self.tr("PLY crops are not loaded into the map; open them from the "
                                       "output folder."))
         if len(las) > MAX_LAYERS_TO_LOAD:
-            feedback.pushInfo(self.tr(f"More than {MAX_LAYERS_TO_LOAD} crops: they are not loaded "
-                                      "into the map; open them from the output folder."))
+            feedback.pushInfo(self.tr("More than {limit} crops: they are not loaded "
+                                      "into the map; open them from the output folder.").format(
+                                  limit=MAX_LAYERS_TO_LOAD))
             return
         for item in las:
             details = QgsProcessingContext.LayerDetails(f"{cloud_name} – {item.name}",

@@ -69,7 +69,8 @@ class CropRasterByROIs(EasyIDPAlgorithm):
                                    context)
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         all_touched = self.parameterAsBool(parameters, self.ALL_TOUCHED, context)
-        feedback.pushInfo(self.tr(f"Cropping {len(rois)} ROIs out of {raster} into {folder}"))
+        feedback.pushInfo(self.tr("Cropping {n_rois} ROIs out of {raster} into {folder}").format(
+                              n_rois=len(rois), raster=raster, folder=folder))
         result = crop_raster_by_rois(
             raster, rois, folder, all_touched=all_touched, raster_crs=crs_string(layer.crs()),
             progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
@@ -78,8 +79,8 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         for i, reason in result.skipped.items():
             feedback.pushWarning(self.tr("ROI '{name}' skipped: {reason}").format(
                 name=rois[i].name, reason=reason))
-        feedback.pushInfo(self.tr(f"{len(result.files)} GeoTIFFs written, {len(result.skipped)} "
-                                  "ROIs skipped."))
+        feedback.pushInfo(self.tr("{n_files} GeoTIFFs written, {n_skipped} ROIs skipped.").format(
+                              n_files=len(result.files), n_skipped=len(result.skipped)))
         self._load(result, layer.name(), context, feedback)
         return {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: result.files,
                 self.CROPPED: len(result.files), self.SKIPPED: len(result.skipped)}
@@ -89,8 +90,9 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         if context.project() is None:
             return
         if len(result.files) > MAX_LAYERS_TO_LOAD:
-            feedback.pushInfo(self.tr(f"More than {MAX_LAYERS_TO_LOAD} crops: they are not loaded "
-                                      "into the map; open them from the output folder."))
+            feedback.pushInfo(self.tr("More than {limit} crops: they are not loaded "
+                                      "into the map; open them from the output folder.").format(
+                                  limit=MAX_LAYERS_TO_LOAD))
             return
         for path, name in zip(result.files, result.names):
             details = QgsProcessingContext.LayerDetails(f"{raster_name} – {name}", context.project(),

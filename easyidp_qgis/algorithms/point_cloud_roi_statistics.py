@@ -116,15 +116,17 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
                 "Ground: give either a DSM/DTM raster or one ground height, not both."))
         if layer is not None:
             ground = dsm_ground(layer, self.tr("Ground DSM/DTM"), cloud.crs)
-            feedback.pushInfo(self.tr(f"Ground: the raster {layer.name()} under every point."))
+            feedback.pushInfo(self.tr("Ground: the raster {name} under every point.").format(
+                                  name=layer.name()))
         elif height is not None:
             ground = height
-            feedback.pushInfo(self.tr(f"Ground: {height:g} for every ROI."))
+            feedback.pushInfo(self.tr("Ground: {height:g} for every ROI.").format(height=height))
         else:
             ground = None
         ground_pct = self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context)
         if ground is None:
-            feedback.pushInfo(self.tr(f"Ground: percentile {ground_pct:g} of each ROI's Z."))
+            feedback.pushInfo(self.tr("Ground: percentile {ground_pct:g} of each ROI's Z.").format(
+                                  ground_pct=ground_pct))
 
         summary = canopy_summary(
             cloud, rois, ground=ground, percentiles=percentiles, ground_percentile=ground_pct,
@@ -157,17 +159,18 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             out.setGeometry(feat.geometry())
             sink.addFeature(out, QgsFeatureSink.FastInsert)
         if rois and len(empty) == len(rois):
-            raise QgsProcessingException(self.tr(
-                f"None of the {len(rois)} ROIs contains a point of the cloud: check that the ROIs "
-                "and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or "
-                "a wrong one) and the Z range."))
+            raise QgsProcessingException(self.tr("None of the {n_rois} ROIs contains a point of "
+                                                 "the cloud: check that the ROIs and the cloud "
+                                                 "are in the right CRS (set 'Point cloud CRS' if "
+                                                 "the file has none or a wrong one) and the Z "
+                                                 "range.").format(n_rois=len(rois)))
         if empty:
             feedback.pushWarning(self.tr(
                 f"{len(empty)} ROI(s) contain no point (outside the cloud, in a gap, or outside "
                 f"the Z range); their statistics are empty: feature id {', '.join(empty[:50])}"
                 + (" …" if len(empty) > 50 else "") + "."))
-        feedback.pushInfo(self.tr(f"Statistics of {len(rois)} ROIs written, "
-                                  f"{len(rois) - len(empty)} with points."))
+        feedback.pushInfo(self.tr("Statistics of {n_rois} ROIs written, {n} with points.").format(
+                              n_rois=len(rois), n=len(rois) - len(empty)))
         feedback.setProgress(100)
         return {self.OUTPUT: dest_id}
 
