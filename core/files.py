@@ -1,4 +1,4 @@
-"""Output files: written atomically, never over an input.
+"""Files: outputs written atomically and never over an input; JSON inputs read with clear errors.
 
 Every output of the engine (GeoTIFF, point cloud, GeoPackage, JSON, PNG, JPEG) is written to a
 hidden temporary file in the destination folder, ``.<stem>.<pid>-<thread>.part<suffix>``, and
@@ -62,6 +62,19 @@ def write_json(path: PathLike, obj, **dump_kw) -> Path:
         with open(tmp, "w", encoding="utf-8") as fh:
             json.dump(obj, fh, **dump_kw)
     return Path(path)
+
+
+def load_json(path: PathLike, what: str):
+    """The parsed JSON document at ``path`` (UTF-8, a BOM allowed). ``what`` names the expected
+    kind in messages, e.g. "GeoJSON"; a missing file or bad JSON raises :class:`InputError`."""
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise InputError(f"{what} file not found: {path}")
+    try:
+        with open(path, "rb") as fh:
+            return json.loads(fh.read().decode("utf-8-sig"))
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise InputError(f"{path} is not valid {what} ({exc}).") from None
 
 
 def same_file(a: PathLike, b: Optional[PathLike]) -> bool:

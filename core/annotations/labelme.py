@@ -6,13 +6,13 @@ polygon; a circle (centre, a point on the circle) a polygon of ``CIRCLE_VERTICES
 ``line``/``linestrip`` a polyline; ``point`` a point. Masks (labelme 5 ``mask``) are refused
 with a message.
 """
-import json
 import os
 from typing import List
 
 import numpy as np
 
 from ..errors import InputError
+from ..files import load_json
 from .model import LINE, POINT, POLYGON, PhotoAnnotations, PhotoShape
 
 CIRCLE_VERTICES = 64
@@ -21,13 +21,7 @@ CIRCLE_VERTICES = 64
 def read_labelme(path) -> PhotoAnnotations:
     """Read a LabelMe JSON file. Raises :class:`InputError` naming the file and the shape."""
     path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise InputError(f"LabelMe file not found: {path}")
-    try:
-        with open(path, "rb") as fh:
-            doc = json.loads(fh.read().decode("utf-8-sig"))
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise InputError(f"{path} is not valid JSON ({exc}); is it a LabelMe file?") from None
+    doc = load_json(path, "LabelMe JSON")
     if not isinstance(doc, dict) or not isinstance(doc.get("shapes"), list):
         raise InputError(f"{path} is not a LabelMe file: it has no 'shapes' list.")
     width, height = _size(doc, path)

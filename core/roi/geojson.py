@@ -1,9 +1,9 @@
 """Reading ROIs from GeoJSON (RFC 7946, and the older GDAL/QGIS flavour with a ``crs`` member)."""
-import json
 import os
 from typing import Optional
 
 from ..errors import InputError
+from ..files import load_json
 from .features import rois_from_features
 from .model import ROISet
 
@@ -16,13 +16,7 @@ def read_geojson(path, name_field: Optional[str] = None, crs=None) -> ROISet:
     feature index. Z coordinates are kept as vertex heights.
     """
     path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise InputError(f"ROI file not found: {path}")
-    try:
-        with open(path, "rb") as fh:
-            doc = json.loads(fh.read().decode("utf-8-sig"))
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise InputError(f"ROI file {path} is not valid GeoJSON ({exc}).") from None
+    doc = load_json(path, "GeoJSON")
     if not isinstance(doc, dict) or "type" not in doc:
         raise InputError(f"ROI file {path} is not GeoJSON: it has no 'type' member.")
     if crs is None:

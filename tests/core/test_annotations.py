@@ -61,7 +61,7 @@ def test_bad_files(tmp_path):
         read_labelme(tmp_path / "none.json")
     p = tmp_path / "x.json"
     p.write_text("{")
-    with pytest.raises(InputError, match="not valid JSON"):
+    with pytest.raises(InputError, match="not valid LabelMe JSON"):
         read_labelme(p)
     p.write_text('{"type": "FeatureCollection", "features": []}')
     with pytest.raises(InputError, match="no 'shapes' list"):
