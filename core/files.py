@@ -1,4 +1,5 @@
-"""Files: outputs written atomically and never over an input; JSON inputs read with clear errors.
+"""Files: outputs written atomically and never over an input; output folders locked and checked;
+JSON inputs read with clear errors.
 
 Every output of the engine (GeoTIFF, point cloud, GeoPackage, JSON, PNG, JPEG) is written to a
 hidden temporary file in the destination folder, ``.<stem>.<pid>-<thread>.part<suffix>``, and
@@ -6,12 +7,17 @@ renamed into place when complete. A failed or cancelled write removes its tempor
 only complete files ever carry their final name. The process id in the temporary name lets a
 later run recognise the leftovers of a process that was killed.
 """
+import errno
 import json
 import os
+import re
+import shutil
+import socket
 import threading
+import time
 from contextlib import contextmanager
 from pathlib import Path
-from typing import Iterable, Iterator, Optional, Union
+from typing import Iterable, Iterator, List, Optional, Union
 
 from .errors import InputError
 
@@ -41,11 +47,14 @@ def atomic_output(path: PathLike) -> Iterator[Path]:
     try:
         yield tmp
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         try:
             tmp.unlink()
         except FileNotFoundError:
             pass
+        if isinstance(exc, OSError) and exc.errno == errno.ENOSPC:
+            raise InputError(f"No space left on the disk while writing {str(path)!r}; nothing "
+                             "was left half-written. Free some space and run again.") from None
         raise
 
 
@@ -96,3 +105,169 @@ def check_not_inputs(target: PathLike, inputs: Iterable[Optional[PathLike]]) -> 
         if src is not None and same_file(target, src):
             raise InputError(f"The output {str(target)!r} is the input file itself: choose another "
                              "output file or folder; inputs are never overwritten.")
+
+
+# ---- output folders: one run at a time, no leftovers, nothing replaced unasked -------------------
+LOCK_NAME = ".easyidp.lock"
+MIN_FREE_BYTES = 64 * 1024 * 1024
+_PART = re.compile(r"^\..+\.(\d+)-\d+\.part(\.[^.]*)?$")
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:        # another user's process
+        return True
+    return True
+
+
+def check_output_folder(folder: PathLike, what: str = "Output folder",
+                        min_free: int = MIN_FREE_BYTES) -> Path:
+    """Create ``folder`` if needed and check that a run can write there, before any work.
+
+    Raises :class:`InputError` naming the folder when it is a file, cannot be created, is not
+    writable (read-only file system, permissions) or has less than ``min_free`` bytes free.
+    """
+    folder = Path(os.path.abspath(os.fspath(folder)))
+    if folder.exists() and not folder.is_dir():
+        raise InputError(f"{what} {str(folder)!r} is a file, not a folder: choose a folder.")
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise InputError(f"{what} {str(folder)!r} cannot be created ({exc.strerror or exc}): "
+                         "choose a folder you can write to.") from None
+    probe = folder / f".easyidp-probe.{os.getpid()}-{threading.get_ident()}"
+    try:
+        with open(probe, "wb") as fh:
+            fh.write(b"\0")
+    except OSError as exc:
+        why = {errno.EROFS: "it is on a read-only file system",
+               errno.ENOSPC: "its disk is full"}.get(exc.errno, exc.strerror or str(exc))
+        raise InputError(f"{what} {str(folder)!r} cannot be written to: {why}. Choose a folder "
+                         "you can write to.") from None
+    finally:
+        try:
+            probe.unlink()
+        except OSError:
+            pass
+    free = shutil.disk_usage(folder).free
+    if free < min_free:
+        raise InputError(f"{what} {str(folder)!r} has only {free / 2**20:.1f} MiB free; the run "
+                         f"needs at least {min_free / 2**20:.0f} MiB. Free some space or choose "
+                         "another folder.")
+    return folder
+
+
+def remove_leftovers(folder: PathLike) -> List[Path]:
+    """Remove the temporary ``.part`` files that killed runs (process gone) left in ``folder``;
+    returns them. Temporary files of live processes are left alone."""
+    removed = []
+    for entry in os.scandir(folder):
+        m = _PART.match(entry.name)
+        if m and entry.is_file() and int(m.group(1)) != os.getpid() and not _alive(int(m.group(1))):
+            try:
+                os.remove(entry.path)
+                removed.append(Path(entry.path))
+            except OSError:
+                pass
+    return removed
+
+
+class OutputFolder:
+    """A folder a run writes many files into: checked before any work, locked against a second
+    run writing into it at the same time, cleaned of the leftovers of killed runs, and guarded so
+    that no file the run did not create is replaced unless ``overwrite``.
+
+    >>> with OutputFolder("crops", inputs=["ortho.tif"]) as out:
+    ...     paths = out.claim(["A1.tif", "A2.tif"])     # raises if any exists (or is an input)
+    """
+
+    def __init__(self, folder: PathLike, *, overwrite: bool = False,
+                 inputs: Iterable[Optional[PathLike]] = (), what: str = "Output folder",
+                 min_free: int = MIN_FREE_BYTES):
+        self.folder = Path(os.path.abspath(os.fspath(folder)))
+        self.overwrite, self.what, self.min_free = overwrite, what, min_free
+        self.inputs = [Path(p) for p in inputs if p is not None]
+        self.leftovers: List[Path] = []
+        self._token = f"{os.getpid()}-{threading.get_ident()}-{time.time_ns()}"
+        self._locked = False
+
+    def __enter__(self) -> "OutputFolder":
+        check_output_folder(self.folder, self.what, self.min_free)
+        self._lock()
+        self.leftovers = remove_leftovers(self.folder)
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._unlock()
+
+    # -- the lock ------------------------------------------------------------------------------
+    def _lock(self) -> None:
+        path = self.folder / LOCK_NAME
+        for _ in range(2):
+            try:
+                fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+            except FileExistsError:
+                holder = _read_lock(path)
+                if holder.get("host") == socket.gethostname() and holder.get("pid") and \
+                        not _alive(int(holder["pid"])):
+                    try:                                  # a killed run's lock: take it over
+                        path.unlink()
+                    except FileNotFoundError:
+                        pass
+                    continue
+                since = holder.get("started", "an unknown time")
+                raise InputError(
+                    f"Another EasyIDP run (process {holder.get('pid', '?')} on "
+                    f"{holder.get('host', '?')}, since {since}) is writing into "
+                    f"{str(self.folder)!r}. Wait for it to finish or choose another folder; if no "
+                    f"run is active, delete {LOCK_NAME} in that folder.") from None
+            with os.fdopen(fd, "w") as fh:
+                json.dump({"pid": os.getpid(), "host": socket.gethostname(), "token": self._token,
+                           "started": time.strftime("%Y-%m-%d %H:%M:%S")}, fh)
+            self._locked = True
+            return
+        raise InputError(f"Cannot lock the output folder {str(self.folder)!r}: try again.")
+
+    def _unlock(self) -> None:
+        if self._locked:
+            path = self.folder / LOCK_NAME
+            if _read_lock(path).get("token") == self._token:
+                try:
+                    path.unlink()
+                except FileNotFoundError:
+                    pass
+            self._locked = False
+
+    # -- output names ----------------------------------------------------------------------------
+    def check_not_inputs(self, names: Iterable[str]) -> None:
+        """Raise :class:`InputError` if one of ``names`` in the folder is an input."""
+        for n in names:
+            check_not_inputs(self.folder / n, self.inputs)
+
+    def claim(self, names: Iterable[str]) -> List[Path]:
+        """The paths of ``names`` in the folder, after checking that none is an input and, unless
+        ``overwrite``, that none exists. Raises :class:`InputError` listing the conflicts before
+        anything is written."""
+        paths = [self.folder / n for n in names]
+        self.check_not_inputs(p.name for p in paths)
+        if not self.overwrite:
+            taken = [p.name for p in paths if p.exists() or p.is_symlink()]
+            if taken:
+                shown = ", ".join(taken[:10]) + (f" and {len(taken) - 10} more" if len(taken) > 10 else "")
+                raise InputError(
+                    f"{len(taken)} output file(s) already exist in {str(self.folder)!r}: {shown}. "
+                    "Nothing was written. Choose an empty folder, or allow replacing existing "
+                    "outputs (overwrite; in QGIS the advanced option 'Overwrite existing files').")
+        return paths
+
+
+def _read_lock(path: Path) -> dict:
+    try:
+        with open(path, encoding="utf-8") as fh:
+            data = json.load(fh)
+        return data if isinstance(data, dict) else {}
+    except (OSError, ValueError):
+        return {}

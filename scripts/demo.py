@@ -6,6 +6,7 @@ Usage: python -m easyidp_toolbox.scripts.demo OUTPUT_FOLDER
 """
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -36,9 +37,23 @@ def _features(path: str, layer: int = 0):
     return [{**f.items(), "_geom": f.GetGeometryRef().Clone()} for f in ds.GetLayer(layer)]
 
 
+MARKER = ".easyidp-demo"   # the demo's own output folder: cleared by the next demo run
+
+
+def _fresh_folder(out: str) -> None:
+    """Empty ``out`` when an earlier demo made it; refuse a folder that holds anything else."""
+    if os.path.isdir(out) and os.listdir(out):
+        if not os.path.exists(os.path.join(out, MARKER)):
+            raise SystemExit(f"{out} is not empty and was not made by the demo: give another folder "
+                             "(make demo DEMO_DIR=…).")
+        shutil.rmtree(out)
+    os.makedirs(out, exist_ok=True)
+    open(os.path.join(out, MARKER), "w").close()
+
+
 def main(out: str) -> int:
     out = os.path.abspath(out)
-    os.makedirs(out, exist_ok=True)
+    _fresh_folder(out)
     print(f"EasyIDP demo: every tool on a generated survey, through qgis_process → {out}", flush=True)
     steps = Steps()
     s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 2 projects, cloud)",

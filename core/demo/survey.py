@@ -29,7 +29,7 @@ import numpy as np
 
 from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
 from ..errors import InputError
-from ..files import write_bytes
+from ..files import OutputFolder, write_bytes
 from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
 from ..progress import as_progress
 from .flight import ALTITUDE, SIZES, make_camera, plan_flight
@@ -77,22 +77,33 @@ class DemoSurvey:
     seconds: float = 0.0
 
 
-def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=None,
-                     is_cancelled=None) -> DemoSurvey:
+SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "pointcloud.laz",
+                  "pointcloud.ply", "photos", "metashape", "pix4d", "labelme", "truth.json")
+"""What :func:`make_demo_survey` writes into its folder (files and folders)."""
+
+
+def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite: bool = False,
+                     progress=None, is_cancelled=None) -> DemoSurvey:
     """Write the demo survey into ``folder`` (created if needed) and return its paths.
 
     ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
-    flight and truth points are the same. Existing files of a previous survey are overwritten.
+    flight and truth points are the same. When any of :data:`SURVEY_ENTRIES` already exists in
+    ``folder`` the run stops before writing anything, unless ``overwrite``.
     ``progress(percent)`` and ``is_cancelled()`` are optional callables; on cancellation
-    :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey.
+    :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey (every
+    file in it complete).
     """
-    t0 = time.perf_counter()
     if size not in SIZES:
         raise InputError(f"Demo survey size {size!r}: choose one of {', '.join(SIZES)}.")
-    prog = as_progress(progress, is_cancelled)
+    with OutputFolder(folder, overwrite=overwrite, what="Demo survey folder") as out:
+        out.claim(SURVEY_ENTRIES)
+        return _write_survey(str(out.folder), seed, size, as_progress(progress, is_cancelled))
+
+
+def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
+    t0 = time.perf_counter()
     prog.check()
     camera = make_camera(size)
-    folder = os.path.abspath(folder)
     photo_dir = os.path.join(folder, "photos")
     os.makedirs(photo_dir, exist_ok=True)
     rng = np.random.default_rng([seed, 1])

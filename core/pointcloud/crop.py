@@ -17,7 +17,7 @@ from ..naming import unique_names
 from ..progress import as_progress
 from ..roi import ROISet
 from .cloud import PointCloud
-from ..files import check_not_inputs
+from ..files import OutputFolder
 from .formats import read_point_cloud, write_point_cloud
 from .index import one_pass
 
@@ -122,16 +122,18 @@ def _status(roi, ii: np.ndarray, bounds: np.ndarray) -> str:
 def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
                      output_folder: Union[str, Path], fmt: str = "same",
                      z_min: Optional[float] = None, z_max: Optional[float] = None,
-                     write_empty: bool = False, crs=None, progress=None, is_cancelled=None,
-                     chunk_size: int = 4_000_000) -> CropResult:
+                     write_empty: bool = False, crs=None, overwrite: bool = False, progress=None,
+                     is_cancelled=None, chunk_size: int = 4_000_000) -> CropResult:
     """Crop ``cloud`` (a PointCloud or a .las/.laz/.ply path) by every ROI; one file per ROI.
 
     ``fmt``: 'same' (the input's format; LAS for in-memory clouds), 'las', 'laz' or 'ply'.
     Files are named from the ROI names (safe and unique) in ``output_folder`` and written
     atomically; LAS → LAS/LAZ copies the point records bit for bit with the source header.
     ``crs`` is the cloud's CRS when it is a path (required for PLY; overrides the LAS record).
-    Empty ROIs get a file only with ``write_empty``. On cancellation every file this call wrote
-    is removed and :class:`Cancelled` is raised.
+    Empty ROIs get a file only with ``write_empty``. The folder is checked and locked first
+    (:class:`..files.OutputFolder`); an existing file is never replaced unless ``overwrite``
+    (the run stops before writing, listing the names taken), and the input never. On
+    cancellation every file this call wrote is removed and :class:`Cancelled` is raised.
     """
     prog = as_progress(progress, is_cancelled)
     cloud = as_cloud(cloud, crs)
@@ -140,21 +142,23 @@ def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
         fmt = cloud.fmt if cloud.fmt in EXT else "las"
     if fmt not in EXT:
         raise InputError(f"Output format {fmt!r} is not supported: use same, las, laz or ply.")
-    folder = Path(output_folder)
-    if folder.exists() and not folder.is_dir():
-        raise InputError(f"Output folder {str(folder)!r} is a file: choose a folder.")
-    folder.mkdir(parents=True, exist_ok=True)
-    stems = unique_names(r.name for r in rois)
-    targets = [folder / (stem + EXT[fmt]) for stem in stems]
-    for t in targets:
-        check_not_inputs(t, [cloud.path])
+    with OutputFolder(output_folder, overwrite=overwrite, inputs=[cloud.path]) as out:
+        stems = unique_names(r.name for r in rois)
+        out.check_not_inputs(s + EXT[fmt] for s in stems)       # before any work
+        idx, bounds, rois = crop_indices(cloud, rois, z_min, z_max, prog.sub(0, 50), None,
+                                         chunk_size)
+        result = CropResult(out.folder, [CropItem(r.name, s, len(ii), _status(r, ii, bounds))
+                                         for r, s, ii in zip(rois, stems, idx)])
+        todo = [(item, ii) for item, ii in zip(result.items, idx)
+                if len(ii) or (write_empty and item.status == "empty")]
+        targets = out.claim(item.stem + EXT[fmt] for item, _ in todo)
+        _write(cloud, [(item, t, ii) for (item, ii), t in zip(todo, targets)], result,
+               prog.sub(50, 100))
+    return result
 
-    idx, bounds, rois = crop_indices(cloud, rois, z_min, z_max, prog.sub(0, 50), None, chunk_size)
-    result = CropResult(folder, [CropItem(r.name, s, len(ii), _status(r, ii, bounds))
-                                 for r, s, ii in zip(rois, stems, idx)])
-    todo = [(item, t, ii) for item, t, ii in zip(result.items, targets, idx)
-            if len(ii) or (write_empty and item.status == "empty")]
-    wprog = prog.sub(50, 100)
+
+def _write(cloud: PointCloud, todo, result: CropResult, prog) -> None:
+    """Write each (item, target, point indices); on cancel remove what was written."""
     if todo and len(cloud.records) and any(len(ii) for _, _, ii in todo):
         # gather every kept record once, in file order, then serve each ROI from that copy
         kept = np.unique(np.concatenate([ii for _, _, ii in todo]))
@@ -163,10 +167,10 @@ def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
         cloud = compact
     try:
         for i, (item, target, ii) in enumerate(todo):
-            wprog.check()
+            prog.check()
             write_point_cloud(cloud, target, index=ii)
             item.file = target
-            wprog.set(100.0 * (i + 1) / len(todo))
+            prog.set(100.0 * (i + 1) / len(todo))
     except Cancelled:
         for f in result.files.values():
             try:
@@ -174,4 +178,3 @@ def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
             except FileNotFoundError:
                 pass
         raise
-    return result

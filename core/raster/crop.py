@@ -9,20 +9,20 @@ the raster), with the source's CRS and a mask of the pixels outside the ROI:
 * RGB: an alpha band is added (255 inside, 0 outside);
 * RGBA: the existing alpha is combined with the ROI mask.
 """
-import os
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..errors import InputError, ROIError
-from .geotiff import GeoTiff, open_geotiff
-from .geotiff_write import write_geotiff
+from ..errors import ROIError
+from ..files import OutputFolder
 from ..naming import unique_names
 from ..progress import as_progress
-from .sweep import sweep_windows, thread_pool
 from ..roi import ROISet
+from .geotiff import GeoTiff, open_geotiff
+from .geotiff_write import write_geotiff
 from .roi_pixels import NO_PIXEL, bounding_box, place_rois, require_overlap, rois_in_raster_crs
+from .sweep import sweep_windows, thread_pool
 
 MAX_PENDING_WRITES = 32
 
@@ -51,14 +51,16 @@ def declared_nodata(tif: GeoTiff):
 
 
 def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touched: bool = False,
-                        raster_crs=None, progress=None, is_cancelled=None,
+                        raster_crs=None, overwrite: bool = False, progress=None, is_cancelled=None,
                         workers: Optional[int] = None) -> CropResult:
     """Crop every ROI out of ``raster`` into ``output_folder/<name>.tif``.
 
     ``rois`` are reprojected to the raster CRS when they differ (``raster_crs`` overrides the
     CRS read from the GeoKeys). ROIs that miss the raster are listed in ``result.skipped``; if
     none overlaps, :class:`ROIError` is raised. File names are the ROI names made safe and
-    unique. The input is never overwritten; every file is written atomically, so a cancelled or
+    unique. The output folder is checked and locked before any work (:class:`..files.OutputFolder`):
+    an existing file is never replaced unless ``overwrite`` (the run stops first, listing the
+    names taken), and the input never. Every file is written atomically, so a cancelled or
     failed run leaves only complete files.
     """
     prog = as_progress(progress, is_cancelled)
@@ -66,18 +68,21 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
     rois = rois_in_raster_crs(rois, tif)
     placed, skipped = place_rois(tif, rois, all_touched)
     require_overlap(placed, skipped, rois, tif)
+    with OutputFolder(output_folder, overwrite=overwrite, inputs=[raster]) as out:
+        stems = unique_names(p.roi.name for p in placed)
+        paths = [str(p) for p in out.claim(s + ".tif" for s in stems)]
+        result = _crop(tif, placed, skipped, paths, prog, workers)
+    if not result.files:
+        raise ROIError(f"None of the {len(rois)} ROIs contains a pixel centre of {raster}: they are "
+                       "smaller than a pixel or lie on its edges. Use all-touched to include them.")
+    order = sorted(range(len(result.files)), key=lambda j: result.files[j])
+    result.files = [result.files[j] for j in order]
+    result.names = [result.names[j] for j in order]
+    return result
 
-    os.makedirs(output_folder, exist_ok=True)
-    src_real = os.path.realpath(raster)
-    reserved = []
-    if os.path.dirname(src_real) == os.path.realpath(output_folder):
-        reserved.append(os.path.splitext(os.path.basename(src_real))[0])
-    stems = unique_names(reserved + [p.roi.name for p in placed])[len(reserved):]
-    paths = [os.path.join(output_folder, s + ".tif") for s in stems]
-    if any(os.path.realpath(p) == src_real for p in paths):  # case-insensitive file systems
-        raise InputError(f"An output would overwrite the input raster {raster}: choose another "
-                         "output folder.")
 
+def _crop(tif: GeoTiff, placed, skipped, paths, prog, workers) -> CropResult:
+    """The sweep: mask each window as it completes and hand it to a pool of writers."""
     nodata, nodata_text = declared_nodata(tif)
     kind = tif.kind
     result = CropResult(skipped=skipped, nodata=None if kind == "rgb" else nodata,
@@ -107,7 +112,7 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
         else:
             np.copyto(arr, np.asarray(nodata, dtype=arr.dtype), where=~mask[..., None])
             job = (paths[k], arr, gt, tif.geo_tags, nodata_text, False, ())
-        pending.append((k, pool.submit(write_geotiff, *job)))
+        pending.append((k, pool.submit(write_geotiff, *job, is_cancelled=prog.cancelled)))
         while len(pending) > MAX_PENDING_WRITES:
             _collect(pending.pop(0))
 
@@ -119,22 +124,17 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
     with thread_pool(workers) as pool:  # writers; the sweep has its own pool of decoders
         try:
             sweep_windows(tif, [p.window for p in placed], finish, prog, workers)
-        except Exception:  # also Cancelled: finish or drop pending writes, then re-raise
+            for item in pending:
+                _collect(item)
+            prog.check()        # a cancel during the last writes: the run is not reported done
+        except BaseException:   # also Cancelled: finish or drop pending writes, then re-raise
             for k, fut in pending:
                 fut.cancel()
             for k, fut in pending:
                 if not fut.cancelled():
                     try:
-                        _collect((k, fut))
-                    except Exception:
+                        fut.result()
+                    except BaseException:
                         pass
             raise
-        for item in pending:
-            _collect(item)
-    if not result.files:
-        raise ROIError(f"None of the {len(rois)} ROIs contains a pixel centre of {raster}: they are "
-                       "smaller than a pixel or lie on its edges. Use all-touched to include them.")
-    order = sorted(range(len(result.files)), key=lambda j: result.files[j])
-    result.files = [result.files[j] for j in order]
-    result.names = [result.names[j] for j in order]
     return result

@@ -1,9 +1,10 @@
 """Writing cropped GeoTIFFs: georeferencing copied from the source, deflate-compressed, atomic."""
-from typing import Optional, Sequence
+from typing import Callable, Iterator, Optional, Sequence
 
 import numpy as np
 import tifffile
 
+from ..errors import Cancelled
 from ..files import atomic_output
 
 from .geotiff import (TAG_GDAL_METADATA, TAG_GDAL_NODATA, TAG_GEOASCII, TAG_GEODOUBLES, TAG_GEOKEYS,
@@ -53,13 +54,16 @@ def geotiff_tags(geo_tags: dict, geotransform, nodata_text: Optional[str]) -> li
 def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
                   nodata_text: Optional[str] = None, rgb: bool = False,
                   extrasamples: Sequence[int] = (), tile: Optional[int] = None,
-                  rowsperstrip: Optional[int] = None) -> str:
+                  rowsperstrip: Optional[int] = None,
+                  is_cancelled: Optional[Callable[[], bool]] = None) -> str:
     """Write ``data`` (rows, cols[, bands]) to ``path`` atomically (:func:`..files.atomic_output`).
 
     ``geotransform`` in GDAL order (north-up); ``rgb``: photometric RGB (the first three
     bands), else min-is-black; ``extrasamples``: TIFF ExtraSamples codes of the bands after the
     colour bands (2 = unassociated alpha). Layout: ``tile`` (square tiles of that size), or
     ``rowsperstrip``, or by default strips of about 64 KiB (tiles of 256 above 1 Mpixel).
+    ``is_cancelled`` is polled between tiles: a cancel stops a large write within a tile's time,
+    removes the temporary file and raises :class:`~..errors.Cancelled`.
     """
     if data.ndim == 2:
         data = data[..., None]
@@ -68,14 +72,31 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
         tile = 256
     if tile:
         kw = {"tile": (tile, tile)}
-    else:
+        body = _tiles(data, tile, is_cancelled)      # tile by tile: cancel stays responsive
+    else:                                             # strips: small images, written at once
         kw = {"rowsperstrip": rowsperstrip or
               max(1, 65536 // max(1, cols * bands * data.dtype.itemsize))}
+        body = data if bands > 1 else data[..., 0]
     with atomic_output(path) as tmp:
         tifffile.imwrite(
-            tmp, data if bands > 1 else data[..., 0],
+            tmp, body, shape=(rows, cols, bands) if bands > 1 else (rows, cols), dtype=data.dtype,
             photometric="rgb" if rgb else "minisblack", planarconfig="contig",
             extrasamples=tuple(extrasamples) or None,
             compression="zlib", compressionargs={"level": DEFLATE_LEVEL}, predictor=True,
             extratags=geotiff_tags(geo_tags, geotransform, nodata_text), metadata=None, **kw)
     return path
+
+
+def _tiles(data: np.ndarray, tile: int, is_cancelled) -> Iterator[np.ndarray]:
+    """The (tile, tile[, bands]) tiles of ``data`` in row-major order, zero-padded at the edges."""
+    rows, cols, bands = data.shape
+    for r in range(0, rows, tile):
+        for c in range(0, cols, tile):
+            if is_cancelled is not None and is_cancelled():
+                raise Cancelled("Cancelled by the user.")
+            part = data[r:r + tile, c:c + tile]
+            if part.shape[:2] != (tile, tile):
+                pad = np.zeros((tile, tile, bands), data.dtype)
+                pad[:part.shape[0], :part.shape[1]] = part
+                part = pad
+            yield part if bands > 1 else part[..., 0]

@@ -1,5 +1,6 @@
 """Base class of the EasyIDP algorithms: naming, help, icon, and core error translation."""
-from qgis.core import QgsProcessingAlgorithm, QgsProcessingException
+from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean,
+                       QgsProcessingParameterDefinition)
 from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QIcon
 
@@ -54,6 +55,19 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
             raise QgsProcessingException(str(exc)) from None
         except ImportError as exc:
             raise QgsProcessingException(f"{exc}. {INSTALL_HINT}") from None
+
+    OVERWRITE = "OVERWRITE"
+
+    def add_overwrite_parameter(self) -> None:
+        """The advanced OVERWRITE option (default off): replace files that already exist."""
+        p = QgsProcessingParameterBoolean(
+            self.OVERWRITE, self.tr("Overwrite existing files (otherwise the tool stops before "
+                                    "writing anything when an output already exists)"), False)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+
+    def overwrite(self, parameters, context) -> bool:
+        return self.parameterAsBool(parameters, self.OVERWRITE, context)
 
     def run_tool(self, parameters, context, feedback) -> dict:
         raise NotImplementedError

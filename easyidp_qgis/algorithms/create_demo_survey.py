@@ -41,6 +41,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        self.add_overwrite_parameter()
         self.addParameter(QgsProcessingParameterEnum(
             self.SIZE, self.tr("Size"), options=[self.tr("small (800 × 600 photos)"),
                                                  self.tr("medium (1600 × 1200 photos)")],
@@ -66,8 +67,8 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         seed = self.parameterAsInt(parameters, self.SEED, context)
         feedback.pushInfo(self.tr("Writing a {size} demo survey (seed {seed}) into {folder}").format(
                               size=size, seed=seed, folder=folder))
-        s = make_demo_survey(folder, seed=seed, size=size, progress=feedback.setProgress,
-                             is_cancelled=feedback.isCanceled)
+        s = make_demo_survey(folder, seed=seed, size=size, overwrite=self.overwrite(parameters, context),
+                             progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
         feedback.pushInfo(self.tr("Done in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots.").format(
                               seconds=s.seconds, n_photos=len(s.photos),
                               n_plot_ids=len(s.plot_ids)))

@@ -75,6 +75,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Cropped point clouds")))
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
@@ -98,6 +99,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
                               n_rois=len(rois), folder=folder))
         result = crop_point_cloud(
             cloud, rois, folder, fmt=fmt, z_min=z_min, z_max=z_max, write_empty=write_empty,
+            overwrite=self.overwrite(parameters, context),
             progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
         if result.items and len(result.missed) == len(result.items):
             raise QgsProcessingException(self.tr("None of the {n_items} ROIs overlaps the point "

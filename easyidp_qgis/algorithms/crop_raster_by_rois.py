@@ -54,6 +54,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES, self.tr("Cropped rasters")))
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
         self.addOutput(QgsProcessingOutputNumber(self.SKIPPED, self.tr("Number of ROIs skipped")))
@@ -73,6 +74,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
                               n_rois=len(rois), raster=raster, folder=folder))
         result = crop_raster_by_rois(
             raster, rois, folder, all_touched=all_touched, raster_crs=crs_string(layer.crs()),
+            overwrite=self.overwrite(parameters, context),
             progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
         for note in result.notes:
             feedback.pushWarning(note)

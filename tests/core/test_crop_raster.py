@@ -156,8 +156,11 @@ def test_duplicate_and_unsafe_names(tmp_path):
 def test_input_in_output_folder_is_never_overwritten(tmp_path):
     src = write_tif(str(tmp_path / "dom.tif"), _rgb(), tile=64)
     digest = hashlib.sha256(open(src, "rb").read()).hexdigest()
-    res = crop_raster_by_rois(src, _rois(("dom", _px(0, 0, 5, 5))), str(tmp_path))
-    assert os.path.basename(res.files[0]) == "dom_2.tif"
+    for overwrite in (False, True):     # the run stops before writing, even when asked to replace
+        with pytest.raises(InputError, match="is the input file itself"):
+            crop_raster_by_rois(src, _rois(("ok", _px(9, 9, 15, 15)), ("dom", _px(0, 0, 5, 5))),
+                                str(tmp_path), overwrite=overwrite)
+        assert sorted(os.listdir(tmp_path)) == ["dom.tif"]
     assert hashlib.sha256(open(src, "rb").read()).hexdigest() == digest
 
 

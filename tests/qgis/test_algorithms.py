@@ -201,9 +201,12 @@ def test_duplicate_names_and_input_in_output_folder(provider, tmp_path, realdata
                                                     "-86.94450 41.44406, -86.94452 41.44408))"),
                                            ("test", "POLYGON((-86.94446 41.44408, -86.94444 41.44408, "
                                                     "-86.94444 41.44406, -86.94446 41.44408))")])
-    res = _crop(str(src), layer, str(folder), NAME_FIELD="name")
-    assert sorted(os.path.basename(f) for f in res["OUTPUT_FILES"]) == ["test_2.tif", "test_3.tif"]
+    with pytest.raises(QgsProcessingException, match="test.tif' is the input file itself"):
+        _crop(str(src), layer, str(folder), NAME_FIELD="name", OVERWRITE=True)
+    assert os.listdir(folder) == ["test.tif"]
     assert hashlib.sha256(src.read_bytes()).hexdigest() == digest
+    res = _crop(str(src), layer, str(tmp_path / "crops"), NAME_FIELD="name")
+    assert sorted(os.path.basename(f) for f in res["OUTPUT_FILES"]) == ["test.tif", "test_2.tif"]
 
 
 class _CancelAfter(QgsProcessingFeedback):
