@@ -27,6 +27,7 @@ TAG_GDAL_METADATA = 42112
 TAG_GDAL_NODATA = 42113
 
 EXTRASAMPLE_ALPHA = (1, 2)  # associated, unassociated
+PHOTOMETRIC_RGB, PHOTOMETRIC_YCBCR = 2, 6
 
 
 @dataclass
@@ -64,10 +65,12 @@ class GeoTiff:
 
     @property
     def kind(self) -> str:
-        """'rgb', 'rgba', 'single' (DSM and other one-band rasters) or 'multiband'."""
+        """'rgb', 'rgba', 'single' (DSM and other one-band rasters) or 'multiband'. JPEG YCbCr
+        rasters are decoded to RGB (as GDAL does), so they are 'rgb' too."""
         if self.alpha_band is not None:
             return "rgba"
-        if self.bands == 3 and self.photometric == 2 and self.dtype == np.uint8:
+        if self.bands == 3 and self.photometric in (PHOTOMETRIC_RGB, PHOTOMETRIC_YCBCR) and \
+                self.dtype == np.uint8:
             return "rgb"
         return "single" if self.bands == 1 else "multiband"
 
@@ -176,7 +179,44 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
     tif.close()
     if page.imagedepth > 1:
         raise InputError(f"{path} is a volumetric TIFF; only 2-D rasters are supported.")
+    if info.photometric == PHOTOMETRIC_YCBCR and info.compression.upper() not in ("JPEG", "7"):
+        raise InputError(f"{path} stores YCbCr colours without JPEG compression, which is not "
+                         "supported. Convert it to RGB (gdal_translate -co PHOTOMETRIC=RGB).")
+    _check_layout(info, page)
     return info
+
+
+MAX_BLOCK_BYTES = 512 * 2**20
+"""The largest decoded tile or strip the engine accepts (it decodes whole blocks)."""
+
+
+def _check_layout(tif: "GeoTiff", page) -> None:
+    """Refuse declared sizes that the file cannot hold or the sweep cannot decode in bounded
+    memory, before anything is allocated by them."""
+    path = tif.path
+    per_band = 1 if tif.planar_separate else tif.bands
+    block = tif.block_height * tif.block_width * per_band * tif.dtype.itemsize
+    if block > MAX_BLOCK_BYTES:
+        raise InputError(
+            f"{path} declares {'tiles' if tif.tiled else 'strips'} of {tif.block_width} × "
+            f"{tif.block_height} pixels ({block / 2**30:.1f} GiB each, decoded whole). Re-save it "
+            "tiled (gdal_translate -co TILED=YES, or QGIS: Raster ▸ Conversion ▸ Translate with "
+            "TILED=YES) and run again.")
+    n = tif.blocks_down * tif.blocks_across * (tif.bands if tif.planar_separate else 1)
+    offsets, counts = page.dataoffsets, page.databytecounts
+    if len(offsets) != n or len(counts) != n:
+        raise InputError(f"{path} is damaged: its {tif.width} × {tif.height} pixels need {n} "
+                         f"blocks but it lists {len(offsets)}. Re-export the raster.")
+    size = os.path.getsize(path)
+    ends = np.asarray(offsets, np.int64) + np.asarray(counts, np.int64)
+    if len(ends) and int(ends.max()) > size:
+        raise InputError(f"{path} is truncated: its blocks end {int(ends.max()):,} bytes into a "
+                         f"file of {size:,} bytes. Re-export or re-download the raster.")
+    pixels = tif.width * tif.height * tif.bands * tif.dtype.itemsize
+    if tif.compression.upper() in ("NONE", "1") and int(np.sum(counts)) < pixels:
+        raise InputError(f"{path} is damaged: it declares {tif.width} × {tif.height} uncompressed "
+                         f"pixels ({pixels:,} bytes) but holds {int(np.sum(counts)):,} bytes of "
+                         "them. Re-export the raster.")
 
 
 def _geokeys(tif, page, path: str, notes: List[str]) -> dict:

@@ -320,3 +320,25 @@ def test_roi_without_any_pixel_centre_is_skipped_or_an_error(tmp_path):
         crop_raster_by_rois(src, _rois(("tiny", tiny)), str(tmp_path / "o2"))
     res = crop_raster_by_rois(src, _rois(("tiny", tiny)), str(tmp_path / "o3"), all_touched=True)
     assert tifffile.imread(res.files[0]).shape[:2] == (1, 1)
+
+
+@pytest.mark.gdal
+def test_jpeg_ycbcr_orthomosaic_is_cropped_as_rgb(tmp_path):
+    """A JPEG-compressed YCbCr GeoTIFF (a common orthomosaic export, written by GDAL here) is
+    decoded to RGB like GDAL decodes it, and its crops get an alpha band, not a nodata."""
+    from osgeo import gdal
+    rgb = np.zeros((256, 256, 3), np.uint8)
+    rgb[..., 0], rgb[..., 1] = np.arange(256)[None, :], np.arange(256)[:, None]
+    src = write_tif(str(tmp_path / "rgb.tif"), rgb, tile=64)
+    ycc = str(tmp_path / "ycbcr.tif")
+    gdal.Translate(ycc, src, creationOptions=["COMPRESS=JPEG", "PHOTOMETRIC=YCBCR", "TILED=YES"])
+    tif = open_geotiff(ycc)
+    assert (tif.photometric, tif.kind) == (6, "rgb")
+    res = crop_raster_by_rois(ycc, _rois(("a", _px(10, 10, 100, 90))), str(tmp_path / "o"))
+    with tifffile.TiffFile(res.files[0]) as t:
+        page = t.pages[0]
+        crop = page.asarray()
+        assert page.photometric == 2 and page.extrasamples == (2,) and crop.shape[2] == 4
+        assert 42113 not in page.tags                       # no nodata on an RGB crop
+    ref = gdal.Open(ycc).ReadAsArray(10, 10, 90, 80).transpose(1, 2, 0)   # GDAL's decoding
+    assert np.array_equal(crop[..., :3], ref) and np.all(crop[..., 3] == 255)

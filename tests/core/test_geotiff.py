@@ -85,14 +85,43 @@ def test_truncated_file_names_the_block(tmp_path, realdata):
     tif = open_geotiff(str(src))
     last = tif._page.dataoffsets[-1]
     p.write_bytes(data[:last + 10])   # IFD intact (it is at the start), the last strip cut off
-    t2 = open_geotiff(str(p))
-    import os
-    fd = os.open(str(p), os.O_RDONLY)
-    try:
-        with pytest.raises(InputError, match="cut.tif is truncated"):
-            t2.read_block(fd, t2.blocks_down - 1, 0)
-    finally:
-        os.close(fd)
+    with pytest.raises(InputError, match="cut.tif is truncated: its blocks end .* into a file of"):
+        open_geotiff(str(p))          # found when opened, before any sweep
+
+
+def test_declared_sizes_are_not_trusted(tmp_path):
+    """A 318-byte TIFF declaring 200000 × 200000 pixels in one strip, and an uncompressed
+    raster holding fewer bytes than it declares: refused at open, nothing allocated by them."""
+    import struct
+    w = h = 200000
+    tags = sorted([(256, 4, 1, w), (257, 4, 1, h), (258, 3, 1, 8), (259, 3, 1, 1), (262, 3, 1, 1),
+                   (273, 4, 1, 0), (277, 3, 1, 1), (278, 4, 1, h), (279, 4, 1, 100),
+                   (33550, 12, 3, 0), (33922, 12, 6, 0)])
+    data_off = 8 + 2 + len(tags) * 12 + 4
+    ps_off, tp_off = data_off + 100, data_off + 124
+    fixed = {273: data_off, 33550: ps_off, 33922: tp_off}
+    b = bytearray(b"II*\x00" + struct.pack("<I", 8) + struct.pack("<H", len(tags)))
+    for t, ty, c, v in tags:
+        v = fixed.get(t, v)
+        b += struct.pack("<HHIHH", t, ty, c, v, 0) if ty == 3 else struct.pack("<HHII", t, ty, c, v)
+    b += struct.pack("<I", 0) + bytes(100) + struct.pack("<3d", 1, 1, 0) + struct.pack("<6d", *[0] * 6)
+    huge = tmp_path / "huge.tif"
+    huge.write_bytes(bytes(b))
+    with pytest.raises(InputError, match="huge.tif declares strips of 200000 × 200000 pixels"):
+        open_geotiff(str(huge))
+    small = write_tif(str(tmp_path / "s.tif"), np.ones((64, 64), np.uint16), compression=None)
+    raw = bytearray(open(small, "rb").read())
+    import tifffile
+    with tifffile.TiffFile(small) as tf:            # halve every strip's byte count in place
+        tag = tf.pages[0].tags[279]
+        counts = tag.value
+        fmt = {3: "<H", 4: "<I", 16: "<Q"}[tag.dtype]
+        for i, c in enumerate(counts):
+            struct.pack_into(fmt, raw, tag.valueoffset + i * struct.calcsize(fmt), c // 2)
+    bad = tmp_path / "bad.tif"
+    bad.write_bytes(bytes(raw))
+    with pytest.raises(InputError, match="bad.tif is damaged: it declares 64 × 64 uncompressed"):
+        open_geotiff(str(bad))
 
 
 def test_copy_keeps_metadata(tmp_path, realdata):
