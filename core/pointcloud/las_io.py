@@ -53,6 +53,7 @@ def read_las(path, crs=None) -> PointCloud:
             compressed = header.are_points_compressed
             n = int(header.point_count)
             if compressed:
+                _check_laz_layout(path, header)
                 records = reader.read_points(n).array if n else np.zeros(0, header.point_format.dtype())
             else:
                 records = None
@@ -83,6 +84,40 @@ def read_las(path, crs=None) -> PointCloud:
             "the CRS given is used." if crs is not None else
             "it is treated as having no CRS. Give the point cloud's CRS."))
     return cloud
+
+
+MAX_LAZ_RATIO = 1000
+"""Points decoded per compressed byte beyond which a LAZ header is taken to be damaged."""
+
+
+def _check_laz_layout(path: Path, header) -> None:
+    """Refuse a LAZ whose chunk table or point count cannot be true for its size, before the
+    decompressor (which aborts the whole process on an impossible allocation) sees it."""
+    size = os.path.getsize(path)
+    start = int(header.offset_to_point_data)
+    n = int(header.point_count)
+    with open(path, "rb") as fh:
+        fh.seek(start)
+        raw = fh.read(8)
+        if len(raw) < 8:
+            raise InputError(f"Point cloud {path.name!r} is truncated: it ends before its points.")
+        table = struct.unpack("<q", raw)[0]
+        if table == -1:                    # no chunk table (streamed): sizes known from the data
+            data = size - start - 8
+        elif not start + 8 <= table <= size - 8:
+            raise InputError(f"Point cloud {path.name!r} is damaged or truncated: its LAZ chunk "
+                             f"table is said to be at byte {table:,} of a {size:,}-byte file.")
+        else:
+            fh.seek(table)
+            version, chunks = struct.unpack("<II", fh.read(8))
+            data = table - start - 8
+            if version != 0 or chunks > min(n + 1, max(data, 1)):
+                raise InputError(f"Point cloud {path.name!r} is damaged: its LAZ chunk table "
+                                 f"(version {version}, {chunks:,} chunks) does not fit "
+                                 f"{n:,} points in {data:,} bytes.")
+    if n * header.point_format.size > MAX_LAZ_RATIO * max(data, 1) + 2**20:
+        raise InputError(f"Point cloud {path.name!r} is damaged: its header announces {n:,} points, "
+                         f"far more than its {data:,} bytes of compressed data can hold.")
 
 
 def _set_crs(header, crs: Optional[CRS]) -> None:

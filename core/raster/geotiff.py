@@ -112,16 +112,21 @@ class GeoTiff:
                                  "file. Re-export or re-download the raster.")
             try:
                 seg, _, shape = page.decode(data or None, index, jpegtables=page.jpegtables)
+                if seg is None:  # sparse block: GDAL reads it as nodata (or 0)
+                    fill = self.nodata if self.nodata is not None else 0
+                    seg = np.full(shape, fill, dtype=self.dtype)
+                parts.append(seg.reshape(seg.shape[-3:]))
             except Exception as exc:
                 raise InputError(f"{self.path} is corrupt: block {index} cannot be decoded "
                                  f"({type(exc).__name__}: {exc}). Re-export the raster.") from None
-            if seg is None:  # sparse block: GDAL reads it as nodata (or 0)
-                fill = self.nodata if self.nodata is not None else 0
-                seg = np.full(shape, fill, dtype=self.dtype)
-            parts.append(seg.reshape(seg.shape[-3:]))
         block = parts[0] if len(parts) == 1 else np.concatenate(parts, axis=-1)
         r0, c0 = block_row * self.block_height, block_col * self.block_width
-        return block[: min(self.block_height, self.height - r0), : min(self.block_width, self.width - c0)]
+        rows, cols = min(self.block_height, self.height - r0), min(self.block_width, self.width - c0)
+        if block.shape[0] < rows or block.shape[1] < cols or block.shape[2] != self.bands:
+            raise InputError(f"{self.path} is corrupt: block {index} decodes to "
+                             f"{block.shape[1]} × {block.shape[0]} × {block.shape[2]} values where "
+                             f"{cols} × {rows} × {self.bands} are declared. Re-export the raster.")
+        return block[:rows, :cols]
 
 
 def open_geotiff(path: str, crs=None) -> GeoTiff:
@@ -134,17 +139,32 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
         raise InputError(f"Raster not found: {path}")
     log = logging.getLogger("tifffile")
     level = log.level
-    log.setLevel(logging.ERROR)  # tifffile warns on GDAL_NODATA values it cannot cast; we parse it
+    log.setLevel(logging.CRITICAL)  # tifffile logs what it cannot parse; we raise or note it
     try:
-        tif = tifffile.TiffFile(path)
-        page = tif.pages.first if hasattr(tif.pages, "first") else tif.pages[0]
-        tags = page.tags
-    except Exception as exc:
-        raise InputError(f"{path} is not a readable GeoTIFF ({type(exc).__name__}: {exc}). "
-                         "Convert it with gdal_translate (QGIS: Raster ▸ Conversion ▸ Translate) to "
-                         "GeoTIFF.") from None
+        try:
+            tif = tifffile.TiffFile(path)
+            page = tif.pages.first if hasattr(tif.pages, "first") else tif.pages[0]
+            tags = page.tags
+        except Exception as exc:
+            raise InputError(f"{path} is not a readable GeoTIFF ({type(exc).__name__}: {exc}). "
+                             "Convert it with gdal_translate (QGIS: Raster ▸ Conversion ▸ "
+                             "Translate) to GeoTIFF.") from None
+        try:
+            info = _metadata(path, tif, page, tags, crs)
+        except InputError:
+            raise
+        except Exception as exc:       # a damaged tag: name the file, never a numpy traceback
+            raise InputError(f"{path} is damaged: its TIFF tags cannot be read "
+                             f"({type(exc).__name__}: {exc}). Re-export the raster.") from None
+        finally:
+            tif.close()
     finally:
         log.setLevel(level)
+    _check_layout(info, page)
+    return info
+
+
+def _metadata(path: str, tif, page, tags, crs) -> "GeoTiff":
     geo_tags = {code: tags[code].value for code in
                 (TAG_GEOKEYS, TAG_GEODOUBLES, TAG_GEOASCII, TAG_GDAL_METADATA) if code in tags}
     notes: List[str] = []
@@ -164,25 +184,29 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
         if problem:
             notes.append(f"{path}: {problem}; it is treated as having no CRS. Give the raster's "
                          "CRS (in QGIS: set the layer's CRS).")
+    if page.imagedepth > 1:
+        raise InputError(f"{path} is a volumetric TIFF; only 2-D rasters are supported.")
+    if page.dtype is None or min(page.imagewidth, page.imagelength) < 1:
+        raise InputError(f"{path} is damaged: it declares a {page.imagewidth} × {page.imagelength} "
+                         "image without a pixel type. Re-export the raster.")
+    tiled = bool(page.is_tiled)
+    bh = int(page.tilelength if tiled else min(page.rowsperstrip or page.imagelength, page.imagelength))
+    bw = int(page.tilewidth if tiled else page.imagewidth)
+    if bh < 1 or bw < 1:
+        raise InputError(f"{path} is damaged: it declares blocks of {bw} × {bh} pixels.")
     info = GeoTiff(
         path=path, width=int(page.imagewidth), height=int(page.imagelength),
         bands=int(page.samplesperpixel), dtype=np.dtype(page.dtype), geotransform=gt, crs=crs,
         nodata=nodata, nodata_text=nodata_text, alpha_band=alpha, photometric=int(page.photometric),
         planar_separate=int(page.planarconfig) == 2 and page.samplesperpixel > 1,
-        tiled=bool(page.is_tiled),
-        block_height=int(page.tilelength if page.is_tiled else min(page.rowsperstrip, page.imagelength)),
-        block_width=int(page.tilewidth if page.is_tiled else page.imagewidth),
+        tiled=tiled, block_height=bh, block_width=bw,
         compression=page.compression.name if hasattr(page.compression, "name") else str(page.compression),
         geo_tags=geo_tags, notes=notes, _page=page,
     )
     page.decode  # noqa: B018 (build the decoder while the file is open; blocks are read via os.pread)
-    tif.close()
-    if page.imagedepth > 1:
-        raise InputError(f"{path} is a volumetric TIFF; only 2-D rasters are supported.")
     if info.photometric == PHOTOMETRIC_YCBCR and info.compression.upper() not in ("JPEG", "7"):
         raise InputError(f"{path} stores YCbCr colours without JPEG compression, which is not "
                          "supported. Convert it to RGB (gdal_translate -co PHOTOMETRIC=RGB).")
-    _check_layout(info, page)
     return info
 
 

@@ -1,0 +1,169 @@
+"""Property-based fuzzing of every reader (hypothesis): truncated, bit-flipped, spliced and random
+versions of real files. Only the project's own exceptions may come out, with a message, in
+bounded time and memory. The budget is set by EASYIDP_FUZZ_EXAMPLES (per reader, default 60)."""
+import io
+import os
+import shutil
+import tracemalloc
+import zipfile
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
+
+from easyidp_toolbox.core.annotations import read_labelme
+from easyidp_toolbox.core.errors import EasyIDPError
+from easyidp_toolbox.core.pointcloud import read_point_cloud
+from easyidp_toolbox.core.raster.geotiff import open_geotiff
+from easyidp_toolbox.core.reconstruction import open_reconstruction
+from easyidp_toolbox.core.roi import read_geojson
+
+EXAMPLES = int(os.environ.get("EASYIDP_FUZZ_EXAMPLES", "60"))
+MAX_BYTES = 256 * 2**20        # peak Python/numpy allocation allowed for one damaged file
+FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
+                suppress_health_check=list(HealthCheck))
+
+
+@st.composite
+def damaged(draw, data: bytes):
+    """A damaged copy of ``data``: truncated, bits flipped, a span replaced, or random bytes."""
+    kind = draw(st.sampled_from(["truncate", "flip", "splice", "random"]))
+    n = len(data)
+    if kind == "truncate":
+        return data[:draw(st.integers(0, max(n - 1, 0)))]
+    if kind == "random":
+        return draw(st.binary(min_size=0, max_size=512))
+    buf = bytearray(data)
+    if kind == "flip":
+        for _ in range(draw(st.integers(1, 16))):
+            i = draw(st.integers(0, n - 1))
+            buf[i] ^= 1 << draw(st.integers(0, 7))
+        return bytes(buf)
+    i = draw(st.integers(0, n - 1))
+    j = min(n, i + draw(st.integers(1, 64)))
+    return bytes(buf[:i]) + draw(st.binary(min_size=0, max_size=64)) + bytes(buf[j:])
+
+
+def _only_our_errors(read, path):
+    """Run ``read(path)``: it returns, or raises an EasyIDPError with a message; memory bounded."""
+    tracemalloc.start()
+    try:
+        read(path)
+    except EasyIDPError as exc:
+        assert str(exc).strip(), "an error without a message"
+    finally:
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+    assert peak < MAX_BYTES, f"{peak / 2**20:.0f} MiB for one damaged file"
+
+
+@pytest.fixture(scope="module")
+def seeds(realdata, tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("fuzz")
+    ply = tmp / "seed.ply"
+    from easyidp_toolbox.core import PointCloud, write_point_cloud
+    xyz = np.random.default_rng(0).uniform(0, 10, (50, 3))
+    write_point_cloud(PointCloud.from_arrays(xyz, {"red": np.arange(50, dtype=np.uint8)}), ply)
+    with zipfile.ZipFile(realdata / "easyidp/metashape/wheat_tanashi.files/0/chunk.zip") as z:
+        chunk_xml = z.read("doc.xml")
+    return {"tif": (realdata / "data-to-science/test.tif").read_bytes(),
+            "tif_tiled": (realdata / "d2spy/dsm.tif").read_bytes()[:300_000],
+            "las": (realdata / "laspy/simple.las").read_bytes(),
+            "laz": (realdata / "laspy/simple.laz").read_bytes(),
+            "ply": ply.read_bytes(),
+            "geojson": (realdata / "data-to-science/zones_inside_test_tif.geojson").read_bytes(),
+            "labelme": (realdata / "easyidp/labelme/labelme_demo_img.json").read_bytes(),
+            "chunk_xml": chunk_xml,
+            "chunk_zip": (realdata / "easyidp/metashape/wheat_tanashi.files/0/chunk.zip").read_bytes()}
+
+
+def _file(tmp_path, name, data):
+    p = tmp_path / name
+    p.write_bytes(data)
+    return p
+
+
+@pytest.mark.parametrize("kind, name, read", [
+    ("tif", "x.tif", lambda p: open_geotiff(str(p))),
+    ("las", "x.las", read_point_cloud),
+    ("laz", "x.laz", read_point_cloud),
+    ("ply", "x.ply", lambda p: read_point_cloud(p, crs="EPSG:32654")),
+    ("geojson", "x.geojson", read_geojson),
+    ("labelme", "x.json", read_labelme),
+    ("chunk_xml", "cameras.xml", open_reconstruction),
+])
+def test_single_file_readers(seeds, tmp_path_factory, kind, name, read):
+    tmp = tmp_path_factory.mktemp(kind)
+
+    @FUZZ
+    @given(data=damaged(seeds[kind]))
+    def run(data):
+        _only_our_errors(read, _file(tmp, name, data))
+    run()
+
+
+def test_geotiff_block_decoding(seeds, tmp_path_factory):
+    """Damaged files that still open must fail on their blocks with our error, not numpy's."""
+    from easyidp_toolbox.core.progress import Progress
+    from easyidp_toolbox.core.raster.sweep import Window, sweep_windows
+    tmp = tmp_path_factory.mktemp("blocks")
+
+    def read(p):
+        tif = open_geotiff(str(p))
+        sweep_windows(tif, [Window(0, 0, tif.height, tif.width)], lambda k, a: None, Progress())
+
+    @FUZZ
+    @given(data=damaged(seeds["tif"]))
+    def run(data):
+        _only_our_errors(read, _file(tmp, "x.tif", data))
+    run()
+
+
+def test_metashape_project_chunk(seeds, realdata, tmp_path_factory):
+    """The chunk.zip of a real .psx project, damaged."""
+    tmp = tmp_path_factory.mktemp("psx")
+    src = realdata / "easyidp/metashape"
+    shutil.copy(src / "wheat_tanashi.psx", tmp / "w.psx")
+    shutil.copytree(src / "wheat_tanashi.files", tmp / "w.files")
+
+    @FUZZ
+    @given(data=damaged(seeds["chunk_zip"]))
+    def run(data):
+        (tmp / "w.files/0/chunk.zip").write_bytes(data)
+        _only_our_errors(open_reconstruction, tmp / "w.psx")
+    run()
+
+
+def test_metashape_chunk_document_inside_its_zip(seeds, realdata, tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("psxdoc")
+    src = realdata / "easyidp/metashape"
+    shutil.copy(src / "wheat_tanashi.psx", tmp / "w.psx")
+    shutil.copytree(src / "wheat_tanashi.files", tmp / "w.files")
+
+    @FUZZ
+    @given(data=damaged(seeds["chunk_xml"]))
+    def run(data):
+        buf = io.BytesIO()
+        with zipfile.ZipFile(buf, "w") as z:
+            z.writestr("doc.xml", data)
+        (tmp / "w.files/0/chunk.zip").write_bytes(buf.getvalue())
+        _only_our_errors(open_reconstruction, tmp / "w.psx")
+    run()
+
+
+@pytest.mark.parametrize("suffix", ["_calibrated_camera_parameters.txt", "_pmatrix.txt",
+                                    "_offset.xyz", "_pix4d_calibrated_internal_camera_parameters.cam"])
+def test_pix4d_params_files(realdata, tmp_path_factory, suffix):
+    tmp = tmp_path_factory.mktemp("p4d")
+    params = tmp / "params"
+    shutil.copytree(realdata / "easyidp/pix4d_origin/1_initial/params", params)
+    target = params / f"pix4d.origin{suffix}"
+    seed = target.read_bytes()
+
+    @FUZZ
+    @given(data=damaged(seed))
+    def run(data):
+        target.write_bytes(data)
+        _only_our_errors(lambda p: open_reconstruction(p, crs="EPSG:32654"), params)
+    run()
