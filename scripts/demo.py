@@ -41,7 +41,7 @@ def main(out: str) -> int:
     os.makedirs(out, exist_ok=True)
     print(f"EasyIDP demo: every tool on a generated survey, through qgis_process → {out}", flush=True)
     steps = Steps()
-    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 2 projects, cloud)",
+    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 3 projects, cloud)",
                   "easyidp:createdemosurvey", {"OUTPUT_FOLDER": os.path.join(out, "survey")})
     truth = json.load(open(s["TRUTH"]))
     plots, dsm = s["PLOTS"], s["DSM"]

@@ -13,11 +13,12 @@ What ODM leaves (ODM ``stages/run_opensfm.py``, ``opendm/location.py``, ``opendm
   output of ``opensfm export_geocoords --reconstruction --proj <UTM> --offset-x/-y``: the same
   cameras in *map coordinates minus an offset* (``odm_georeferencing/coords.txt``: line 1 the
   CRS, e.g. ``WGS84 UTM 32N``, ``EPSG:n`` or a PROJ string; line 2 ``east north`` offsets).
-  That export is linearised at the reference point and its rotations are forced back to
-  rotations, so it misses the UTM scale factor (about 4·10⁻⁴, a fraction of a pixel at the
-  photo edges) — the products (DSM, orthophoto, point cloud) are made in that frame.
+  That export is linear at the reference point and turns R·A⁻¹ (not a rotation when A carries
+  the UTM scale factor k) into an axis-angle vector, so its cameras are off by up to about
+  |1 − k| (positions scaled by 1/k about the offset point, rotations by tens of arc-seconds);
+  ODM's products (DSM, orthophoto, point cloud) are made with those cameras.
 * ``odm_report/shots.geojson``: camera centres in map coordinates (``translation``) from that
-  file; archives such as WebODM's "all assets" may lack the topocentric file.
+  file. An archive of the results may lack the topocentric file.
 
 The topocentric file is preferred: it is the bundle adjustment itself, mapped exactly to any
 CRS (topocentric → ECEF → CRS with pyproj, :class:`~.geodesy.GeocentricFrame`; heights are

@@ -33,7 +33,7 @@ class CameraFootprints(EasyIDPAlgorithm):
         ".psz, or an exported cameras .xml), a Pix4D project (.p4d, the project folder or its "
         "1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) or an "
         "OpenDroneMap/OpenSfM project (choose opensfm/reconstruction.json in the ODM project "
-        "folder; the folder itself also works from qgis_process and Python) and draws, for "
+        "folder; Python scripts may give the folder itself) and draws, for "
         "every aligned camera, its position and the part of the ground its photo sees. Run it "
         "first to check that a project was read right.\n\n"
         "Chunk: the Metashape chunk (label or index), or the OpenSfM reconstruction (index of a "
