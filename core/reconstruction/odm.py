@@ -45,6 +45,7 @@ ODM_FOLDERS = ("opensfm", "odm_orthophoto", "odm_dem", "odm_georeferencing", "od
                "odm_texturing", "odm_meshing", "odm_filterpoints")
 RECONSTRUCTION = "reconstruction.json"
 TOPOCENTRIC = "reconstruction.topocentric.json"
+GEOCOORDS = "reconstruction.geocoords.json"         # export_geocoords' output before ODM renames it
 WGS84_3D = CRS.from_epsg(4979)
 LOCAL_CRS = CRS.from_wkt('LOCAL_CS["OpenSfM local frame (m)",LOCAL_DATUM["OpenSfM",0],'
                          'UNIT["metre",1],AXIS["x",EAST],AXIS["y",NORTH]]')
@@ -182,7 +183,8 @@ def _geocoords_evidence(layout: _Layout, recon: dict, centres: Dict[str, np.ndar
     """(True when ``reconstruction.json`` is ODM's map-coordinate export, why)."""
     shots_geojson = layout.odm("odm_report", "shots.geojson")
     if shots_geojson is not None and offset is not None:
-        feats = load_json(shots_geojson, "shots.geojson").get("features", [])
+        doc = load_json(shots_geojson, "shots.geojson")
+        feats = doc.get("features", []) if isinstance(doc, dict) else []
         d = []
         for f in feats:
             p = f.get("properties", {}) if isinstance(f, dict) else {}
@@ -269,7 +271,14 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
                          "Choose the output CRS instead.")
 
     geocoords = False
-    if file.name == RECONSTRUCTION and layout.odm_root is not None and odm_crs is not None:
+    if file.name == GEOCOORDS:
+        if odm_crs is None or offset is None:
+            raise InputError(f"{where}: this is OpenSfM's export to map coordinates, and neither "
+                             "it nor the folder records the CRS and offset it used. Give "
+                             f"{RECONSTRUCTION} (or {TOPOCENTRIC}) of the same dataset instead.")
+        geocoords = True
+        notes.append(f"{file.name} read as map coordinates minus the offset of {georef_src}")
+    elif file.name == RECONSTRUCTION and layout.odm_root is not None and odm_crs is not None:
         geocoords, why = _geocoords_evidence(layout, recon, {k: C for k, (R, C) in poses.items()},
                                              lla, odm_crs, offset)
         notes.append(f"{file.name} read as {'map coordinates minus the offset (ODM export)' if geocoords else 'topocentric (OpenSfM)'}: {why}")

@@ -492,6 +492,10 @@ def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_pa
     assert any("map coordinates minus the offset" in n and "shots.geojson" in n for n in recon.notes)
     raw, exact = _odm_check(recon, truth, survey)
     assert exact < 0.01
+    geo = odm / "opensfm" / "reconstruction.geocoords.json"       # export_geocoords' own name
+    shutil.copy(odm / "opensfm" / "reconstruction.json", geo)
+    assert _odm_check(open_reconstruction(geo), truth, survey)[1] < 0.01
+    geo.unlink()
     (odm / "odm_report" / "shots.geojson").unlink()
     recon = open_reconstruction(odm)
     assert any("map coordinates minus the offset" in n and "GPS positions" in n for n in recon.notes)

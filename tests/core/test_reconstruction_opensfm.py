@@ -405,6 +405,13 @@ def test_odm_crs_conflict_and_bad_coords_file(tmp_path):
         open_reconstruction(tmp_path)
 
 
+def test_geocoords_export_without_its_crs_is_refused(tmp_path):
+    f = _dataset(tmp_path, {"cam": CAMERAS["brown"]})
+    f.rename(tmp_path / "reconstruction.geocoords.json")
+    with pytest.raises(InputError, match=r"export to map coordinates.*Give reconstruction\.json"):
+        open_reconstruction(tmp_path / "reconstruction.geocoords.json")
+
+
 def test_not_a_project(tmp_path):
     (tmp_path / "x.json").write_text(json.dumps({"a": 1}))
     with pytest.raises(InputError, match="not an OpenSfM reconstruction file"):
