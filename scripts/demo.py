@@ -56,7 +56,7 @@ def main(out: str) -> int:
     _fresh_folder(out)
     print(f"EasyIDP demo: every tool on a generated survey, through qgis_process → {out}", flush=True)
     steps = Steps()
-    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 2 projects, cloud)",
+    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 3 projects, cloud)",
                   "easyidp:createdemosurvey", {"OUTPUT_FOLDER": os.path.join(out, "survey")})
     truth = json.load(open(s["TRUTH"]))
     plots, dsm = s["PLOTS"], s["DSM"]
@@ -81,6 +81,10 @@ def main(out: str) -> int:
               {"PROJECT": s["PIX4D_PROJECT"], "DSM": dsm,
                "OUTPUT_CAMERAS": os.path.join(out, "pix4d_cameras.gpkg"),
                "OUTPUT_FOOTPRINTS": os.path.join(out, "pix4d_footprints.gpkg")})
+    steps.run("camera footprints on the DSM, OpenDroneMap project", "easyidp:camerafootprints",
+              {"PROJECT": os.path.join(s["ODM_PROJECT"], "opensfm", "reconstruction.json"),
+               "DSM": dsm, "OUTPUT_CAMERAS": os.path.join(out, "odm_cameras.gpkg"),
+               "OUTPUT_FOOTPRINTS": os.path.join(out, "odm_footprints.gpkg")})
     pc = steps.run("crop point cloud by plots (LAZ)", "easyidp:croppointcloudbyrois",
                    {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "NAME_FIELD": "plot_id",
                     "OUTPUT_FOLDER": os.path.join(out, "crops_pointcloud")})
@@ -95,6 +99,7 @@ def main(out: str) -> int:
     dsm_err = np.array([(t[k] - g[k]) - crop_h[k] for k in crop_h])
     pc_err = np.array([f["h_p99"] - crop_h[f["plot_id"]] for f in _features(stats["OUTPUT"])])
     proj = _projection_errors(s, truth)
+    odm_raw, odm_exact, plots_apart = _odm_errors(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
 
     png = _overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
@@ -105,7 +110,7 @@ def main(out: str) -> int:
     print(f"  crops:       {dom['CROPPED']} orthomosaic + DSM GeoTIFFs, {pc['CROPPED']} LAZ "
           f"in {out}/crops_*")
     print("  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
-          "metashape_/pix4d_ cameras and footprints (.gpkg)")
+          "metashape_/pix4d_/odm_ cameras and footprints (.gpkg)")
     print(f"  picture:     {png}")
     print("Errors against the truth")
     print(f"  plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "
@@ -115,6 +120,10 @@ def main(out: str) -> int:
     for name, err in proj.items():
         print(f"  truth points → photo pixels, {name}: max {err:.1e} px over "
               f"{len(truth['observations']['point'])} observations")
+    print(f"  truth points → photo pixels, ODM: max {odm_raw:.2f} px (the demo camera's skew b2, "
+          f"which OpenSfM cannot hold), {odm_exact:.1e} px without it")
+    print(f"  plot corners back-projected through Metashape, Pix4D and ODM: at most "
+          f"{plots_apart:.2f} px apart")
     print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
@@ -147,6 +156,32 @@ def _projection_errors(s, truth) -> dict:
         uv = p.pixels[cam, np.array(obs["point"])]
         out[name] = float(np.abs(uv - np.array(obs["pixel"])).max())
     return out
+
+
+def _odm_errors(s, truth):
+    """ODM project vs truth: max pixel error as is and with the skew term b2·(v − cy)/f that
+    OpenSfM's camera cannot hold put back; and how far apart the plot corners land through the
+    Metashape, Pix4D and ODM projects (core ``project_points``)."""
+    from ..core import open_reconstruction
+    xyz = np.array(truth["points"]["xyz"])
+    obs = truth["observations"]
+    odm = open_reconstruction(s["ODM_PROJECT"])
+    cal = open_reconstruction(s["METASHAPE_PROJECT"]).sensors["0"].calibration
+    p = odm.project_points(xyz, truth["crs"])
+    index = {lab: i for i, lab in enumerate(p.camera_labels)}
+    uv = p.pixels[np.array([index[lab + ".JPG"] for lab in obs["photo"]]), np.array(obs["point"])]
+    want = np.array(obs["pixel"])
+    raw = float(np.abs(uv - want).max())
+    want[:, 0] -= cal.b2 * (want[:, 1] - cal.cy) / cal.f
+    exact = float(np.abs(uv - want).max())
+    corners = np.array([c for plot in truth["plots"].values() for c in plot["corners"]])
+    px = []
+    for path in (s["METASHAPE_PROJECT"], s["PIX4D_PROJECT"], s["ODM_PROJECT"]):
+        pr = open_reconstruction(path).project_points(corners, truth["crs"])
+        order = np.argsort([lab.split(".")[0] for lab in pr.camera_labels])
+        px.append(np.where(pr.status[order, :, None] == 0, pr.pixels[order], np.nan))
+    apart = max(float(np.nanmax(np.abs(a - px[0]))) for a in px[1:])
+    return raw, exact, apart
 
 
 def _footprint_coverage(footprints: str, truth) -> float:

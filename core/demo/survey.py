@@ -11,6 +11,7 @@
     photos/DJI_0001.JPG…  36 raw photos of a lawnmower flight (800×600 or 1600×1200)
     metashape/demo_survey.psx + demo_survey.files/        the flight as a Metashape 1.x project
     pix4d/demo_survey.p4d + demo_survey/1_initial/params/ the flight as a Pix4D project
+    odm/                  the flight as an OpenDroneMap project (``odm_writer.py``)
     labelme/DJI_xxxx.json LabelMe polygons around plots on four photos
     truth.json            truth points and their pixels in every photo that sees them, the
                           photos that see each plot whole, the map coordinates of the LabelMe
@@ -37,6 +38,7 @@ from .geo import UTM54_WKT
 from .gpkg import write_gpkg_polygons
 from .labelme import write_labelme
 from .metashape_writer import write_metashape
+from .odm_writer import write_odm
 from .pix4d_writer import write_pix4d
 from .render import level_for, packed_level, pixel_rays, render_photo
 from .scene import make_scene, surface_cloud
@@ -54,7 +56,8 @@ class DemoSurvey:
 
     ``crs``: map CRS of the rasters, plots, point clouds and truth (heights ellipsoidal);
     ``metashape_project``: the .psx; ``pix4d_project``: the .p4d; ``pix4d_params``: its
-    ``1_initial/params`` folder; ``seconds``: generation time.
+    ``1_initial/params`` folder; ``seconds``: generation time; ``odm_project``: the ODM
+    project folder.
     """
     folder: str
     seed: int
@@ -75,10 +78,11 @@ class DemoSurvey:
     truth: str
     plot_ids: List[str] = field(default_factory=list)
     seconds: float = 0.0
+    odm_project: str = ""
 
 
 SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "pointcloud.laz",
-                  "pointcloud.ply", "photos", "metashape", "pix4d", "labelme", "truth.json")
+                  "pointcloud.ply", "photos", "metashape", "pix4d", "odm", "labelme", "truth.json")
 """What :func:`make_demo_survey` writes into its folder (files and folders)."""
 
 
@@ -145,6 +149,8 @@ def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
             for job in jobs:
                 job.cancel()
             raise
+    odm = write_odm(os.path.join(folder, "odm"), scene, camera, shots, photos, truth.points,
+                    os.path.join(folder, "dsm.tif"), os.path.join(folder, "orthomosaic.tif"))
     # last, so that a truth file means a complete survey
     truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots,
                              {"seed": seed, "size": size,
@@ -159,7 +165,8 @@ def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
         photo_folder=photo_dir, photos=photos, metashape_project=ms["psx"],
         pix4d_project=p4d["p4d"], pix4d_params=p4d["params"],
         labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
-        plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0)
+        plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0,
+        odm_project=odm["project"])
 
 
 def _write_plots(folder: str, scene):

@@ -1,16 +1,21 @@
-"""The frame (pinhole + Brown) camera model, vectorised with numpy.
+"""The frame camera model (pinhole + Brown, or equidistant fisheye), vectorised with numpy.
 
-One model serves Metashape and Pix4D (Metashape manual, Appendix C, frame camera):
+One model serves Metashape, Pix4D and OpenSfM/ODM (Metashape manual, Appendix C, frame camera):
 
     x = Xc/Zc, y = Yc/Zc, r² = x² + y²
     x' = x(1 + k1r² + k2r⁴ + k3r⁶ + k4r⁸) + (p1(r² + 2x²) + 2p2xy)(1 + p3r² + p4r⁴)
     y' = y(1 + k1r² + …)                + (p2(r² + 2y²) + 2p1xy)(1 + p3r² + p4r⁴)
     u  = cx + x'(f + b1) + y'b2,   v = cy + y'f
 
+``model="fisheye"`` puts an equidistant projection before the same polynomial (the Metashape
+fisheye and OpenCV ``cv2.fisheye`` models): θ = atan(r), (x, y) ← (x, y)·θ/r, so that with
+p = 0 the radius becomes θ(1 + k1θ² + k2θ⁴ + k3θ⁶ + k4θ⁸). Only rays in front of the camera
+(θ < 90°) are modelled.
+
 Pixels follow the project convention: origin at the top-left *corner* of the image, x right,
 y down, so the centre of the top-left pixel is (0.5, 0.5) and the frame is [0, w] × [0, h].
 Here (cx, cy) is the principal point in that convention (Metashape: w/2 + cx_xml).
-Pix4D's T1/T2 are OpenCV-ordered: Pix4D T1 = p2 here, T2 = p1 here.
+Pix4D's T1/T2 and OpenSfM's p1/p2 are OpenCV-ordered: their T1/p1 = p2 here, T2/p2 = p1 here.
 """
 from dataclasses import dataclass, fields
 from typing import Tuple
@@ -19,11 +24,15 @@ import numpy as np
 
 INSIDE, BEHIND, OUTSIDE = 0, 1, 2
 """Status codes of a projected point: in the frame, behind the camera (Zc <= 0), outside."""
+BROWN, FISHEYE = "brown", "fisheye"
+MODELS = (BROWN, FISHEYE)
+"""Lens models: pinhole + Brown polynomial, and equidistant fisheye + the same polynomial."""
 
 
 @dataclass(frozen=True)
 class Calibration:
-    """Frame-camera intrinsics. f, cx, cy, b1, b2 in pixels; k*, p* on normalised coordinates."""
+    """Frame-camera intrinsics. f, cx, cy, b1, b2 in pixels; k*, p* on normalised coordinates
+    (on the equidistant coordinates θ·(x, y)/r for ``model="fisheye"``)."""
     f: float
     cx: float
     cy: float
@@ -37,21 +46,32 @@ class Calibration:
     p2: float = 0.0
     p3: float = 0.0
     p4: float = 0.0
+    model: str = BROWN
 
     def __post_init__(self):
+        if self.model not in MODELS:
+            raise ValueError(f"lens model {self.model!r} is not one of {', '.join(MODELS)}")
         for fld in fields(self):
-            if not np.isfinite(getattr(self, fld.name)):
+            if fld.name != "model" and not np.isfinite(getattr(self, fld.name)):
                 raise ValueError(f"calibration parameter {fld.name} is not a finite number")
         if not self.f > 0:
             raise ValueError(f"focal length f={self.f} px must be positive")
 
     @property
     def has_distortion(self) -> bool:
-        return any(getattr(self, n) != 0.0 for n in ("k1", "k2", "k3", "k4", "p1", "p2"))
+        """True when pixels are not a pinhole projection (always for a fisheye)."""
+        return self.model == FISHEYE or any(getattr(self, n) != 0.0 for n in
+                                            ("k1", "k2", "k3", "k4", "p1", "p2"))
 
     # --- normalised (x, y) <-> distorted normalised (x', y') ---------------------------------
     def distort_normalised(self, x: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
         """(x, y) = (Xc/Zc, Yc/Zc) → distorted (x', y'), same shapes."""
+        if self.model == FISHEYE:
+            x, y = _equidistant(x, y)
+        return self._polynomial(x, y)
+
+    def _polynomial(self, x: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+        """The radial + tangential polynomial of the module docstring."""
         r2 = x * x + y * y
         rad = 1.0 + r2 * (self.k1 + r2 * (self.k2 + r2 * (self.k3 + r2 * self.k4)))
         xy2 = 2.0 * x * y
@@ -78,7 +98,8 @@ class Calibration:
 
     def undistort_normalised(self, xd: np.ndarray, yd: np.ndarray, tol_px: float = 1e-6,
                              max_iter: int = 30) -> Tuple[np.ndarray, np.ndarray]:
-        """Invert :meth:`distort_normalised` by Newton iteration (to ``tol_px`` pixels)."""
+        """Invert :meth:`distort_normalised`: the polynomial by Newton iteration (to ``tol_px``
+        pixels), the fisheye projection in closed form (NaN beyond 90° from the axis)."""
         xd = np.asarray(xd, dtype=np.float64)
         yd = np.asarray(yd, dtype=np.float64)
         x, y = xd.copy(), yd.copy()
@@ -86,7 +107,7 @@ class Calibration:
             return x, y
         tol = tol_px / self.f
         for _ in range(max_iter):
-            fx, fy = self.distort_normalised(x, y)
+            fx, fy = self._polynomial(x, y)
             ex, ey = fx - xd, fy - yd
             if np.all(np.abs(ex) < tol) and np.all(np.abs(ey) < tol):
                 break
@@ -94,6 +115,8 @@ class Calibration:
             det = a * d - b * c
             x = x - (d * ex - b * ey) / det
             y = y - (a * ey - c * ex) / det
+        if self.model == FISHEYE:
+            return _inverse_equidistant(x, y)
         return x, y
 
     # --- normalised <-> pixels ------------------------------------------------------------------
@@ -122,17 +145,24 @@ class Calibration:
 
     # --- interoperability -----------------------------------------------------------------------
     def to_opencv(self) -> Tuple[np.ndarray, np.ndarray]:
-        """OpenCV camera matrix and distCoeffs (k1, k2, p1, p2, k3) for ``cv2.projectPoints``.
+        """OpenCV camera matrix and distortion coefficients.
 
-        OpenCV puts pixel centres at integers: c_cv = c − 0.5. Its tangential order is swapped
-        (OpenCV p1 = p2 here). fx = f + b1, skew = b2. k4, p3, p4 have no OpenCV equivalent
-        in this 5-term model and must be zero (ValueError otherwise).
+        Brown: distCoeffs (k1, k2, p1, p2, k3) for ``cv2.projectPoints``; k4, p3, p4 have no
+        equivalent in that 5-term model and must be zero. Fisheye: D = (k1, k2, k3, k4) for
+        ``cv2.fisheye.projectPoints`` (whose skew is ``alpha = K[0, 1] / K[0, 0]``); p1..p4
+        must be zero. OpenCV puts pixel centres at integers: c_cv = c − 0.5. Its tangential
+        order is swapped (OpenCV p1 = p2 here). fx = f + b1, skew = b2. ValueError when a
+        term has no OpenCV equivalent.
         """
-        if self.k4 or self.p3 or self.p4:
-            raise ValueError("k4, p3, p4 have no equivalent in OpenCV's 5-coefficient model")
         K = np.array([[self.f + self.b1, self.b2, self.cx - 0.5],
                       [0.0, self.f, self.cy - 0.5],
                       [0.0, 0.0, 1.0]])
+        if self.model == FISHEYE:
+            if self.p1 or self.p2 or self.p3 or self.p4:
+                raise ValueError("p1..p4 have no equivalent in OpenCV's fisheye model")
+            return K, np.array([self.k1, self.k2, self.k3, self.k4])
+        if self.k4 or self.p3 or self.p4:
+            raise ValueError("k4, p3, p4 have no equivalent in OpenCV's 5-coefficient model")
         return K, np.array([self.k1, self.k2, self.p2, self.p1, self.k3])
 
     def valid_radius2(self, width: int, height: int, margin: float = 1.5) -> float:
@@ -140,8 +170,12 @@ class Calibration:
 
         ``margin`` × the radius of the image corners, shortened to where the radial mapping
         r ↦ r·(1 + k1r² + …) stops increasing (beyond it, far-away points fold back into the
-        frame). Points beyond it are reported outside the frame.
+        frame). Points beyond it are reported outside the frame. A fisheye is bounded in angle
+        instead: ``margin`` × the corners' angle θ from the axis, at most 89.9° and where
+        θ ↦ θ(1 + k1θ² + …) stops increasing; returned as tan² of that angle.
         """
+        if self.model == FISHEYE:
+            return self._fisheye_valid_radius2(width, height, margin)
         u = np.array([0.0, width, 0.0, width, width / 2, width / 2, 0.0, width])
         v = np.array([0.0, 0.0, height, height, 0.0, height, height / 2, height / 2])
         x, y = self.pixel_to_normalised(u, v)
@@ -155,6 +189,38 @@ class Calibration:
             if bad.size:
                 rmax = max(float(r[bad[0]]), rc * 1.0001)
         return rmax * rmax
+
+    def _fisheye_valid_radius2(self, width: int, height: int, margin: float) -> float:
+        u = np.array([0.0, width, 0.0, width, width / 2, width / 2, 0.0, width])
+        v = np.array([0.0, 0.0, height, height, 0.0, height, height / 2, height / 2])
+        x, y = self.pixel_to_normalised(u, v)
+        theta_c = np.arctan(np.sqrt(x * x + y * y))
+        theta_c = float(np.max(np.where(np.isfinite(theta_c), theta_c, np.pi / 2)))
+        tmax = min(margin * theta_c, np.radians(89.9))
+        t = np.linspace(0.0, tmax, 2001)
+        t2 = t * t
+        g = t * (1.0 + t2 * (self.k1 + t2 * (self.k2 + t2 * (self.k3 + t2 * self.k4))))
+        bad = np.nonzero(np.diff(g) <= 0)[0]
+        if bad.size:
+            tmax = max(float(t[bad[0]]), min(theta_c * 1.0001, np.radians(89.9)))
+        return float(np.tan(tmax) ** 2)
+
+
+def _equidistant(x: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """(Xc/Zc, Yc/Zc) → (x, y)·θ/r with θ = atan(r): the equidistant fisheye projection."""
+    r = np.sqrt(x * x + y * y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(r > 1e-12, np.arctan(r) / r, 1.0)
+    return x * s, y * s
+
+
+def _inverse_equidistant(x: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Inverse of :func:`_equidistant`; NaN where θ = |(x, y)| reaches 90°."""
+    t = np.sqrt(x * x + y * y)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(t > 1e-12, np.tan(t) / t, 1.0)
+    s = np.where(t < np.pi / 2, s, np.nan)
+    return x * s, y * s
 
 
 def project_block(xyz: np.ndarray, R: np.ndarray, C: np.ndarray, cal: Calibration,

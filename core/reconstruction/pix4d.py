@@ -276,7 +276,7 @@ def open_pix4d(path, crs=None) -> Reconstruction:
     cameras: List[Camera] = []
 
     def sensor_for(cal: Calibration, w: int, h: int) -> str:
-        key = (w, h) + tuple(round(v, 9) for v in cal.__dict__.values())
+        key = (w, h) + tuple(round(v, 9) if isinstance(v, float) else v for v in cal.__dict__.values())
         if key not in sensors:
             sensors[key] = Sensor(id=str(len(sensors)), label=f"Pix4D camera {len(sensors)} ({w}x{h})",
                                   width=w, height=h, calibration=cal)

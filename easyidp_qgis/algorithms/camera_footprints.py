@@ -30,29 +30,35 @@ class CameraFootprints(EasyIDPAlgorithm):
     GROUP_ID = "projects"
     HELP = (
         "Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, "
-        ".psz, or an exported cameras .xml) or a Pix4D project (.p4d, the project folder or its "
-        "1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) and draws, for every aligned camera, its position and the "
-        "part of the ground its photo sees. Run it first to check that a project was read "
-        "right.\n\n"
+        ".psz, or an exported cameras .xml), a Pix4D project (.p4d, the project folder or its "
+        "1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) or an "
+        "OpenDroneMap/OpenSfM project (choose opensfm/reconstruction.json in the ODM project "
+        "folder; Python scripts may give the folder itself) and draws, for "
+        "every aligned camera, its position and the part of the ground its photo sees. Run it "
+        "first to check that a project was read right.\n\n"
+        "Chunk: the Metashape chunk (label or index), or the OpenSfM reconstruction (index of a "
+        "partial model; by default the largest, as the log says).\n\n"
         "The footprint is the photo border (densified, with the lens distortion) cast onto the "
         "DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo "
         "path, enabled, height above ground (m), view angle from nadir (degrees), and for "
         "footprints the area (m²) and whether the whole border reached the ground.\n\n"
         "Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D params "
-        "folder without *_wkt.prj needs the project CRS. Heights of the DSM or the ground height "
-        "must be in the project's vertical reference (for a Metashape chunk in a geographic CRS: "
-        "ellipsoidal heights).")
+        "folder without *_wkt.prj needs the project CRS. ODM projects bring ODM's CRS (that of "
+        "its orthophoto and DSM); an OpenSfM dataset without ODM uses the WGS 84 / UTM zone of "
+        "its reference point unless a project CRS is set. Heights of the DSM or the ground "
+        "height must be in the project's vertical reference (for a Metashape chunk in a "
+        "geographic CRS: ellipsoidal heights; for ODM: the heights of its DSM).")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFile(
-            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)"),
+            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder; ODM opensfm/reconstruction.json)"),
             behavior=QgsProcessingParameterFile.File,
-            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt);;All files (*.*)"))
+            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt *.json);;All files (*.*)"))
         self.addParameter(QgsProcessingParameterString(
-            self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
+            self.CHUNK, self.tr("Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index"),
             optional=True))
         self.addParameter(QgsProcessingParameterCrs(
-            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
+            self.PROJECT_CRS, self.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without ODM)"),
             optional=True))
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.DSM, self.tr("DSM (GeoTIFF) for the footprints"), optional=True))

@@ -1,5 +1,6 @@
 """Processing tool: Create demo survey (easyidp:createdemosurvey)."""
-from qgis.core import (QgsProcessingContext, QgsProcessingOutputFile, QgsProcessingOutputRasterLayer,
+from qgis.core import (QgsProcessingContext, QgsProcessingOutputFile, QgsProcessingOutputFolder,
+                       QgsProcessingOutputRasterLayer,
                        QgsProcessingOutputVectorLayer, QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
                        QgsProcessingParameterNumber)
@@ -19,6 +20,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
     POINT_CLOUD = "POINT_CLOUD"
     METASHAPE_PROJECT = "METASHAPE_PROJECT"
     PIX4D_PROJECT = "PIX4D_PROJECT"
+    ODM_PROJECT = "ODM_PROJECT"
     TRUTH = "TRUTH"
 
     NAME = "createdemosurvey"
@@ -33,7 +35,8 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         "plot_id);\n"
         "- a coloured point cloud (LAZ and PLY);\n"
         "- 36 raw photos of a lawnmower flight, rendered through the camera model;\n"
-        "- the same flight as an Agisoft Metashape project and as a Pix4D project;\n"
+        "- the same flight as an Agisoft Metashape project, a Pix4D project and an "
+        "OpenDroneMap project (odm/, with its opensfm/ files);\n"
         "- LabelMe annotations on four photos;\n"
         "- truth.json: where known ground points are in every photo.\n\n"
         "The same seed gives the same files. Small takes seconds; medium has larger photos.")
@@ -57,6 +60,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputFile(self.POINT_CLOUD, self.tr("Point cloud (LAZ)")))
         self.addOutput(QgsProcessingOutputFile(self.METASHAPE_PROJECT, self.tr("Metashape project")))
         self.addOutput(QgsProcessingOutputFile(self.PIX4D_PROJECT, self.tr("Pix4D project")))
+        self.addOutput(QgsProcessingOutputFolder(self.ODM_PROJECT, self.tr("OpenDroneMap project")))
         self.addOutput(QgsProcessingOutputFile(self.TRUTH, self.tr("Truth file")))
 
     def run_tool(self, parameters, context, feedback):
@@ -81,4 +85,4 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         return {self.OUTPUT_FOLDER: folder, self.ORTHOMOSAIC: s.orthomosaic, self.DSM: s.dsm,
                 self.PLOTS: s.plots_gpkg, self.POINT_CLOUD: s.point_cloud_laz,
                 self.METASHAPE_PROJECT: s.metashape_project, self.PIX4D_PROJECT: s.pix4d_project,
-                self.TRUTH: s.truth}
+                self.ODM_PROJECT: s.odm_project, self.TRUTH: s.truth}

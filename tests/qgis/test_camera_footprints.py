@@ -95,3 +95,27 @@ def test_bad_inputs(provider, realdata, tmp_path):
     other.write_text("hello")
     with pytest.raises(QgsProcessingException, match="notes.txt: not a photogrammetry project"):
         _run({"PROJECT": str(other), "GROUND_HEIGHT": 0})
+
+
+def test_opensfm_reconstruction_file(provider, realdata):
+    """The real OpenSfM reconstruction (3 street photos in Berlin): cameras in the WGS 84 / UTM
+    zone of its reference point, placed where OpenSfM's topocentric frame puts them."""
+    from pyproj import Transformer
+    import json
+    path = realdata / "opensfm_berlin" / "reconstruction_example.json"
+    res = _run({"PROJECT": str(path), "GROUND_HEIGHT": 0})
+    cams = res["OUTPUT_CAMERAS"]
+    assert cams.featureCount() == 3 and cams.crs().authid() == "EPSG:32633"
+    doc = json.loads(path.read_text())[0]
+    ref = doc["reference_lla"]
+    e0, n0 = Transformer.from_crs(4326, 32633, always_xy=True).transform(ref["longitude"], ref["latitude"])
+    for f in cams.getFeatures():
+        p = f.geometry().constGet()
+        assert abs(p.x() - e0) < 60 and abs(p.y() - n0) < 60 and 0 < p.z() < 60
+        assert f["photo_path"] == ""                       # no images/ folder beside it
+
+
+def test_opensfm_chunk_out_of_range_is_refused(provider, realdata):
+    with pytest.raises(QgsProcessingException, match=r"no reconstruction #3: it holds 1"):
+        _run({"PROJECT": str(realdata / "opensfm_berlin" / "reconstruction_example.json"),
+              "CHUNK": "3", "GROUND_HEIGHT": 0})

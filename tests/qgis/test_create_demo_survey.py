@@ -1,6 +1,6 @@
 """Create demo survey in real QGIS: outputs open as layers and are queued for the map."""
-from qgis.core import (QgsProcessingContext, QgsProcessingFeedback, QgsProject, QgsRasterLayer,
-                       QgsVectorLayer)
+from qgis.core import (NULL, QgsProcessingContext, QgsProcessingFeedback, QgsProject,
+                       QgsRasterLayer, QgsVectorLayer)
 
 
 def test_create_demo_survey(provider, tmp_path):
@@ -14,7 +14,37 @@ def test_create_demo_survey(provider, tmp_path):
     assert dsm.isValid() and dsm.crs().authid() == "EPSG:32654"
     plots = QgsVectorLayer(res["PLOTS"], "p", "ogr")
     assert plots.featureCount() == 40 and plots.fields().indexFromName("plot_id") >= 0
-    for key in ("POINT_CLOUD", "METASHAPE_PROJECT", "PIX4D_PROJECT", "TRUTH"):
+    for key in ("POINT_CLOUD", "METASHAPE_PROJECT", "PIX4D_PROJECT", "ODM_PROJECT", "TRUTH"):
         assert (tmp_path / "survey").as_posix() in res[key]
     names = sorted(d.name for d in context.layersToLoadOnCompletion().values())
     assert names == ["Demo DSM", "Demo orthomosaic", "Demo plots"]
+    _odm_footprints_match_metashape(res)
+
+
+def _odm_footprints_match_metashape(res):
+    """Camera footprints of the demo's OpenDroneMap project (its opensfm/reconstruction.json)
+    on the DSM: the same cameras, places and areas as through the Metashape project."""
+    import processing
+    out = {}
+    for name, project in (("odm", res["ODM_PROJECT"] + "/opensfm/reconstruction.json"),
+                          ("metashape", res["METASHAPE_PROJECT"])):
+        r = processing.run("easyidp:camerafootprints", {
+            "PROJECT": project, "DSM": res["DSM"], "OUTPUT_CRS": "EPSG:32654",
+            "OUTPUT_CAMERAS": "memory:", "OUTPUT_FOOTPRINTS": "memory:"},
+            context=QgsProcessingContext(), feedback=QgsProcessingFeedback())
+        out[name] = {f["label"].split(".")[0]: f for f in r["OUTPUT_FOOTPRINTS"].getFeatures()}
+        assert r["OUTPUT_FOOTPRINTS"].crs().authid() == "EPSG:32654"
+    assert sorted(out["odm"]) == sorted(out["metashape"]) and len(out["odm"]) == 36
+    for label, f in out["odm"].items():
+        g = out["metashape"][label]
+        assert f["complete"] == g["complete"] and abs(f["area"] - g["area"]) < 1e-3 * g["area"]
+        hf, hg = f["height_above_ground"], g["height_above_ground"]
+        assert (hf == NULL) == (hg == NULL)            # NULL where the DSM has no data below
+        assert hf == NULL or abs(hf - hg) < 1e-3
+        # ring vertices: the skew (< 0.15 px, about 5 mm here) moves them a little, except
+        # where a border ray grazes a plant and lands on its other side
+        a = [(v.x(), v.y()) for v in f.geometry().vertices()]
+        b = [(v.x(), v.y()) for v in g.geometry().vertices()]
+        d = sorted(((xa - xb) ** 2 + (ya - yb) ** 2) ** 0.5 for (xa, ya), (xb, yb) in zip(a, b))
+        assert len(a) == len(b) and d[len(d) // 2] < 0.005
+        assert f["photo_path"].endswith("/odm/images/" + label + ".JPG")

@@ -109,3 +109,23 @@ def test_point_cloud_statistics_to_geopackage(qp_env, realdata, tmp_path):
     assert rows["p1"].GetField("count") > 1000 and rows["far"].GetField("count") == 0
     assert rows["p1"].GetField("ground") == 400 and rows["p1"].GetField("h_p95") > 0
     assert not rows["far"].IsFieldSetAndNotNull("h_p95")
+
+
+def test_camera_footprints_of_an_odm_project_headless(qp_env, realdata, tmp_path):
+    """PROJECT = opensfm/reconstruction.json of an ODM project folder (the file parameter does
+    not take folders yet): the real OpenSfM reconstruction placed as ODM leaves it, photos
+    looked up in the project's images/ folder."""
+    odm = tmp_path / "odm"
+    (odm / "opensfm").mkdir(parents=True)
+    (odm / "images").mkdir()
+    import shutil
+    shutil.copy(realdata / "opensfm_berlin/reconstruction_example.json", odm / "opensfm/reconstruction.json")
+    res = run_algorithm("easyidp:camerafootprints", {
+        "PROJECT": odm / "opensfm" / "reconstruction.json", "GROUND_HEIGHT": 0, "OUTPUT_CAMERAS": tmp_path / "cams.gpkg",
+        "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"}, qp_env)
+    from osgeo import ogr
+    ds = ogr.Open(res["OUTPUT_CAMERAS"])
+    layer = ds.GetLayer(0)
+    assert layer.GetFeatureCount() == 3
+    assert {f.GetField("photo_path") for f in layer} == {str(odm / "images" / n) for n in
+                                                          ("01.jpg", "02.jpg", "03.jpg")}
