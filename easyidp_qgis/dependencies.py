@@ -277,10 +277,13 @@ def install_argv(items: Sequence[Missing], python: Optional[str] = None,
             *reqs]
 
 
-def format_command(argv: Sequence[str]) -> str:
-    """``argv`` as one line to paste into the platform's shell."""
-    if os.name == "nt":
-        return subprocess.list2cmdline(list(argv))
+def format_command(argv: Sequence[str], windows: Optional[bool] = None) -> str:
+    """``argv`` as one line to paste into the platform's shell (cmd.exe or PowerShell on
+    Windows: double quotes around anything with a space or ``<>|&^()``, as ``>=`` needs)."""
+    if windows is None:
+        windows = os.name == "nt"
+    if windows:
+        return " ".join(f'"{a}"' if re.search(r'[\s<>|&^()]', a) or not a else a for a in argv)
     return " ".join(shlex.quote(a) for a in argv)
 
 

@@ -146,6 +146,7 @@ class DependencyBar:
         self.command = ""
         self.result = ""  # "", "installed", "failed" or "cancelled"
         self.message = ""  # the text of the last message shown
+        self.unloaded = False
 
     def tr(self, text: str) -> str:
         return QCoreApplication.translate("EasyIDP", text)
@@ -208,11 +209,16 @@ class DependencyBar:
             self.task.cancel()
 
     def unload(self) -> None:
+        """The plugin is unloaded: stop a running install, report nothing more."""
+        self.on_installed = None
+        self.unloaded = True
         self.cancel()
         self._pop()
 
     def _finished(self, task: InstallTask) -> None:
         self.task = None
+        if self.unloaded:
+            return
         QgsMessageLog.logMessage("\n".join(task.output), LOG_TAG,
                                  Qgis.Info if task.ok else Qgis.Warning)
         if task.cancelled:

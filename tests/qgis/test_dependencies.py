@@ -146,3 +146,8 @@ def test_interpreter_and_folder():
     argv = deps.install_argv([deps.Missing(deps.DEPENDENCIES[2], None)], target=folder)
     assert shlex.split(deps.format_command(argv)) == argv
     assert Path(argv[1]).name == "install_packages.py" and Path(argv[1]).is_file()
+    win = deps.format_command([r"C:\Program Files\QGIS 3.34\apps\Python312\python.exe",
+                               "x.py", "--target", r"C:\Users\a\p", "tifffile>=2023.7.10"],
+                              windows=True)
+    assert win == (r'"C:\Program Files\QGIS 3.34\apps\Python312\python.exe" x.py --target '
+                   r'C:\Users\a\p "tifffile>=2023.7.10"')
