@@ -3,6 +3,8 @@
 #   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs;
 #               the comparisons with easyidp 2.0.4 run in its own environment (.venv-ref)
 #   make bench  benchmarks against easyidp 2.0.4 and GDAL (minutes; not part of test)
+#   make package  dist/easyidp_toolbox-<version>.zip for Install from ZIP and plugins.qgis.org
+#               (STRICT=1: refuse metadata placeholders, for a release upload)
 SHELL := /bin/bash
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 PY_SYS := /usr/bin/python3
@@ -16,11 +18,12 @@ export PROJ_DATA := /usr/share/proj
 export PYTHONDONTWRITEBYTECODE := 1
 DEMO_DIR ?= $(ROOT)/demo_output
 
-.PHONY: env env-ref test test-core test-core-current test-qgis demo bench clean
+.PHONY: env env-ref test test-core test-core-current test-qgis demo bench package clean
 
 env: apt $(VENV)/.done $(VENV_CORE)/.done
 
-APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip
+# xvfb, xauth: the QGIS desktop in tests/qgis/test_install_from_zip.py (it refuses to start offscreen)
+APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip xvfb xauth
 
 # Debian packages: installed when any is missing (checked on every run; takes a moment).
 .PHONY: apt
@@ -76,5 +79,8 @@ demo: env
 bench: env env-ref
 	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
 
+package:
+	$(PY_SYS) $(ROOT)/scripts/package.py --output $(ROOT)/dist $(if $(STRICT),--strict)
+
 clean:
-	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR)
+	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist

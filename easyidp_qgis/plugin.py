@@ -1,17 +1,26 @@
-"""The plugin object QGIS creates: registers the Processing provider (also under qgis_process)."""
-import os
+"""The plugin object QGIS creates: registers the Processing provider (also under qgis_process).
 
-from qgis.core import QgsApplication
+Its Python packages come from a folder in the QGIS profile, put on ``sys.path`` first of all
+(``dependencies.activate``). In the desktop, a missing package is offered for installation in the
+message bar (``installer.DependencyBar``); under qgis_process nothing is ever installed.
+"""
+import os
+import sys
+
+from qgis.core import Qgis, QgsApplication, QgsMessageLog
 from qgis.PyQt.QtCore import QCoreApplication, QLocale, QSettings, QTranslator
 
-from .provider import EasyIDPProvider
+from . import dependencies
 from .resources import I18N_DIR
 
 
 class EasyIDPPlugin:
     def __init__(self, iface):
         self.iface = iface  # None under qgis_process
+        self.packages_dir = dependencies.activate()  # before any of the packages is imported
         self.provider = None  # keep a reference: a collected provider loses its algorithms
+        self.load_error = ""  # why the provider could not load (a package every tool needs)
+        self.dependency_bar = None
         self.translator = None
         self._install_translator()
 
@@ -26,14 +35,34 @@ class EasyIDPPlugin:
                 return
 
     def initProcessing(self):  # noqa: N802 (QGIS API)
-        if self.provider is None:
-            self.provider = EasyIDPProvider()
-            QgsApplication.processingRegistry().addProvider(self.provider)
+        if self.provider is not None:
+            return
+        try:
+            from .provider import EasyIDPProvider
+        except ImportError as exc:  # a package every tool needs is missing or broken
+            required = [m for m in dependencies.missing() if m.dependency.tools == dependencies.ALL]
+            self.load_error = "EasyIDP: the tools could not load. " + (
+                f"{exc}. " + dependencies.tool_message("EasyIDP", required, headless=True)
+                if required else dependencies.import_error_message(exc))
+            if self.iface is None:  # qgis_process: stderr (stdout would corrupt --json output)
+                sys.stderr.write(self.load_error + "\n")
+            else:
+                QgsMessageLog.logMessage(self.load_error, "EasyIDP", Qgis.Critical)
+            return
+        self.load_error = ""
+        self.provider = EasyIDPProvider()
+        QgsApplication.processingRegistry().addProvider(self.provider)
 
     def initGui(self):  # noqa: N802 (QGIS API)
         self.initProcessing()
+        from .installer import DependencyBar
+        self.dependency_bar = DependencyBar(self.iface, on_installed=self.initProcessing)
+        self.dependency_bar.show_if_missing()
 
     def unload(self):
+        if self.dependency_bar is not None:
+            self.dependency_bar.unload()
+            self.dependency_bar = None
         if self.provider is not None:
             QgsApplication.processingRegistry().removeProvider(self.provider)
             self.provider = None

@@ -1,14 +1,20 @@
-"""Base class of the EasyIDP algorithms: naming, help, icon, and core error translation."""
+"""Base class of the EasyIDP algorithms: naming, help, icon, dependency check, and core error
+translation."""
 from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean,
                        QgsProcessingParameterDefinition)
 from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QIcon
 
+from .. import dependencies
 from ..resources import ICON
 
-INSTALL_HINT = ("Install the plugin's Python dependencies for the Python that QGIS uses: "
-                "pip install numpy pyproj tifffile imagecodecs laspy lazrs plyfile "
-                "(see the plugin README).")
+
+def __getattr__(name):
+    """``INSTALL_HINT``: how to install the plugin's packages, made from the dependency table
+    when read (it names QGIS's interpreter and the profile's package folder)."""
+    if name == "INSTALL_HINT":
+        return dependencies.install_hint()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
 
 
 class EasyIDPAlgorithm(QgsProcessingAlgorithm):
@@ -44,17 +50,27 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
     def icon(self):
         return QIcon(ICON)
 
+    def canExecute(self):  # noqa: N802 (QGIS API; the desktop's dialogs ask it)
+        items = dependencies.missing(self.NAME)
+        if items:
+            return False, dependencies.tool_message(self.displayName(), items)
+        return True, ""
+
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802 (QGIS API)
+        items = dependencies.missing(self.NAME)  # the packages the table says this tool needs
+        if items:
+            raise QgsProcessingException(
+                dependencies.tool_message(self.displayName(), items, headless=True))
         try:
             from ...core.errors import EasyIDPError
         except ImportError as exc:
-            raise QgsProcessingException(f"{exc}. {INSTALL_HINT}") from None
+            raise QgsProcessingException(dependencies.import_error_message(exc)) from None
         try:
             return self.run_tool(parameters, context, feedback)
         except EasyIDPError as exc:
             raise QgsProcessingException(str(exc)) from None
-        except ImportError as exc:
-            raise QgsProcessingException(f"{exc}. {INSTALL_HINT}") from None
+        except ImportError as exc:  # a package the table does not list for this tool
+            raise QgsProcessingException(dependencies.import_error_message(exc)) from None
 
     OVERWRITE = "OVERWRITE"
 

@@ -1,0 +1,152 @@
+"""Run inside the QGIS desktop (``qgis --code``) by ``qgis_desktop.run_desktop``: looks at what the
+EasyIDP plugin shows at start-up and clicks its buttons, as a user would.
+
+The spec comes in ``EASYIDP_DRIVER`` (JSON): ``out`` (result file), ``screenshot`` (PNG of the
+message bar, optional), ``steps`` (optional list of ``{"action": "install" | "cancel",
+"env": {name: value or null}}``: the environment pip sees during that step; *Install* is clicked,
+and for "cancel" *Cancel* once pip runs). QGIS quits when done; errors go to ``driver_error``.
+"""
+import json
+import os
+import sys
+import time
+import traceback
+
+from qgis.core import QgsApplication
+from qgis.gui import QgsMessageBarItem
+from qgis.PyQt.QtCore import QPoint, QRect, QTimer
+from qgis.PyQt.QtWidgets import QPushButton
+from qgis.utils import iface, plugins
+
+SPEC = json.loads(os.environ["EASYIDP_DRIVER"])
+
+
+def _pump(seconds: float) -> None:
+    end = time.time() + seconds
+    while time.time() < end:
+        QgsApplication.processEvents()
+        time.sleep(0.02)
+
+
+def _wait(condition, timeout: float) -> bool:
+    end = time.time() + timeout
+    while time.time() < end:
+        QgsApplication.processEvents()
+        if condition():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+def _button(name: str):
+    """The visible button of that name in the message bar (popped items linger, hidden)."""
+    shown = [b for b in iface.messageBar().findChildren(QPushButton, name) if b.isVisible()]
+    return shown[-1] if shown else None
+
+
+def _bar_texts():
+    return [f"{item.title()}: {item.text()}"
+            for item in iface.messageBar().findChildren(QgsMessageBarItem) if item.isVisible()]
+
+
+def _listing(folder: str):
+    return sorted(os.listdir(folder)) if os.path.isdir(folder) else None
+
+
+def _current():
+    item = iface.messageBar().currentItem()
+    return f"{item.title()}: {item.text()}" if item is not None else None
+
+
+def _screenshot(path: str) -> None:
+    window = iface.mainWindow()
+    window.resize(1280, 760)
+    _pump(0.5)
+    bar = iface.messageBar()
+    bottom = bar.mapTo(window, QPoint(0, bar.height())).y()
+    window.grab(QRect(0, 0, window.width(), min(window.height(), bottom + 120))).save(path)
+
+
+def _step(plugin, step: dict) -> dict:
+    from easyidp_toolbox.easyidp_qgis import dependencies
+    bar = plugin.dependency_bar
+    saved = {k: os.environ.get(k) for k in step.get("env", {})}
+    for key, value in step.get("env", {}).items():
+        if value is None:
+            os.environ.pop(key, None)
+        else:
+            os.environ[key] = value
+    try:
+        if not _wait(lambda: _button(bar.INSTALL_BUTTON) is not None, 2):
+            bar.show_if_missing()  # the bar as at start-up, after the previous step's result
+            _wait(lambda: _button(bar.INSTALL_BUTTON) is not None, 5)
+        install = _button(bar.INSTALL_BUTTON)
+        found = {"action": step["action"], "install_button": install is not None}
+        bar.result = ""
+        install.click()  # the button itself: its clicked signal runs the slot
+        task = bar.task
+        found["progress_bar_shown"] = _wait(lambda: _button(bar.CANCEL_BUTTON) is not None, 10)
+        if step["action"] == "cancel":
+            _wait(lambda: task.pid is not None and any(l.startswith("$ ") for l in task.output),
+                  60)
+            _pump(1.0)
+            found["pid"] = task.pid
+            _button(bar.CANCEL_BUTTON).click()
+        started = time.time()
+        found["finished"] = _wait(lambda: bar.result != "", SPEC.get("timeout", 600))
+        found["seconds"] = round(time.time() - started, 1)
+        found.update(result=bar.result, message=bar.message, output=task.output[-40:],
+                     command=bar.command, bar=_bar_texts(), current=_current())
+        if found.get("pid"):
+            try:
+                os.killpg(found["pid"], 0)
+                found["process_group_alive"] = True
+            except ProcessLookupError:
+                found["process_group_alive"] = False
+        found["missing_after"] = [m.dependency.distribution
+                                  for m in dependencies.missing(include_extras=True)]
+        found["folder"] = _listing(dependencies.packages_dir())
+        return found
+    finally:
+        for key, value in saved.items():
+            if value is None:
+                os.environ.pop(key, None)
+            else:
+                os.environ[key] = value
+
+
+def run() -> None:
+    found = {"steps": []}
+    try:
+        plugin = plugins.get("easyidp_toolbox")
+        found["plugin_loaded"] = plugin is not None
+        from easyidp_toolbox.easyidp_qgis import dependencies
+        bar = plugin.dependency_bar
+        _pump(0.5)
+        found.update(
+            plugin_file=sys.modules[type(plugin).__module__].__file__,
+            python=dependencies.python_executable(), packages_dir=dependencies.packages_dir(),
+            packages_dir_first=sys.path[0] == dependencies.packages_dir(),
+            missing=[m.dependency.distribution for m in bar.missing], message=bar.message,
+            install_button=_button(bar.INSTALL_BUTTON) is not None, bar=_bar_texts(),
+            current=_current(),
+            provider=QgsApplication.processingRegistry().providerById("easyidp") is not None,
+            folder=_listing(dependencies.packages_dir()))
+        if SPEC.get("screenshot"):
+            _screenshot(SPEC["screenshot"])
+        for step in SPEC.get("steps", []):
+            found["steps"].append(_step(plugin, step))
+        if found["steps"] and found["steps"][-1]["result"] == "installed":
+            import importlib
+            found["imported"] = {name: importlib.import_module(name).__file__
+                                 for name in ("tifffile", "imagecodecs", "laspy", "plyfile")}
+            import numpy
+            found["numpy"] = [numpy.__version__, numpy.__file__]
+    except Exception:
+        found["driver_error"] = traceback.format_exc()
+    with open(SPEC["out"], "w", encoding="utf-8") as fh:
+        json.dump(found, fh, indent=1)
+    QgsApplication.exit(0)
+
+
+QTimer.singleShot(500, run)

@@ -1,0 +1,153 @@
+"""The dependency table and the checks derived from it, in real QGIS (offscreen).
+
+The install itself (pip, the message bar, qgis_process in a fresh profile) is tested in
+test_install_packages.py and test_install_from_zip.py.
+"""
+import ast
+import shlex
+import sys
+from pathlib import Path
+
+import pytest
+from qgis.core import QgsProcessingContext, QgsProcessingException, QgsProcessingFeedback
+
+from easyidp_toolbox.easyidp_qgis import dependencies as deps
+from easyidp_toolbox.easyidp_qgis.algorithms import ALGORITHMS
+
+ROOT = Path(__file__).resolve().parents[2]
+# QGIS's own modules need no row; pip is what install_packages.py runs (and checks for)
+QGIS_OWN = {"qgis", "PyQt5", "osgeo", "processing", "pip"}
+
+
+def _third_party_imports():
+    """Top-level modules imported (absolutely) anywhere in core/ and easyidp_qgis/."""
+    found = {}
+    for path in sorted([*ROOT.glob("core/**/*.py"), *ROOT.glob("easyidp_qgis/**/*.py")]):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            names = []
+            if isinstance(node, ast.Import):
+                names = [a.name for a in node.names]
+            elif isinstance(node, ast.ImportFrom) and not node.level and node.module:
+                names = [node.module]
+            for name in names:
+                top = name.split(".")[0]
+                if top not in sys.stdlib_module_names and top not in QGIS_OWN:
+                    found.setdefault(top, str(path.relative_to(ROOT)))
+    return found
+
+
+def test_every_imported_package_has_a_row():
+    """The one place: a package imported by the plugin without a row in DEPENDENCIES fails."""
+    rows = {d.module for d in deps.DEPENDENCIES}
+    missing_rows = {m: p for m, p in _third_party_imports().items() if m not in rows}
+    assert not missing_rows, f"add these to easyidp_qgis/dependencies.py: {missing_rows}"
+
+
+def test_table_is_well_formed():
+    names = {cls.NAME for cls in ALGORITHMS}
+    modules = [d.module for d in deps.DEPENDENCIES]
+    assert len(modules) == len(set(modules))
+    qgis_txt = (ROOT / "requirements" / "qgis.txt").read_text()
+    for dep in deps.DEPENDENCIES:
+        assert dep.tools == deps.ALL or set(dep.tools) <= names, dep
+        deps.version_satisfies("1.0", dep.specifier)  # every clause is one we can evaluate
+        assert deps.canonical(dep.distribution) in deps.canonical(qgis_txt), \
+            f"{dep.distribution} is not in requirements/qgis.txt (the test environment)"
+    assert {"numpy", "gdal"} == set(deps.PROTECTED)
+
+
+def test_version_comparison_agrees_with_packaging():
+    """Independent check: pip's own rules (packaging.specifiers) on release versions."""
+    from packaging.specifiers import SpecifierSet
+    versions = ["0.9", "1", "1.0", "1.0.0", "1.2", "1.24.2", "1.26.4", "2", "2.0.1", "10.1",
+                "2023.7.10", "2026.3.3"]
+    specs = [">=1.24", "<2", ">=1.24,<2", "==1.0", "!=1.0", ">1.0", "<=1.2", ">=2023.7.10",
+             "", "==1.0.0"]
+    for v in versions:
+        for s in specs:
+            assert deps.version_satisfies(v, s) == (v in SpecifierSet(s)), (v, s)
+    assert deps.version_satisfies("3.6.2+dfsg", ">=3.4")
+    with pytest.raises(ValueError):
+        deps.version_satisfies("1.0", "~=1.0")
+
+
+def test_requirement_parts():
+    row = deps.Dependency("distributed", "dask[distributed]>=2024.1", ("x",))
+    assert (row.distribution, row.specifier) == ("dask", ">=2024.1")
+    assert deps.Dependency("shapefile", "pyshp>=2.3", ()).needed_by(None) is False
+    assert deps.Dependency("numpy", "numpy", deps.ALL).needed_by("anything")
+
+
+def test_nothing_missing_in_the_test_environment():
+    assert deps.missing() == [] and deps.missing(include_extras=True) == []
+
+
+def test_missing_and_too_old_are_reported(monkeypatch):
+    rows = (deps.Dependency("easyidp_no_such_module", "easyidp-no-such-package>=1", deps.ALL),
+            deps.Dependency("numpy", "numpy>=99", deps.ALL),
+            deps.Dependency("laspy", "laspy>=99", ("croppointcloudbyrois",)))
+    monkeypatch.setattr(deps, "DEPENDENCIES", rows)
+    found = deps.missing()
+    assert [m.dependency.module for m in found] == ["easyidp_no_such_module", "numpy", "laspy"]
+    import numpy
+    assert found[1].installed == numpy.__version__ and found[1].protected
+    assert [m.dependency.module for m in deps.missing("croprasterbyrois")] == \
+        ["easyidp_no_such_module", "numpy"]
+    text = deps.tool_message("Some tool", found, headless=True)
+    assert f"numpy {numpy.__version__} (needs >=99)" in text and "Nothing was installed" in text
+    assert "use a newer QGIS" in text
+    argv = deps.install_argv(found)
+    assert "numpy>=99" not in argv  # QGIS's numpy is never installed
+    assert argv[-2:] == ["easyidp-no-such-package>=1", "laspy>=99"]
+    assert deps.format_command(argv) in text
+
+
+def test_a_tool_refuses_to_run_and_names_the_package(plugin, realdata, tmp_path, monkeypatch):
+    rows = tuple(deps.Dependency(d.module, "tifffile>=9999", d.tools) if d.module == "tifffile"
+                 else d for d in deps.DEPENDENCIES)
+    monkeypatch.setattr(deps, "DEPENDENCIES", rows)
+    import processing
+    alg = plugin.provider.algorithm("croprasterbyrois")
+    ok, message = alg.canExecute()
+    assert not ok and "tifffile" in message and "Nothing was installed" not in message
+    with pytest.raises(QgsProcessingException) as err:
+        processing.run("easyidp:croprasterbyrois", {
+            "INPUT": str(realdata / "d2spy/dsm.tif"),
+            "ROIS": str(realdata / "d2spy/feature_in_dsm.geojson"),
+            "OUTPUT_FOLDER": str(tmp_path / "crops")},
+            context=QgsProcessingContext(), feedback=QgsProcessingFeedback())
+    text = str(err.value)
+    assert "(needs >=9999)" in text and "Nothing was installed" in text
+    assert "install_packages.py" in text and "--target" in text and deps.packages_dir() in text
+    assert not (tmp_path / "crops").exists()
+    # tools that do not need tifffile still run
+    assert plugin.provider.algorithm("croppointcloudbyrois").canExecute()[0]
+
+
+def test_import_error_message_and_install_hint():
+    err = ModuleNotFoundError("No module named 'laspy'", name="laspy")
+    text = deps.import_error_message(err)
+    assert "laspy>=" in text and "install_packages.py" in text
+    unknown = deps.import_error_message(ModuleNotFoundError("x", name="somethingelse"))
+    assert "somethingelse" not in deps.install_hint() and "QGIS's Python" in unknown
+    from easyidp_toolbox.easyidp_qgis.algorithms.base import INSTALL_HINT
+    for dep in deps.DEPENDENCIES:
+        assert (dep.requirement in INSTALL_HINT) == (dep.distribution not in ("numpy",))
+
+
+def test_interpreter_and_folder():
+    python = deps.python_executable()
+    assert deps.check_python(python) is None
+    folder = deps.activate("/tmp/easyidp-profile")
+    assert sys.path[0] == folder and deps.activate("/tmp/easyidp-profile") == folder
+    assert sys.path.count(folder) == 1
+    sys.path.remove(folder)
+    assert folder.endswith("python/easyidp_toolbox_packages/python{}.{}".format(*sys.version_info))
+    argv = deps.install_argv([deps.Missing(deps.DEPENDENCIES[2], None)], target=folder)
+    assert shlex.split(deps.format_command(argv)) == argv
+    assert Path(argv[1]).name == "install_packages.py" and Path(argv[1]).is_file()
+    win = deps.format_command([r"C:\Program Files\QGIS 3.34\apps\Python312\python.exe",
+                               "x.py", "--target", r"C:\Users\a\p", "tifffile>=2023.7.10"],
+                              windows=True)
+    assert win == (r'"C:\Program Files\QGIS 3.34\apps\Python312\python.exe" x.py --target '
+                   r'C:\Users\a\p "tifffile>=2023.7.10"')

@@ -1,0 +1,164 @@
+"""Install like a user: the zip into a fresh QGIS profile, QGIS's own Python only (Debian's: numpy
+1.24, GDAL 3.6, pyproj; no tifffile, imagecodecs, laspy, lazrs, plyfile), the real QGIS desktop
+under Xvfb and qgis_process.
+
+In order: qgis_process refuses a tool and installs nothing; the desktop shows the message bar
+with *Install*; the button is clicked three times: cancelled while pip waits on an index that
+never answers, failed with no index at all, then installed from the configured package index;
+qgis_process then creates the demo survey and crops it; a second desktop start shows no message.
+"""
+import json
+import os
+import socket
+from pathlib import Path
+
+import pytest
+
+from easyidp_toolbox.easyidp_qgis import dependencies
+from easyidp_toolbox.scripts.package import build
+from easyidp_toolbox.scripts.qgis_desktop import (install_zip, profile_dir, run_desktop,
+                                                  run_headless)
+
+NEEDED = ["tifffile", "imagecodecs", "laspy", "lazrs", "plyfile"]
+
+
+@pytest.fixture(scope="module")
+def profile(tmp_path_factory):
+    """A fresh QGIS profile root with the plugin installed from its zip, and its package folder."""
+    tmp = tmp_path_factory.mktemp("fresh")
+    zip_path, _ = build(str(tmp / "dist"))
+    root = tmp / "qgis"
+    install_zip(zip_path, str(root))
+    folder = dependencies.packages_dir(profile_dir(str(root)))
+    return root, Path(folder)
+
+
+@pytest.fixture(scope="module")
+def silent_index():
+    """A package index that accepts connections and never answers (pip waits on it)."""
+    server = socket.socket()
+    server.bind(("127.0.0.1", 0))
+    server.listen(16)
+    yield f"http://127.0.0.1:{server.getsockname()[1]}/simple"
+    server.close()
+
+
+@pytest.fixture(scope="module")
+def first_start(profile, silent_index, tmp_path_factory):
+    root, _ = profile
+    empty = tmp_path_factory.mktemp("no-links")
+    steps = [
+        {"action": "cancel", "env": {"PIP_INDEX_URL": silent_index, "PIP_RETRIES": "0"}},
+        {"action": "install", "env": {"PIP_NO_INDEX": "1", "PIP_FIND_LINKS": str(empty)}},
+        {"action": "install"},
+    ]
+    return run_desktop(str(root), {"steps": steps})
+
+
+def test_headless_with_packages_missing_installs_nothing(profile, realdata, tmp_path):
+    root, folder = profile
+    proc = run_headless(str(root), [
+        "run", "easyidp:croprasterbyrois", "--", f"INPUT={realdata / 'd2spy/dsm.tif'}",
+        f"ROIS={realdata / 'd2spy/feature_in_dsm.geojson'}", f"OUTPUT_FOLDER={tmp_path / 'c'}"])
+    text = proc.stdout + proc.stderr
+    assert proc.returncode != 0
+    assert ("Crop raster by ROIs needs Python packages that QGIS's Python does not have: "
+            "tifffile, imagecodecs.") in text
+    assert "Nothing was installed" in text
+    plugin_dir = Path(profile_dir(str(root))) / "python" / "plugins" / "easyidp_toolbox"
+    command = (f"/usr/bin/python3.11 {plugin_dir}/easyidp_qgis/install_packages.py --target "
+               f"{folder} 'tifffile>=")
+    assert command in text
+    assert not folder.parent.exists() and not (tmp_path / "c").exists()
+
+
+def test_desktop_shows_the_missing_packages_with_install(first_start, profile):
+    _, folder = profile
+    assert first_start["plugin_loaded"] and first_start["provider"]
+    assert first_start["python"] == "/usr/bin/python3.11"  # not sys.executable (a PATH lookup)
+    assert first_start["packages_dir"] == str(folder) and first_start["packages_dir_first"]
+    assert first_start["missing"] == NEEDED
+    assert first_start["install_button"] and first_start["folder"] is None
+    assert first_start["bar"] == ["EasyIDP: Some tools need Python packages that QGIS's Python "
+                                  "lacks: tifffile, imagecodecs, laspy, lazrs, plyfile."]
+
+
+def test_install_cancelled_while_pip_runs(first_start):
+    step = first_start["steps"][0]
+    assert step["install_button"] and step["progress_bar_shown"] and step["finished"]
+    assert step["result"] == "cancelled" and step["seconds"] < 30
+    assert step["process_group_alive"] is False  # the installer and its pip are gone
+    assert "nothing was changed" in step["message"] and step["command"] in step["message"]
+    assert step["folder"] is None or not [f for f in step["folder"] if "dist-info" in f]
+
+
+def test_install_failure_says_the_command(first_start):
+    step = first_start["steps"][1]
+    assert step["result"] == "failed"
+    assert "Run this command in a terminal to see why" in step["message"]
+    assert step["command"] in step["message"] and "install_packages.py" in step["command"]
+    assert any("No matching distribution" in line for line in step["output"])
+    assert step["missing_after"] == NEEDED + ["pyshp"]
+    assert step["current"] and "failed" in step["current"]
+
+
+def test_install_from_the_package_index(first_start, profile):
+    _, folder = profile
+    step = first_start["steps"][2]
+    assert step["result"] == "installed", json.dumps(step, indent=1)
+    assert step["missing_after"] == []
+    for name in ("tifffile", "imagecodecs", "laspy", "lazrs", "plyfile", "pyshp"):
+        assert any(f.startswith(f"{name}-") and f.endswith(".dist-info") for f in step["folder"])
+    assert not [f for f in step["folder"] if f.lower().startswith(("numpy", "gdal"))]
+    for module, path in first_start["imported"].items():
+        assert path.startswith(str(folder)), module  # usable at once, without a restart
+    version, path = first_start["numpy"]
+    assert version.startswith("1.24") and path.startswith("/usr/lib/python3/")
+
+
+def test_headless_after_install_creates_and_crops_the_demo(first_start, profile, tmp_path):
+    root, _ = profile
+    assert first_start["steps"][2]["result"] == "installed"
+    proc = run_headless(str(root), ["--json", "run", "easyidp:createdemosurvey", "--",
+                                    f"OUTPUT_FOLDER={tmp_path / 'survey'}"])
+    assert proc.returncode == 0, proc.stderr
+    survey = json.loads(proc.stdout)["results"]
+    proc = run_headless(str(root), [
+        "--json", "run", "easyidp:croprasterbyrois", "--", f"INPUT={survey['ORTHOMOSAIC']}",
+        f"ROIS={survey['PLOTS']}", "NAME_FIELD=plot_id", f"OUTPUT_FOLDER={tmp_path / 'crops'}"])
+    assert proc.returncode == 0, proc.stderr
+    results = json.loads(proc.stdout)["results"]
+    assert results["CROPPED"] == 40 and len(list((tmp_path / "crops").glob("*.tif"))) == 40
+    proc = run_headless(str(root), [
+        "--json", "run", "easyidp:croppointcloudbyrois", "--", f"INPUT={survey['POINT_CLOUD']}",
+        f"ROIS={survey['PLOTS']}", "NAME_FIELD=plot_id", f"OUTPUT_FOLDER={tmp_path / 'clouds'}"])
+    assert proc.returncode == 0, proc.stderr
+    assert json.loads(proc.stdout)["results"]["CROPPED"] == 40
+
+
+def test_second_start_finds_everything_and_shows_nothing(first_start, profile):
+    root, _ = profile
+    assert first_start["steps"][2]["result"] == "installed"
+    again = run_desktop(str(root), {})
+    assert again["missing"] == [] and again["message"] == ""
+    assert not again["install_button"]
+    assert not [t for t in again["bar"] if t.startswith("EasyIDP")]
+    assert again["provider"] and os.path.isdir(again["packages_dir"])
+
+
+def test_headless_without_a_package_every_tool_needs(tmp_path, realdata):
+    """A broken pyproj (importable, then failing) in the package folder: the provider cannot
+    load; qgis_process says why on stderr, with the install command, and the run fails."""
+    zip_path, _ = build(str(tmp_path / "dist"))
+    root = tmp_path / "qgis"
+    install_zip(zip_path, str(root))
+    fake = Path(dependencies.packages_dir(profile_dir(str(root)))) / "pyproj"
+    fake.mkdir(parents=True)
+    (fake / "__init__.py").write_text(
+        "raise ModuleNotFoundError(\"No module named 'pyproj._core'\", name='pyproj._core')\n")
+    proc = run_headless(str(root), [
+        "run", "easyidp:croprasterbyrois", "--", f"INPUT={realdata / 'd2spy/dsm.tif'}",
+        f"ROIS={realdata / 'd2spy/feature_in_dsm.geojson'}", f"OUTPUT_FOLDER={tmp_path / 'c'}"])
+    assert proc.returncode != 0 and not (tmp_path / "c").exists()
+    assert "EasyIDP: the tools could not load. No module named 'pyproj._core'" in proc.stderr
+    assert "'pyproj>=3.4'" in proc.stderr and "install_packages.py" in proc.stderr
