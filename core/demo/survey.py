@@ -18,12 +18,16 @@
 
 Same seed and size → identical files (in one software environment). Pixels have their origin
 at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
+
+``rolling_shutter=True`` makes the drone move during each exposure (:mod:`.rolling_shutter`):
+photos are rendered row by row, the Metashape project carries the motion, the truth follows it,
+and no Pix4D project is written.
 """
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
-from typing import List
+from typing import List, Optional
 
 import numpy as np
 
@@ -54,7 +58,8 @@ class DemoSurvey:
 
     ``crs``: map CRS of the rasters, plots, point clouds and truth (heights ellipsoidal);
     ``metashape_project``: the .psx; ``pix4d_project``: the .p4d; ``pix4d_params``: its
-    ``1_initial/params`` folder; ``seconds``: generation time.
+    ``1_initial/params`` folder (both None for a rolling-shutter survey); ``seconds``:
+    generation time.
     """
     folder: str
     seed: int
@@ -69,22 +74,24 @@ class DemoSurvey:
     photo_folder: str
     photos: List[str]
     metashape_project: str
-    pix4d_project: str
-    pix4d_params: str
+    pix4d_project: Optional[str]
+    pix4d_params: Optional[str]
     labelme: List[str]
     truth: str
     plot_ids: List[str] = field(default_factory=list)
     seconds: float = 0.0
+    rolling_shutter: bool = False
 
 
 def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=None,
-                     is_cancelled=None) -> DemoSurvey:
+                     is_cancelled=None, rolling_shutter: bool = False) -> DemoSurvey:
     """Write the demo survey into ``folder`` (created if needed) and return its paths.
 
     ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
     flight and truth points are the same. Existing files of a previous survey are overwritten.
     ``progress(percent)`` and ``is_cancelled()`` are optional callables; on cancellation
     :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey.
+    ``rolling_shutter``: photos taken while the drone moves (see the module docstring).
     """
     t0 = time.perf_counter()
     if size not in SIZES:
@@ -100,6 +107,9 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=N
     scene = make_scene(seed)
     lay = scene.layout
     shots = plan_flight(scene, rng)
+    if rolling_shutter:                    # own random stream: everything else stays the same
+        from .rolling_shutter import add_motion
+        shots = add_motion(shots, np.random.default_rng([seed, 2]))
     photos = [os.path.join(photo_dir, s.filename) for s in shots]
     cloud_xyz, cloud_rgb = surface_cloud(scene, rng)
     prog.set(10)
@@ -111,7 +121,10 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=N
 
     def shoot(i: int) -> None:
         prog.check()
-        _write_jpeg(photos[i], render_photo(scene, camera, shots[i], rays, level_img, level))
+        render = render_photo
+        if shots[i].motion is not None:
+            from .rolling_shutter import render_photo as render
+        _write_jpeg(photos[i], render(scene, camera, shots[i], rays, level_img, level))
 
     with ThreadPoolExecutor(2) as pool:
         jobs = [pool.submit(write_geotiff, os.path.join(folder, "orthomosaic.tif"), scene.ortho,
@@ -135,9 +148,10 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=N
                 job.cancel()
             raise
     # last, so that a truth file means a complete survey
-    truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots,
-                             {"seed": seed, "size": size,
-                              "metashape_pose_fit_max_px": ms["max_fit_px"]})
+    meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"]}
+    if rolling_shutter:
+        meta["rolling_shutter"] = True
+    truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots, meta)
 
     return DemoSurvey(
         folder=folder, seed=seed, size=size, crs=f"EPSG:{lay.epsg}",
@@ -146,9 +160,10 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", progress=N
         point_cloud_laz=os.path.join(folder, "pointcloud.laz"),
         point_cloud_ply=os.path.join(folder, "pointcloud.ply"),
         photo_folder=photo_dir, photos=photos, metashape_project=ms["psx"],
-        pix4d_project=p4d["p4d"], pix4d_params=p4d["params"],
+        pix4d_project=p4d and p4d["p4d"], pix4d_params=p4d and p4d["params"],
         labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
-        plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0)
+        plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0,
+        rolling_shutter=rolling_shutter)
 
 
 def _write_plots(folder: str, scene):
@@ -175,8 +190,8 @@ def _truth_and_projects(folder: str, scene, camera, shots, photos, rng):
                         "pixels": {int(m): tuple(uv) for m, uv in zip(seen_m[sel], seen_uv[sel])}})
     ms = write_metashape(os.path.join(folder, "metashape"), PROJECT_NAME, scene, camera, shots,
                          photos, markers, rng)
-    p4d = write_pix4d(os.path.join(folder, "pix4d"), PROJECT_NAME, camera, shots, scene.offset,
-                      photos)
+    p4d = None if any(s.motion is not None for s in shots) else \
+        write_pix4d(os.path.join(folder, "pix4d"), PROJECT_NAME, camera, shots, scene.offset, photos)
     truth.labelme = write_labelme(os.path.join(folder, "labelme"), os.path.dirname(photos[0]),
                                   scene, camera, shots,
                                   {k: v["photos_whole"] for k, v in truth.plots.items()}, rng)

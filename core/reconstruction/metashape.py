@@ -406,7 +406,8 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
         if block is not None and sensors[cam.sensor_id].rolling_shutter:
             rs = RollingShutter(rotation_vector(block[0]), scale * block[1])
             cam.rolling_shutter = None if rs.is_zero else rs
-    notes += _shutter_notes(sensors, [c for _, c in aligned], shutter)
+    notes += _shutter_notes(sensors, [c for _, c in aligned], shutter,
+                            "local units" if crs is None or is_local(crs) else "m")
     n_unaligned = len(cams) - len(aligned)
     if n_unaligned:
         notes.append(f"{n_unaligned} camera(s) not aligned")
@@ -428,7 +429,8 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
                           enabled=_bool(chunk.get("enabled")), markers=markers, notes=notes)
 
 
-def _shutter_notes(sensors: Dict[str, Sensor], aligned: List[Camera], shutter) -> List[str]:
+def _shutter_notes(sensors: Dict[str, Sensor], aligned: List[Camera], shutter,
+                   unit: str) -> List[str]:
     """What the reader did with rolling shutter, for ``Reconstruction.notes``."""
     on = [c for c in aligned if c.rolling_shutter is not None]
     flagged = [c for c in aligned if sensors[c.sensor_id].rolling_shutter]
@@ -441,7 +443,7 @@ def _shutter_notes(sensors: Dict[str, Sensor], aligned: List[Camera], shutter) -
         notes.append(f"rolling-shutter compensation applied: {len(on)} of {len(aligned)} aligned "
                      f"camera(s) have a pose per image row (Metashape's per-photo readout "
                      f"motion, centre row to last row: median {np.median(ang):.3f}°, "
-                     f"{np.median(mov):.4g} model units)")
+                     f"{np.median(mov):.3g} {unit})")
     if len(flagged) > len(on):
         notes.append(f"rolling-shutter compensation is enabled but {len(flagged) - len(on)} "
                      "aligned camera(s) have no (or a zero) motion estimate: one pose per photo")
