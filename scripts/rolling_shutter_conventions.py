@@ -118,7 +118,8 @@ class Project:
             return cam.R, cam.C
         Rs, t = self.blocks[label]
         a = c.sr * tau
-        E = _rodrigues(a * _log(Rs)) if c.interp == "axis-angle" else np.eye(3) + a * (Rs - np.eye(3))
+        E = _rodrigues(a * _log(Rs)) if c.interp == "axis-angle" else \
+            np.eye(3) + a * (Rs - np.eye(3))
         if c.frame == "camera":
             return E @ cam.R, cam.C + c.st * tau * self.scale * (t @ cam.R)
         Ec = self.Q @ E @ self.Q.T                     # the rotation in model axes

@@ -10,6 +10,9 @@ The true poses live in the map-based local frame (UTM minus offset, Pix4D-style)
 exactly Cartesian. Each geocentric pose is fitted (6 parameters, Gauss–Newton) so that it sees
 63 surface points spread over the photo and over the crop heights in the same directions as the
 true pose; the remaining differences are far below 0.001 px.
+
+Rolling-shutter shots (``Shot.motion``) add the sensor's ``rolling_shutter`` property and one
+``<rolling_shutter>`` block per camera (:func:`.rolling_shutter.metashape_block`).
 """
 import io
 import os
@@ -300,8 +303,8 @@ def write_metashape(folder, name: str, scene: Scene, camera: CameraModel, shots:
     frame_dir = files / "0" / "0"
     rel = [_relpath(p, frame_dir) for p in photo_paths]
     _zip_doc(files / "project.zip", _project_doc())
-    _zip_doc(files / "0" / "chunk.zip", _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers,
-                                                          blocks))
+    _zip_doc(files / "0" / "chunk.zip",
+             _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers, blocks))
     _zip_doc(frame_dir / "frame.zip", _frame_doc(camera, shots, rel, gps_lla, markers))
     psx = folder / f"{name}.psx"
     write_bytes(psx, b'<?xml version="1.0" encoding="UTF-8"?>\n'

@@ -13,10 +13,10 @@ with the pose (local frame, as :mod:`.flight`)
 
 Everything true is computed from that definition here, independently of the core's projection
 solver: photos are ray cast row by row with each row's pose, truth pixels are found by a
-bracketed root search on the row, LabelMe vertices are cast from their own row's pose. The Metashape project stores
-the motion as Metashape does (per-camera ``<rolling_shutter>`` blocks: camera-frame rotation and
-translation from the centre row to the last, chunk units; see ``core/reconstruction/
-rolling_shutter.py``). Pix4D projects are not written for such surveys: our Pix4D reader has no
+bracketed root search on the row, LabelMe vertices are cast from their own row's pose. The
+Metashape project stores the motion as Metashape does (per-camera ``<rolling_shutter>``
+blocks: camera-frame rotation and translation from the centre row to the last, chunk units;
+see ``core/reconstruction/rolling_shutter.py``). Pix4D projects are not written for such surveys: our Pix4D reader has no
 rolling-shutter model, so its pixels would be off by the motion.
 """
 from dataclasses import dataclass, replace
@@ -105,9 +105,10 @@ def _project_at(camera: CameraModel, R, C, xyz: np.ndarray, tau: np.ndarray, ome
 def project(camera: CameraModel, shots: List[Shot], xyz_local: np.ndarray):
     """Pixels (m, n, 2) and status (m, n) of local points in moving shots: each point's
     exposure time is the root of τ ↦ τ(row of its pixel at the pose of τ) − τ (decreasing), by
-    bracketed regula falsi on [−1, 1], then the frame test at that pose (as ``truth.project``). Pairs more than ``MARGIN`` px
-    outside the frame at the centre row's pose are only classified (OUTSIDE, or BEHIND), with
-    NaN pixels: the motion moves a ground point by a few pixels."""
+    bracketed regula falsi on [−1, 1], then the frame test at that pose (as
+    ``truth.project``). Pairs more than ``MARGIN`` px outside the frame at the centre row's
+    pose are only classified (OUTSIDE, or BEHIND), with NaN pixels: the motion moves a ground
+    point by a few pixels."""
     from .truth import project as global_project
     cal = camera.calibration
     r2 = cal.valid_radius2(camera.width, camera.height)

@@ -254,16 +254,17 @@ def _transform(el: Optional[ET.Element], where: str) -> Optional[np.ndarray]:
     return M
 
 
-def _shutter_block(el: ET.Element, label: str, where: str) -> Optional[Tuple[np.ndarray, np.ndarray]]:
+def _shutter_block(el: ET.Element, label: str, where: str):
     """(rotation 3×3, translation (3,)) of a camera's <rolling_shutter> block, or None."""
     rs = el.find("rolling_shutter")
     if rs is None:
         return None
     rot, tr = rs.find("rotation"), rs.find("translation")
-    M = _floats(rot.text, 9, f"<rolling_shutter><rotation> of camera {label!r}", where).reshape(3, 3) \
-        if rot is not None else np.eye(3)
-    t = _floats(tr.text, 3, f"<rolling_shutter><translation> of camera {label!r}", where) \
-        if tr is not None else np.zeros(3)
+    what = f"of camera {label!r}"
+    M = np.eye(3) if rot is None else \
+        _floats(rot.text, 9, f"<rolling_shutter><rotation> {what}", where).reshape(3, 3)
+    t = np.zeros(3) if tr is None else \
+        _floats(tr.text, 3, f"<rolling_shutter><translation> {what}", where)
     if not np.allclose(M @ M.T, np.eye(3), atol=1e-6) or np.linalg.det(M) <= 0:
         raise InputError(f"{where}: the <rolling_shutter> rotation of camera {label!r} is not a "
                          "rotation matrix. The file is damaged.")

@@ -95,7 +95,8 @@ def _sin_versin(a):
         return np.sin(a), 2.0 * h * h
     a2 = a * a
     s = a * (1.0 + a2 * (-1.0 / 6 + a2 * (1.0 / 120 + a2 * (-1.0 / 5040 + a2 * (1.0 / 362880)))))
-    c1 = a2 * (0.5 + a2 * (-1.0 / 24 + a2 * (1.0 / 720 + a2 * (-1.0 / 40320 + a2 * (1.0 / 3628800)))))
+    c1 = a2 * (0.5 + a2 * (-1.0 / 24 + a2 * (1.0 / 720 + a2 * (-1.0 / 40320
+                                                              + a2 * (1.0 / 3628800)))))
     return s, c1
 
 
@@ -162,11 +163,15 @@ def project_block_rs(xyz: np.ndarray, R: np.ndarray, C: np.ndarray, omega: np.nd
     k, theta = _axes(omega)
     tnorm = np.linalg.norm(shift, axis=1)
     # ε bounds the angle between a point's direction at τ = 0 and at any τ in [−1, 1]: θ for
-    # the rotation, asin(|t|/|Xc|) ≤ (π/2)·|t|/|Zc| for the translation; T ≥ tan ε. No square
-    # roots: they cost as much as the whole projection.
+    # the rotation, asin(s) for the translation, s = |t|/|Xc| ≤ |t|/max(|X|, |Y|, |Zc|), with
+    # asin s ≤ 1.0017·s for s ≤ 0.1 and ≤ (π/2)·s for s ≤ 1; T ≥ tan ε (tan x ≤ 1.0034·x for
+    # x ≤ 0.1, ≤ tan(1)·x for x ≤ 1). No square roots or sines: each costs as much as the
+    # whole projection.
     with np.errstate(divide="ignore", invalid="ignore"):
-        eps = theta[:, None] + (0.5 * np.pi * tnorm)[:, None] / np.abs(Z)
-        T = np.where(eps <= 1.0, 1.5575 * eps, np.inf)  # tan x ≤ x·tan(1) on [0, 1]
+        sn = tnorm[:, None] / np.maximum(np.maximum(np.abs(X), np.abs(Y)), np.abs(Z))
+        eps = theta[:, None] + np.where(sn <= 0.1, 1.0017 * sn,
+                                        np.where(sn <= 1.0, 0.5 * np.pi * sn, np.inf))
+        T = np.where(eps <= 0.1, 1.0034 * eps, np.where(eps <= 1.0, 1.5575 * eps, np.inf))
         rho2 = X * X + Y * Y                            # squared distance from the axis
         Z2 = Z * Z
         behind = (Z < 0) & (Z2 >= rho2 * (T * T))       # behind the camera at every pose
@@ -234,55 +239,89 @@ def _evaluate(a, cam, tau, cal, r2_limit, distortion):
 
 
 def _solve(a, cam, cal, width, height, r2_limit, distortion):
-    """Row and pose of each (camera, point) pair: secant iteration on τ with F(τ) = τ(row at
-    the pose of τ) − τ, from τ = 0 (the stored pose). Returns u, v, status.
+    """Row and pose of each (camera, point) pair. Returns u, v, status.
 
-    Pairs leave the iteration when their row is consistent with their pose to ``TOL_PX``, or
-    when they leave the lens model's valid region (status taken there)."""
+    Root of F(τ) = τ(row at the pose of τ) − τ: from τ = 0 (the stored pose) a first step on
+    the pinhole rate of the row, then secant steps. Pairs leave when their row is consistent
+    with their pose to ``TOL_PX`` (or when they leave the lens model's valid region: status
+    taken there). Once three poses are known, the pixel at the next secant root is
+    interpolated between the last two when the curvature of the pixel track bounds the
+    interpolation error below TOL_PX / 4; that saves the last projection of most pairs."""
     n = len(a[0])
     half = 0.5 * height
     out_u, out_v = np.full(n, np.nan), np.full(n, np.nan)
     out_s = np.full(n, OUTSIDE, dtype=np.uint8)
     idx = np.arange(n)
-    _, _, rows, _, _ = _evaluate(a, cam, None, cal, r2_limit, distortion)
-    g0 = (rows - half) / half
-    ok0 = np.isfinite(g0)                               # else: settled at τ = 0 below
-    f_prev = np.where(ok0, g0, 0.0)                     # F(0) = g(0) − 0
-    tau_prev = np.zeros(n)
-    tau = np.where(ok0, np.clip(g0, -1.0, 1.0), 0.0)
+    u, v, rows, valid, _ = _evaluate(a, cam, None, cal, r2_limit, distortion)
+    g = (rows - half) / half
+    ok0 = np.isfinite(g)                                # else: settled at τ = 0 below
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rate = _pinhole_row_rate(a, cam, cal.f) / half  # dτ(row)/dτ at τ = 0, about ±0.03
+        rate = np.where(np.abs(rate) < 0.5, rate, 0.0)
+        tau = np.where(ok0, np.clip(g / (1.0 - rate), -1.0, 1.0), 0.0)
+    prev = (np.zeros(n), np.where(ok0, g, 0.0), u, v, rows, valid)   # τ, F, u, v, row, valid
+    older = None
     active = np.ones(n, dtype=bool)
+
+    def record(sel, uu, vv, ok, front):
+        d = idx[sel]
+        inside = ok & (uu >= 0.0) & (uu <= width) & (vv >= 0.0) & (vv <= height)
+        st = np.where(inside, INSIDE, OUTSIDE).astype(np.uint8)
+        st[~front] = BEHIND
+        out_s[d] = st
+        out_u[d], out_v[d] = np.where(ok, uu, np.nan), np.where(ok, vv, np.nan)
+
     for it in range(MAX_ITER + 1):
         u, v, rows, valid, front = _evaluate(a, cam, tau, cal, r2_limit, distortion)
         g = (rows - half) / half
+        f = g - tau
         with np.errstate(invalid="ignore"):
             step = np.clip(g, -1.0, 1.0) - tau
             done = active & (~valid | (np.abs(step) * half < TOL_PX) | (it == MAX_ITER))
         if done.any():
-            d = idx[done]
-            ud, vd, ok = u[done], v[done], valid[done]
-            inside = ok & (ud >= 0.0) & (ud <= width) & (vd >= 0.0) & (vd <= height)
-            st = np.where(inside, INSIDE, OUTSIDE).astype(np.uint8)
-            st[~front[done]] = BEHIND
-            out_s[d] = st
-            out_u[d], out_v[d] = np.where(ok, ud, np.nan), np.where(ok, vd, np.nan)
-            active &= ~done
-            left = int(np.count_nonzero(active))
-            if left == 0:
-                break
-            if left < 0.8 * len(idx):                   # drop the settled pairs
-                a = tuple(x[active] for x in a)
-                cam = tuple(x[active] for x in cam)
-                idx, tau, g, f_prev, tau_prev = (x[active] for x in (idx, tau, g, f_prev,
-                                                                     tau_prev))
-                active = np.ones(len(idx), dtype=bool)
-        f = g - tau
-        den = f - f_prev
+            record(done, u[done], v[done], valid[done], front[done])
+        tp, fp, up, vp, rp, okp = prev
         with np.errstate(divide="ignore", invalid="ignore"):
-            secant = tau - f * (tau - tau_prev) / den
-        nxt = np.where(np.isfinite(secant), secant, g)
-        tau_prev, f_prev = tau, f
-        tau = np.clip(np.where(np.isfinite(nxt), nxt, tau), -1.0, 1.0)
+            dt = tau - tp
+            nxt = tau - f * dt / (f - fp)               # secant
+            nxt = np.clip(np.where(np.isfinite(nxt), nxt, g), -1.0, 1.0)
+            nxt = np.where(np.isfinite(nxt), nxt, tau)
+            if older is not None:                       # interpolate when it is exact enough
+                to, uo, vo, ro = older
+                dto = tp - to
+                span = np.abs(nxt - tp) * np.abs(nxt - tau) / np.abs(tau - to)
+                curve = np.maximum.reduce([np.abs((q - qp) / dt - (qp - qo) / dto) for q, qp, qo
+                                           in ((u, up, uo), (v, vp, vo), (rows, rp, ro))])
+                w = (nxt - tau) / dt
+                ui, vi = u + w * (u - up), v + w * (v - vp)
+                take = active & ~done & valid & okp & (curve * span < 0.25 * TOL_PX) & \
+                    np.isfinite(ui) & np.isfinite(vi)
+                if take.any():
+                    record(take, ui[take], vi[take], valid[take], front[take])
+                    done |= take
+        older = (tp, up, vp, rp)
+        prev = (tau, f, u, v, rows, valid)
+        tau = nxt
+        active &= ~done
+        left = int(np.count_nonzero(active))
+        if left == 0:
+            break
+        if left < 0.8 * len(idx):                       # drop the settled pairs
+            keep = np.flatnonzero(active)
+            a, cam, prev, older = (tuple(x.take(keep) for x in group)
+                                   for group in (a, cam, prev, older))
+            idx, tau = idx.take(keep), tau.take(keep)
+            active = np.ones(len(idx), dtype=bool)
     return out_u, out_v, out_s
+
+
+def _pinhole_row_rate(a, cam, f: float):
+    """d(row)/dτ at τ = 0 for a pinhole (distortion ignored): the first step's slope."""
+    ax, ay, az = a
+    kx, ky, kz, th, tx, ty, tz = cam
+    dy = th * (kz * ax - kx * az) - ty                   # d(Xc)/dτ = ω × Xc − t
+    dz = th * (kx * ay - ky * ax) - tz
+    return f * (dy - (ay / az) * dz) / az
 
 
 __all__ = ["RollingShutter", "rotation_vector", "row_tau", "ray_poses", "sensor_rows",

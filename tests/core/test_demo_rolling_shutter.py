@@ -121,7 +121,8 @@ def test_photos_are_rendered_with_the_motion(survey, truth, recon):
     green = lambda c: c[:, 1] - c[:, 0]                  # noqa: E731 (vegetation contrast)
     moving = np.corrcoef(green(colours(truth["obs_pixel"][sel])), green(ref))[0, 1]
     fixed = np.corrcoef(green(colours(uv0[sel])), green(ref))[0, 1]
-    print(f"colour correlation at the moving pixels {moving:.3f}, at still-camera pixels {fixed:.3f}")
+    print(f"colour correlation at the moving pixels {moving:.3f}, "
+          f"at still-camera pixels {fixed:.3f}")
     assert moving > 0.88 and fixed < moving - 0.2
 
 
