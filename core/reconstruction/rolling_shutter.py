@@ -132,15 +132,25 @@ def sensor_rows(cal: Calibration, x, y, v, r2_limit: float, distortion: bool) ->
     return rows
 
 
-@lru_cache(maxsize=32)
 def frame_box(cal: Calibration, width: int, height: int, distortion: bool) -> Tuple[float, ...]:
-    """(xmin, xmax, ymin, ymax): normalised coordinates that hold every pixel of the frame."""
+    """(xmin, xmax, ymin, ymax): normalised coordinates that hold every pixel of the frame
+    (cached per calibration when it is hashable)."""
+    try:
+        return _frame_box_cached(cal, width, height, distortion)
+    except TypeError:                                   # an unhashable calibration
+        return _frame_box(cal, width, height, distortion)
+
+
+def _frame_box(cal: Calibration, width: int, height: int, distortion: bool) -> Tuple[float, ...]:
     s = np.linspace(0.0, 1.0, 257)
     u = np.concatenate([s * width, np.full_like(s, width), s * width, np.zeros_like(s)])
     v = np.concatenate([np.zeros_like(s), s * height, np.full_like(s, height), s * height])
     x, y = cal.pixel_to_normalised(u, v, distortion)
     pad = 1e-3 * (1.0 + float(np.max(np.hypot(x, y))))   # between border samples
     return (float(x.min()) - pad, float(x.max()) + pad, float(y.min()) - pad, float(y.max()) + pad)
+
+
+_frame_box_cached = lru_cache(maxsize=32)(_frame_box)
 
 
 def project_block_rs(xyz: np.ndarray, R: np.ndarray, C: np.ndarray, omega: np.ndarray,
