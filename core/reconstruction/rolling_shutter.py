@@ -33,7 +33,7 @@ import numpy as np
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration
 
 TOL_PX = 1e-7        # convergence of the row: |row of the pixel − row of the pose|, pixels
-MAX_ITER = 12        # secant steps; three or four are needed in practice
+MAX_ITER = 12        # secant steps; two or three are needed in practice
 BLOCK_ELEMENTS = 1 << 17
 """Camera × point pairs projected at once: small enough that the many temporaries of the
 iteration stay in the processor's cache (1.5× faster than 2^19 on goya_test)."""
@@ -51,7 +51,7 @@ class RollingShutter:
 
     def __post_init__(self):
         for name in ("rotation", "translation"):
-            a = np.asarray(getattr(self, name), dtype=np.float64).reshape(3)
+            a = np.array(getattr(self, name), dtype=np.float64).reshape(3)   # a copy
             if not np.all(np.isfinite(a)):
                 raise ValueError(f"rolling-shutter {name} is not finite: {a}")
             a.setflags(write=False)
