@@ -1,11 +1,16 @@
-"""Benchmark: Reconstruction.project_points vs easyidp 2.0.4 on the real wheat_tanashi project.
+"""Benchmark: Reconstruction.project_points vs easyidp 2.0.4 on the real wheat_tanashi project,
+and the cost of rolling-shutter compensation on the real goya_test project.
 
-Run: ``python -m easyidp_toolbox.bench.bench_project_points [--sizes 100000 1000000]``.
+Run: ``python -m easyidp_toolbox.bench.bench_project_points [--sizes 100000 1000000] [--quick]``.
 138 cameras; random lon/lat/ellipsoidal-height points over the field (WGS 84), distortion on,
 CRS conversion included. Each side runs in its own subprocess (peak RSS measured there);
 easyidp runs in the reference venv (``make env-ref``) and is never imported here. easyidp's
 batch path holds all cameras × points at once (~100 bytes per pair), so above
 ``--ref-chunk`` points it is fed slices of that size (its own code, called per slice).
+
+goya_test (256 cameras with Metashape's rolling-shutter motion, local CRS): the same random
+points projected with compensation on and off (the motion removed from the cameras), sparse
+(``inside_only``, as above) and dense, each side in its own subprocess, best of ``--repeat``.
 """
 import argparse
 import json
@@ -22,6 +27,7 @@ from .common import reference_env
 ROOT = Path(__file__).resolve().parents[1]
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
 PSX = REALDATA / "easyidp" / "metashape" / "wheat_tanashi.psx"
+GOYA = REALDATA / "easyidp" / "metashape" / "goya_test.psx"
 REF_PY = ROOT / ".venv-ref" / "bin" / "python"
 
 OURS = r"""
@@ -37,6 +43,30 @@ t2 = time.perf_counter()
 print(json.dumps({"open_s": t1 - t0, "project_s": t2 - t1, "cameras": len(r.aligned_cameras),
                   "hits": int(len(vis.point)),
                   "peak_mb": resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024}))
+"""
+
+GOYA_CODE = r"""
+import json, sys, time
+import numpy as np
+from easyidp_toolbox.core import open_reconstruction
+r = open_reconstruction(sys.argv[1])
+on, n, repeat = sys.argv[2] == "on", int(sys.argv[3]), int(sys.argv[4])
+if not on:
+    for c in r.cameras:
+        c.rolling_shutter = None
+_, C = r.camera_centres()
+rng = np.random.default_rng(0)            # points in the box of the camera centres, ±2 m
+pts = rng.uniform(C.min(axis=0) - 2.0, C.max(axis=0) + 2.0, (n, 3))
+out = {"cameras": len(r.aligned_cameras), "rolling": len(r.rolling_shutter_cameras)}
+for mode, sparse in (("sparse", True), ("dense", False)):
+    best = float("inf")
+    for _ in range(repeat):
+        t0 = time.perf_counter()
+        p = r.project_points(pts, inside_only=sparse)
+        best = min(best, time.perf_counter() - t0)
+    out[mode] = best
+    out[mode + "_hits"] = int(len(p.point) if sparse else p.inside.sum())
+print(json.dumps(out))
 """
 
 REF = r"""
@@ -87,7 +117,12 @@ def main(argv=None) -> int:
     ap.add_argument("--sizes", type=int, nargs="+", default=[100_000, 1_000_000])
     ap.add_argument("--ref-chunk", type=int, default=100_000)
     ap.add_argument("--no-ref", action="store_true", help="skip easyidp 2.0.4")
+    ap.add_argument("--goya-points", type=int, default=20_000)
+    ap.add_argument("--repeat", type=int, default=3, help="goya: best of this many runs")
+    ap.add_argument("--quick", action="store_true", help="20,000 wheat points, 5,000 goya points")
     a = ap.parse_args(argv)
+    if a.quick:
+        a.sizes, a.goya_points = [20_000], 5_000
     env = dict(os.environ)
     env.setdefault("PROJ_DATA", "/usr/share/proj")
     ref_ok = REF_PY.exists() and not a.no_ref
@@ -112,7 +147,21 @@ def main(argv=None) -> int:
                       f"peak {ref['peak_mb']:7.0f} MB  hits {ref['hits']:,}{sliced}")
                 print(f"  ratio     : {rate / rrate:7.2f}× throughput, "
                       f"peak memory ours/easyidp {ours['peak_mb'] / ref['peak_mb']:.2f}")
+    goya_rolling_shutter(a.goya_points, a.repeat, env)
     return 0
+
+
+def goya_rolling_shutter(n: int, repeat: int, env) -> None:
+    """project_points on goya_test with rolling-shutter compensation on vs off."""
+    off = run(sys.executable, GOYA_CODE, [GOYA, "off", n, repeat], env)
+    on = run(sys.executable, GOYA_CODE, [GOYA, "on", n, repeat], env)
+    pairs = n * on["cameras"]
+    print(f"\ngoya_test rolling shutter: {n:,} points × {on['cameras']} cameras = {pairs:,} pairs "
+          f"({on['rolling']} cameras with motion), best of {repeat}")
+    for mode in ("sparse", "dense"):
+        print(f"  {mode:6s}: off {off[mode]:6.2f} s, on {on[mode]:6.2f} s, "
+              f"on/off {on[mode] / off[mode]:5.2f}× (target ≤ 3×)  "
+              f"hits off {off[mode + '_hits']:,} on {on[mode + '_hits']:,}")
 
 
 if __name__ == "__main__":

@@ -7,7 +7,7 @@ image corner, centre of the top-left pixel at (0.5, 0.5)); the calibration is a
 :class:`core.reconstruction.Calibration` in that convention.
 """
 from dataclasses import dataclass
-from typing import List
+from typing import List, Optional
 
 import numpy as np
 
@@ -43,7 +43,8 @@ class CameraModel:
 @dataclass
 class Shot:
     """One photo: local pose, flight line, compass yaw (degrees clockwise from north), GNSS
-    position as the drone logged it (map coordinates, with metre-level error) and time."""
+    position as the drone logged it (map coordinates, with metre-level error) and time;
+    ``motion``: a rolling-shutter :class:`.rolling_shutter.Motion` (None: global shutter)."""
     label: str
     filename: str
     R: np.ndarray
@@ -52,6 +53,7 @@ class Shot:
     yaw_deg: float
     gps: np.ndarray
     time: str
+    motion: Optional[object] = None
 
 
 def make_camera(size: str) -> CameraModel:

@@ -46,10 +46,14 @@ def write_labelme(folder: str, photo_dir: str, scene: Scene, camera: CameraModel
             pts = np.column_stack([xy, scene.surface_local(xy[:, 0], xy[:, 1])])
             uv = project(camera, [shot], pts)[0][0]
             uv = uv + np.clip(rng.normal(0.0, JITTER, uv.shape), -JITTER_MAX, JITTER_MAX)
-            x, y = camera.calibration.pixel_to_normalised(uv[:, 0], uv[:, 1])
-            d = np.column_stack([x, y, np.ones_like(x)]) @ shot.R
-            t = intersect(scene, shot.C, d)
-            ground = shot.C + t[:, None] * d + scene.offset
+            if shot.motion is not None:                   # each vertex from its row's pose
+                from .rolling_shutter import pixel_ground
+                ground = pixel_ground(scene, camera, shot, uv) + scene.offset
+            else:
+                x, y = camera.calibration.pixel_to_normalised(uv[:, 0], uv[:, 1])
+                d = np.column_stack([x, y, np.ones_like(x)]) @ shot.R
+                t = intersect(scene, shot.C, d)
+                ground = shot.C + t[:, None] * d + scene.offset
             shapes.append({"label": pid, "points": uv.tolist(), "group_id": None,
                            "shape_type": "polygon", "flags": {}})
             shapes_truth.append({"label": pid, "pixels": uv.tolist(), "map": ground.tolist()})

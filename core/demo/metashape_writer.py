@@ -10,6 +10,9 @@ The true poses live in the map-based local frame (UTM minus offset, Pix4D-style)
 exactly Cartesian. Each geocentric pose is fitted (6 parameters, Gauss–Newton) so that it sees
 63 surface points spread over the photo and over the crop heights in the same directions as the
 true pose; the remaining differences are far below 0.001 px.
+
+Rolling-shutter shots (``Shot.motion``) add the sensor's ``rolling_shutter`` property and one
+``<rolling_shutter>`` block per camera (:func:`.rolling_shutter.metashape_block`).
 """
 import io
 import os
@@ -121,7 +124,7 @@ def _project_doc() -> str:
 """
 
 
-def _sensor_xml(camera: CameraModel) -> str:
+def _sensor_xml(camera: CameraModel, rolling_shutter: bool = False) -> str:
     c = camera.calibration
     w, h = camera.width, camera.height
     terms = [("f", c.f), ("cx", c.cx - w / 2), ("cy", c.cy - h / 2), ("b1", c.b1), ("b2", c.b2),
@@ -133,6 +136,7 @@ def _sensor_xml(camera: CameraModel) -> str:
       <property name="pixel_width" value="{camera.pixel_mm!r}"/>
       <property name="pixel_height" value="{camera.pixel_mm!r}"/>
       <property name="focal_length" value="{round(camera.focal_mm, 2)!r}"/>
+{'      <property name="rolling_shutter" value="true"/>' + chr(10) if rolling_shutter else ''}\
       <property name="layer_index" value="0"/>
       <bands>
         <band label="Red"/>
@@ -157,11 +161,20 @@ def _transform_xml(M: np.ndarray, T: np.ndarray, s: float, indent: str) -> str:
             f"{indent}</transform>\n")
 
 
-def _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers) -> str:
+def _shutter_xml(block) -> str:
+    if block is None:
+        return ""
+    return (f"      <rolling_shutter>\n        <rotation>{_fs(block[0])}</rotation>\n"
+            f"        <translation>{_fs(block[1])}</translation>\n      </rolling_shutter>\n")
+
+
+def _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers, blocks=None) -> str:
     cams = []
+    blocks = blocks or [None] * len(shots)
     for i, (shot, Tc, g) in enumerate(zip(shots, cam_T, gps_lla)):
         cams.append(f"""    <camera id="{i}" sensor_id="0" component_id="0" label="{shot.label}">
       <transform>{_fs(Tc[:3])} 0 0 0 1</transform>
+{_shutter_xml(blocks[i])}\
       <orientation>1</orientation>
       <reference x="{g[0]:.12f}" y="{g[1]:.12f}" z="{g[2]:.3f}" yaw="{shot.yaw_deg:.1f}" pitch="0" roll="0" sxy="10" sz="10" enabled="true" rotation_enabled="false"/>
     </camera>
@@ -176,7 +189,7 @@ def _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers) -> str:
     centre, size, rot = region
     return (f"""<?xml version="1.0" encoding="UTF-8"?>
 <chunk version="1.2.0" label="Chunk 1" enabled="true">
-{_sensor_xml(camera)}  <components next_id="1" active_id="0">
+{_sensor_xml(camera, blocks[0] is not None)}  <components next_id="1" active_id="0">
     <component id="0" label="Component 1">
 {_transform_xml(M, T, s, "      ")}      <region>
         <center>{_fs(centre)}</center>
@@ -277,6 +290,11 @@ def write_metashape(folder, name: str, scene: Scene, camera: CameraModel, shots:
         Tc[:3, :3] = M.T @ R_ecef.T                       # camera → chunk
         Tc[:3, 3] = M.T @ (C_ecef - T) / s
         cam_T.append(Tc)
+    blocks = None
+    if any(shot.motion is not None for shot in shots):        # rolling-shutter photos
+        from .rolling_shutter import metashape_block
+        fit = lambda sh: fit_enu_pose(frame, scene, camera, sh)[:2]   # noqa: E731
+        blocks = [metashape_block(fit, shot, s) for shot in shots]
     region = (M.T @ (centre_ecef - T) / s, np.array([lay.size[0], lay.size[1], 6.0]) / s,
               (M.T @ frame.rotation.T).T)
     gps_lla = map_to_lonlat(np.array([sh.gps for sh in shots]))
@@ -285,7 +303,8 @@ def write_metashape(folder, name: str, scene: Scene, camera: CameraModel, shots:
     frame_dir = files / "0" / "0"
     rel = [_relpath(p, frame_dir) for p in photo_paths]
     _zip_doc(files / "project.zip", _project_doc())
-    _zip_doc(files / "0" / "chunk.zip", _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers))
+    _zip_doc(files / "0" / "chunk.zip",
+             _chunk_doc(camera, shots, cam_T, gps_lla, M, T, s, region, markers, blocks))
     _zip_doc(frame_dir / "frame.zip", _frame_doc(camera, shots, rel, gps_lla, markers))
     psx = folder / f"{name}.psx"
     write_bytes(psx, b'<?xml version="1.0" encoding="UTF-8"?>\n'

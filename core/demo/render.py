@@ -45,16 +45,18 @@ def level_for(camera: CameraModel, height: float) -> int:
 
 
 class _Ray:
-    """Rays of one photo in DSM-grid units of ``Scene.rel`` (padded index coordinates)."""
+    """Rays of one photo in DSM-grid units of ``Scene.rel`` (padded index coordinates), from
+    one origin C (3,) or one origin per ray (n, 3) (a rolling-shutter photo)."""
 
     def __init__(self, scene: Scene, C: np.ndarray, d: np.ndarray, dtype):
         a, bx, by = scene.ground_plane
         lay, p = scene.layout, DSM_PIXEL
         self.scene, self.dtype = scene, dtype
-        self.H0 = dtype(C[2] - (a + bx * C[0] + by * C[1]))       # camera height above the plane
+        cx, cy, cz = C[..., 0], C[..., 1], C[..., 2]
+        self.H0 = dtype(cz - (a + bx * cx + by * cy))             # camera height above the plane
         self.D = (d[:, 2] - dtype(bx) * d[:, 0] - dtype(by) * d[:, 1]).astype(dtype)
-        self.gx0 = dtype((C[0] + scene.offset[0] - lay.origin[0]) / p + 0.5)
-        self.gy0 = dtype((lay.origin[1] - scene.offset[1] - C[1]) / p + 0.5)
+        self.gx0 = dtype((cx + scene.offset[0] - lay.origin[0]) / p + 0.5)
+        self.gy0 = dtype((lay.origin[1] - scene.offset[1] - cy) / p + 0.5)
         self.sx = (d[:, 0] * dtype(1 / p)).astype(dtype)
         self.sy = (d[:, 1] * dtype(-1 / p)).astype(dtype)
         horiz = np.hypot(d[:, 0], d[:, 1])
@@ -69,13 +71,20 @@ class _Ray:
     def subset(self, idx) -> "_Ray":
         out = object.__new__(_Ray)
         out.__dict__.update(self.__dict__)
-        for k in ("D", "sx", "sy", "horiz"):
-            setattr(out, k, getattr(self, k)[idx])
+        for k in ("D", "sx", "sy", "horiz", "H0", "gx0", "gy0"):
+            v = getattr(self, k)
+            if np.ndim(v):
+                setattr(out, k, v[idx])
         return out
+
+    @staticmethod
+    def _pick(v, idx):
+        """A per-ray quantity at ``idx`` (a single origin's scalars unchanged)."""
+        return v if idx is None or not np.ndim(v) else v[idx]
 
     def grid(self, t, idx=None):
         sx, sy = (self.sx, self.sy) if idx is None else (self.sx[idx], self.sy[idx])
-        return self.gx0 + t * sx, self.gy0 + t * sy
+        return self._pick(self.gx0, idx) + t * sx, self._pick(self.gy0, idx) + t * sy
 
     def f(self, t, idx=None):
         """Height of the ray above the surface at t (any shape that broadcasts with idx)."""
@@ -83,7 +92,7 @@ class _Ray:
         gx, gy = self.grid(t, idx)
         rel = bilinear_grid(self.scene.rel, np.array(gx, copy=True).ravel(),
                             np.array(gy, copy=True).ravel())
-        return self.H0 + t * D - rel.reshape(gx.shape)
+        return self._pick(self.H0, idx) + t * D - rel.reshape(gx.shape)
 
     def band_top(self):
         """(t at the band top, t at the band bottom, band top above the plane) per ray, the
@@ -198,8 +207,15 @@ def render_photo(scene: Scene, camera: CameraModel, shot: Shot, rays: np.ndarray
                  level_img: np.ndarray, level: int) -> np.ndarray:
     """The photo (h, w, 3) uint8 that ``shot`` takes of the scene (``rays`` from
     :func:`pixel_rays`, ``level_img`` from :func:`packed_level`)."""
+    return render_rays(scene, camera, shot.C, rays @ shot.R.astype(np.float32), level_img, level)
+
+
+def render_rays(scene: Scene, camera: CameraModel, C: np.ndarray, d: np.ndarray,
+                level_img: np.ndarray, level: int) -> np.ndarray:
+    """The photo (h, w, 3) uint8 whose pixels (row by row) see along local float32 directions
+    ``d`` (h·w, 3) from ``C``: the camera centre (3,) or one origin per pixel (h·w, 3)."""
     f32 = np.float32
-    ray = _Ray(scene, shot.C, rays @ shot.R.astype(f32), f32)
+    ray = _Ray(scene, C, d, f32)
     t_top, t_bot, top = ray.band_top()
     # bare soil: one step from the ground plane, t = (rel − H0) / D with rel of the nearest
     # DSM pixel (a few mm of noise: well below a photo pixel); computed for every ray
@@ -215,4 +231,5 @@ def render_photo(scene: Scene, camera: CameraModel, shot: Shot, rays: np.ndarray
     return np.ascontiguousarray(col.view(np.uint8).reshape(camera.height, camera.width, 4)[..., :3])
 
 
-__all__ = ["pixel_rays", "packed_level", "level_for", "intersect", "ortho_colour", "render_photo"]
+__all__ = ["pixel_rays", "packed_level", "level_for", "intersect", "ortho_colour", "render_photo",
+           "render_rays"]

@@ -19,12 +19,16 @@
 
 Same seed and size → identical files (in one software environment). Pixels have their origin
 at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
+
+``rolling_shutter=True`` makes the drone move during each exposure (:mod:`.rolling_shutter`):
+photos are rendered row by row, the Metashape project carries the motion, the truth follows it,
+and no Pix4D project is written.
 """
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from dataclasses import dataclass, field
-from typing import List
+from typing import List, Optional
 
 import numpy as np
 
@@ -56,8 +60,9 @@ class DemoSurvey:
 
     ``crs``: map CRS of the rasters, plots, point clouds and truth (heights ellipsoidal);
     ``metashape_project``: the .psx; ``pix4d_project``: the .p4d; ``pix4d_params``: its
-    ``1_initial/params`` folder; ``seconds``: generation time; ``odm_project``: the ODM
-    project folder.
+    ``1_initial/params`` folder; ``odm_project``: the ODM project folder (the three None for a
+    rolling-shutter survey: only the Metashape project models the motion); ``seconds``:
+    generation time.
     """
     folder: str
     seed: int
@@ -72,13 +77,14 @@ class DemoSurvey:
     photo_folder: str
     photos: List[str]
     metashape_project: str
-    pix4d_project: str
-    pix4d_params: str
+    pix4d_project: Optional[str]
+    pix4d_params: Optional[str]
     labelme: List[str]
     truth: str
     plot_ids: List[str] = field(default_factory=list)
     seconds: float = 0.0
-    odm_project: str = ""
+    odm_project: Optional[str] = ""
+    rolling_shutter: bool = False
 
 
 SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "pointcloud.laz",
@@ -87,7 +93,7 @@ SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "
 
 
 def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite: bool = False,
-                     progress=None, is_cancelled=None) -> DemoSurvey:
+                     progress=None, is_cancelled=None, rolling_shutter: bool = False) -> DemoSurvey:
     """Write the demo survey into ``folder`` (created if needed) and return its paths.
 
     ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
@@ -95,16 +101,18 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite:
     ``folder`` the run stops before writing anything, unless ``overwrite``.
     ``progress(percent)`` and ``is_cancelled()`` are optional callables; on cancellation
     :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey (every
-    file in it complete).
+    file in it complete). ``rolling_shutter``: photos taken while the drone moves (see the
+    module docstring).
     """
     if size not in SIZES:
         raise InputError(f"Demo survey size {size!r}: choose one of {', '.join(SIZES)}.")
     with OutputFolder(folder, overwrite=overwrite, what="Demo survey folder") as out:
         out.claim(SURVEY_ENTRIES)
-        return _write_survey(str(out.folder), seed, size, as_progress(progress, is_cancelled))
+        return _write_survey(str(out.folder), seed, size, as_progress(progress, is_cancelled),
+                             rolling_shutter)
 
 
-def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
+def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool) -> DemoSurvey:
     t0 = time.perf_counter()
     prog.check()
     camera = make_camera(size)
@@ -115,6 +123,9 @@ def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
     scene = make_scene(seed)
     lay = scene.layout
     shots = plan_flight(scene, rng)
+    if rolling_shutter:                    # own random stream: everything else stays the same
+        from .rolling_shutter import add_motion
+        shots = add_motion(shots, np.random.default_rng([seed, 2]))
     photos = [os.path.join(photo_dir, s.filename) for s in shots]
     cloud_xyz, cloud_rgb = surface_cloud(scene, rng)
     prog.set(10)
@@ -126,7 +137,10 @@ def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
 
     def shoot(i: int) -> None:
         prog.check()
-        _write_jpeg(photos[i], render_photo(scene, camera, shots[i], rays, level_img, level))
+        render = render_photo
+        if shots[i].motion is not None:
+            from .rolling_shutter import render_photo as render
+        _write_jpeg(photos[i], render(scene, camera, shots[i], rays, level_img, level))
 
     with ThreadPoolExecutor(2) as pool:
         jobs = [pool.submit(write_geotiff, os.path.join(folder, "orthomosaic.tif"), scene.ortho,
@@ -149,12 +163,14 @@ def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
             for job in jobs:
                 job.cancel()
             raise
-    odm = write_odm(os.path.join(folder, "odm"), scene, camera, shots, photos, truth.points,
-                    os.path.join(folder, "dsm.tif"), os.path.join(folder, "orthomosaic.tif"))
+    odm = None if rolling_shutter else \
+        write_odm(os.path.join(folder, "odm"), scene, camera, shots, photos, truth.points,
+                  os.path.join(folder, "dsm.tif"), os.path.join(folder, "orthomosaic.tif"))
     # last, so that a truth file means a complete survey
-    truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots,
-                             {"seed": seed, "size": size,
-                              "metashape_pose_fit_max_px": ms["max_fit_px"]})
+    meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"]}
+    if rolling_shutter:
+        meta["rolling_shutter"] = True
+    truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots, meta)
 
     return DemoSurvey(
         folder=folder, seed=seed, size=size, crs=f"EPSG:{lay.epsg}",
@@ -163,10 +179,10 @@ def _write_survey(folder: str, seed: int, size: str, prog) -> DemoSurvey:
         point_cloud_laz=os.path.join(folder, "pointcloud.laz"),
         point_cloud_ply=os.path.join(folder, "pointcloud.ply"),
         photo_folder=photo_dir, photos=photos, metashape_project=ms["psx"],
-        pix4d_project=p4d["p4d"], pix4d_params=p4d["params"],
+        pix4d_project=p4d and p4d["p4d"], pix4d_params=p4d and p4d["params"],
         labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
         plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0,
-        odm_project=odm["project"])
+        odm_project=odm and odm["project"], rolling_shutter=rolling_shutter)
 
 
 def _write_plots(folder: str, scene):
@@ -193,8 +209,8 @@ def _truth_and_projects(folder: str, scene, camera, shots, photos, rng):
                         "pixels": {int(m): tuple(uv) for m, uv in zip(seen_m[sel], seen_uv[sel])}})
     ms = write_metashape(os.path.join(folder, "metashape"), PROJECT_NAME, scene, camera, shots,
                          photos, markers, rng)
-    p4d = write_pix4d(os.path.join(folder, "pix4d"), PROJECT_NAME, camera, shots, scene.offset,
-                      photos)
+    p4d = None if any(s.motion is not None for s in shots) else \
+        write_pix4d(os.path.join(folder, "pix4d"), PROJECT_NAME, camera, shots, scene.offset, photos)
     truth.labelme = write_labelme(os.path.join(folder, "labelme"), os.path.dirname(photos[0]),
                                   scene, camera, shots,
                                   {k: v["photos_whole"] for k, v in truth.plots.items()}, rng)

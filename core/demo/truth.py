@@ -48,6 +48,9 @@ class Truth:
 
 def project(camera: CameraModel, shots: List[Shot], xyz_local: np.ndarray):
     """Pixels (m, n, 2) and status (m, n) of local points in the shots (true poses)."""
+    if any(s.motion is not None for s in shots):
+        from . import rolling_shutter
+        return rolling_shutter.project(camera, shots, xyz_local)
     cal = camera.calibration
     R = np.array([s.R for s in shots])
     C = np.array([s.C for s in shots])
@@ -104,8 +107,11 @@ def observations(scene: Scene, camera: CameraModel, shots: List[Shot], pts: np.n
     """(seen point, seen shot, pixel, hidden point, hidden shot) for local points."""
     uv, st = project(camera, shots, pts)
     mi, pi = np.nonzero(st == INSIDE)
-    C = np.array([s.C for s in shots])
-    hid = hidden(scene, C[mi], pts[pi])
+    C = np.array([s.C for s in shots])[mi]
+    if any(s.motion is not None for s in shots):      # the centre when the point's row was read
+        from .rolling_shutter import centres
+        C = centres(shots, mi, uv[mi, pi], camera.height)
+    hid = hidden(scene, C, pts[pi])
     order = np.lexsort((mi[~hid], pi[~hid]))
     seen_p, seen_m = pi[~hid][order], mi[~hid][order]
     return seen_p, seen_m, uv[seen_m, seen_p], pi[hid], mi[hid]
@@ -139,6 +145,11 @@ def plot_visibility(scene: Scene, camera: CameraModel, shots: List[Shot]) -> Dic
     return out
 
 
+def _motion(shot: Shot) -> dict:
+    from .rolling_shutter import describe
+    return describe(shot)
+
+
 def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shots: List[Shot],
                 meta: dict) -> str:
     """The truth as JSON (see the module docstring for the conventions it states)."""
@@ -153,7 +164,9 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
                 "segment to the camera centre does not pass under the DSM surface",
         "image_size": [camera.width, camera.height],
         "photos": {s.label: {"file": f"photos/{s.filename}", "line": s.line,
-                             "centre": (s.C + scene.offset).tolist()} for s in shots},
+                             "centre": (s.C + scene.offset).tolist(),
+                             **({"rolling_shutter": _motion(s)} if s.motion is not None else {})}
+                   for s in shots},
         "points": {"id": truth.point_ids, "kind": truth.point_kinds,
                    "xyz": truth.points.tolist()},
         "observations": {"point": truth.obs_point.tolist(),

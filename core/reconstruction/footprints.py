@@ -96,6 +96,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         prog.check()
         s = recon.sensors[cam.sensor_id]
         origin, d = recon.pixel_to_ray(cam, border_pixels(s.width, s.height, per_edge))
+        origin = np.broadcast_to(origin, d.shape)          # one per ray (rolling shutter)
         cos_t = np.clip(-(d @ up[i]), 1e-6, None)
         tmax = np.minimum(ref_h[i] / cos_t * 1.5, max_range * ref_h[i])
         t = tmax[:, None] * np.linspace(0.0, 1.0, samples + 1)[None, 1:]      # (k, samples)
@@ -108,7 +109,8 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
             return np.where(np.isfinite(z), z, g_fallback), np.isfinite(z)
 
         def above(tt):
-            p = origin + tt[..., None] * d[:, None, :] if tt.ndim == 2 else origin + tt[:, None] * d
+            p = origin[:, None, :] + tt[..., None] * d[:, None, :] if tt.ndim == 2 \
+                else origin + tt[:, None] * d
             m = recon.from_model(p.reshape(-1, 3))
             return (m[:, 2] - ground_at(m)[0]).reshape(tt.shape)
 
@@ -127,7 +129,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
             go_hi = fm <= 0
             hi = np.where(go_hi, mid, hi)
             lo = np.where(go_hi, lo, mid)
-        pts_model = origin + hi[hit, None] * d[hit]
+        pts_model = origin[hit] + hi[hit, None] * d[hit]
         on_data = ground_at(recon.from_model(pts_model))[1] if hit.any() else np.array([False])
         ring = recon.from_model(pts_model, crs) if hit.sum() >= 3 else None
         area = _shoelace(pts_model @ _horizontal_basis(up[i])) if ring is not None else float("nan")

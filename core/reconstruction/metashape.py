@@ -9,6 +9,11 @@ writes ``<document><chunk>…`` with the same chunk content (no photo paths).
 Camera pose (manual, Appendix C): camera → chunk 4×4 ``T``; chunk → geocentric (datum of the
 chunk CRS) ``X = s·R·x + t``; for a local CRS the same transform gives local coordinates.
 Marker pixel observations are in Metashape pixels (top-left corner origin), like ours.
+
+Rolling shutter: when the sensor's ``rolling_shutter`` property is on, each aligned camera's
+``<rolling_shutter>`` block (a rotation matrix and a translation, camera frame, chunk units) is
+its motion from the centre row to the last row; it becomes a
+:class:`~.rolling_shutter.RollingShutter` (rotation vector, translation in model units).
 """
 import io
 import posixpath
@@ -25,9 +30,11 @@ from ..errors import InputError
 from .frame_model import Calibration
 from .geodesy import GeocentricFrame, LocalFrame, is_local, unbound
 from .model import Camera, Marker, Reconstruction, Sensor
+from .rolling_shutter import RollingShutter, rotation_vector
 
 SUPPORTED_SENSOR_TYPES = {"frame"}
 _FALSE = {"false", "0", "no", "off"}
+_SHUTTER_OFF = _FALSE | {"disabled", "none"}     # Metashape 2.x names its shutter models
 
 
 # --- small parsing helpers --------------------------------------------------------------------
@@ -223,7 +230,8 @@ def _sensors(chunk: ET.Element, where: str) -> Dict[str, Sensor]:
             id=sid, label=label, width=w, height=h, calibration=_calibration(s, w, h, where),
             type=typ, pixel_size_mm=float(px) if px else None,
             focal_length_mm=float(fmm) if fmm else None,
-            rolling_shutter=_bool(props.get("rolling_shutter"), False),
+            rolling_shutter=(props.get("rolling_shutter") or "false").strip().lower()
+            not in _SHUTTER_OFF,
             master_id=s.get("master_id"), rig_offset=_rig_offset(s, where))
     return out
 
@@ -244,6 +252,23 @@ def _transform(el: Optional[ET.Element], where: str) -> Optional[np.ndarray]:
     if tr is not None:
         M[:3, 3] = _floats(tr.text, 3, "chunk transform <translation>", where)
     return M
+
+
+def _shutter_block(el: ET.Element, label: str, where: str):
+    """(rotation 3×3, translation (3,)) of a camera's <rolling_shutter> block, or None."""
+    rs = el.find("rolling_shutter")
+    if rs is None:
+        return None
+    rot, tr = rs.find("rotation"), rs.find("translation")
+    what = f"of camera {label!r}"
+    M = np.eye(3) if rot is None else \
+        _floats(rot.text, 9, f"<rolling_shutter><rotation> {what}", where).reshape(3, 3)
+    t = np.zeros(3) if tr is None else \
+        _floats(tr.text, 3, f"<rolling_shutter><translation> {what}", where)
+    if not np.allclose(M @ M.T, np.eye(3), atol=1e-6) or np.linalg.det(M) <= 0:
+        raise InputError(f"{where}: the <rolling_shutter> rotation of camera {label!r} is not a "
+                         "rotation matrix. The file is damaged.")
+    return M, t
 
 
 def _iter_with_group(parent: Optional[ET.Element], tag: str):
@@ -329,7 +354,7 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
     notes = [f"no photo paths or marker observations: {problem}"] if problem else []
 
     # camera → chunk transforms, rig slaves composed with their master
-    raw, cams = {}, []
+    raw, shutter, cams = {}, {}, []
     for el, group in _iter_with_group(chunk.find("cameras"), "camera"):
         cid = el.get("id")
         label = el.get("label", f"camera {cid}")
@@ -339,6 +364,7 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
         tel = el.find("transform")
         raw[cid] = _floats(tel.text, 16, f"<transform> of camera {label!r}", where).reshape(4, 4) \
             if tel is not None else None
+        shutter[cid] = _shutter_block(el, label, where)
         photo = paths.get(cid)
         cams.append((el, Camera(id=cid, label=label, sensor_id=el.get("sensor_id"),
                                 photo_path=_resolve_photo(photo, src, frame_rel) if photo else None,
@@ -377,8 +403,12 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
         scale = np.cbrt(np.linalg.det(A))
         cam.R = (A / scale).T @ rot_model.T        # model → camera
         cam.C = to_model_c(T[:3, 3][None, :])[0]
-    if any(s.rolling_shutter for s in sensors.values()):
-        notes.append("rolling-shutter compensation is not applied (poses use the frame centre)")
+        block = shutter[cam.id]
+        if block is not None and sensors[cam.sensor_id].rolling_shutter:
+            rs = RollingShutter(rotation_vector(block[0]), scale * block[1])
+            cam.rolling_shutter = None if rs.is_zero else rs
+    notes += _shutter_notes(sensors, [c for _, c in aligned], shutter,
+                            "local units" if crs is None or is_local(crs) else "m")
     n_unaligned = len(cams) - len(aligned)
     if n_unaligned:
         notes.append(f"{n_unaligned} camera(s) not aligned")
@@ -398,6 +428,30 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
     return Reconstruction(source=source, software="metashape", label=chunk.get("label", chunk_key),
                           crs=crs, frame=frame, sensors=sensors, cameras=[c for _, c in cams],
                           enabled=_bool(chunk.get("enabled")), markers=markers, notes=notes)
+
+
+def _shutter_notes(sensors: Dict[str, Sensor], aligned: List[Camera], shutter,
+                   unit: str) -> List[str]:
+    """What the reader did with rolling shutter, for ``Reconstruction.notes``."""
+    on = [c for c in aligned if c.rolling_shutter is not None]
+    flagged = [c for c in aligned if sensors[c.sensor_id].rolling_shutter]
+    stale = sum(1 for c in aligned if shutter[c.id] is not None
+                and not sensors[c.sensor_id].rolling_shutter)
+    notes = []
+    if on:
+        ang = np.degrees([np.linalg.norm(c.rolling_shutter.rotation) for c in on])
+        mov = [np.linalg.norm(c.rolling_shutter.translation) for c in on]
+        notes.append(f"rolling-shutter compensation applied: {len(on)} of {len(aligned)} aligned "
+                     f"camera(s) have a pose per image row (Metashape's per-photo readout "
+                     f"motion, centre row to last row: median {np.median(ang):.3f}°, "
+                     f"{np.median(mov):.3g} {unit})")
+    if len(flagged) > len(on):
+        notes.append(f"rolling-shutter compensation is enabled but {len(flagged) - len(on)} "
+                     "aligned camera(s) have no (or a zero) motion estimate: one pose per photo")
+    if stale:
+        notes.append(f"{stale} camera(s) keep <rolling_shutter> estimates but the sensor's "
+                     "compensation is off: not applied, as in Metashape")
+    return notes
 
 
 def open_metashape(path, chunk=None) -> Reconstruction:

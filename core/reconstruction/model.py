@@ -4,6 +4,8 @@ Cameras are kept in the reconstruction's *model frame* (see :mod:`.geodesy`): a 
 frame in metres where a camera with rotation ``R`` and centre ``C`` sees a point ``X`` at
 ``Xc = R·(X − C)`` (x right, y down, z forward, i.e. +Zc in front of the lens).
 Pixels: origin at the top-left image corner, centre of the top-left pixel at (0.5, 0.5).
+A camera with a :class:`~.rolling_shutter.RollingShutter` has one pose per image row; ``R``/``C``
+are then the pose of the centre row.
 """
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -16,6 +18,8 @@ from ..errors import EasyIDPError
 from ..progress import as_progress
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, project_block
 from .geodesy import ModelFrame, is_local
+from .rolling_shutter import BLOCK_ELEMENTS as RS_BLOCK_ELEMENTS
+from .rolling_shutter import RollingShutter, project_block_rs, ray_poses, row_tau, sensor_rows
 
 __all__ = ["Sensor", "Camera", "Marker", "Reconstruction", "Projection", "VisiblePoints",
            "INSIDE", "BEHIND", "OUTSIDE"]
@@ -49,7 +53,8 @@ class Sensor:
 
 @dataclass
 class Camera:
-    """One photo. ``R``/``C`` (model frame) are None when the camera is not aligned."""
+    """One photo. ``R``/``C`` (model frame) are None when the camera is not aligned;
+    ``rolling_shutter``: its motion across the readout (None: one pose for the whole photo)."""
     id: str
     label: str
     sensor_id: str
@@ -59,6 +64,7 @@ class Camera:
     master_id: Optional[str] = None
     R: Optional[np.ndarray] = None
     C: Optional[np.ndarray] = None
+    rolling_shutter: Optional[RollingShutter] = None
 
     @property
     def aligned(self) -> bool:
@@ -140,6 +146,11 @@ class Reconstruction:
     def is_local(self) -> bool:
         return is_local(self.crs)
 
+    @property
+    def rolling_shutter_cameras(self) -> List[Camera]:
+        """Aligned cameras whose projections use a rolling-shutter motion."""
+        return [c for c in self.cameras if c.aligned and c.rolling_shutter is not None]
+
     def camera(self, label: str) -> Camera:
         for c in self.cameras:
             if c.label == label:
@@ -191,26 +202,36 @@ class Reconstruction:
 
     # --- projection --------------------------------------------------------------------------
     def _blocks(self, xyz_model: np.ndarray, cams: List[Camera], distortion: bool,
-                progress) -> Iterator[Tuple[np.ndarray, slice, np.ndarray, np.ndarray]]:
+                progress, inside_only: bool = False
+                ) -> Iterator[Tuple[np.ndarray, slice, np.ndarray, np.ndarray]]:
         n = len(xyz_model)
-        by_sensor: Dict[str, List[int]] = {}
+        groups: Dict[Tuple[str, bool], List[int]] = {}     # (sensor, rolling shutter) → cameras
         for i, c in enumerate(cams):
-            by_sensor.setdefault(c.sensor_id, []).append(i)
+            groups.setdefault((c.sensor_id, c.rolling_shutter is not None), []).append(i)
         total = max(1, len(cams) * n)
         done = 0
-        pt_block = int(min(max(n, 1), BLOCK_ELEMENTS))
-        for sid, idx in by_sensor.items():
+        for (sid, rolling), idx in groups.items():
             s = self._calibrated(cams[idx[0]])
-            cam_block = max(1, BLOCK_ELEMENTS // pt_block)
+            elements = RS_BLOCK_ELEMENTS if rolling else BLOCK_ELEMENTS
+            pt_block = int(min(max(n, 1), elements))
+            cam_block = max(1, elements // pt_block)
             for c0 in range(0, len(idx), cam_block):
                 ci = np.array(idx[c0:c0 + cam_block])
                 R = np.array([cams[i].R for i in ci])
                 C = np.array([cams[i].C for i in ci])
+                if rolling:
+                    om = np.array([cams[i].rolling_shutter.rotation for i in ci])
+                    sh = np.array([cams[i].rolling_shutter.translation for i in ci])
                 for p0 in range(0, n, pt_block):
                     progress.check()
                     sl = slice(p0, min(n, p0 + pt_block))
-                    uv, st = project_block(xyz_model[sl], R, C, s.calibration, s.width, s.height,
-                                           s.r2_limit, distortion)
+                    if rolling:
+                        uv, st = project_block_rs(xyz_model[sl], R, C, om, sh, s.calibration,
+                                                  s.width, s.height, s.r2_limit, distortion,
+                                                  inside_only)
+                    else:
+                        uv, st = project_block(xyz_model[sl], R, C, s.calibration, s.width,
+                                               s.height, s.r2_limit, distortion)
                     yield ci, sl, uv, st
                     done += len(ci) * (sl.stop - sl.start)
                     progress.set(100.0 * done / total)
@@ -227,6 +248,14 @@ class Reconstruction:
         hits (use it for large n). Work is done in blocks of cameras × points, so the working
         memory stays bounded. A point is INSIDE when Zc > 0 (tested first), it is within the
         lens model's valid radius, and 0 <= u <= w, 0 <= v <= h.
+
+        ``distortion=False`` gives pixels of the photo with its *lens* distortion removed
+        (k1–k4, p1–p4 dropped): an ideal pinhole that keeps the sensor's pixel grid, i.e. the
+        focal length, principal point and Metashape's affinity and skew terms b1, b2
+        (u = cx + x(f + b1) + y·b2, v = cy + y·f); :meth:`pixel_to_ray` reads such pixels the
+        same way. A rolling-shutter camera's motion is part of the exposure and is applied in
+        both modes: each point takes the pose of the sensor row it was exposed on (see
+        :mod:`.rolling_shutter`).
         """
         prog = as_progress(progress, is_cancelled)
         cams = self._select(cameras)
@@ -235,7 +264,7 @@ class Reconstruction:
         n = len(xyz_model)
         if inside_only:
             parts_c, parts_p, parts_uv = [], [], []
-            for ci, sl, uv, st in self._blocks(xyz_model, cams, distortion, prog):
+            for ci, sl, uv, st in self._blocks(xyz_model, cams, distortion, prog, True):
                 mi, pi = np.nonzero(st == INSIDE)
                 parts_c.append(ci[mi].astype(np.int32))
                 parts_p.append((pi + sl.start).astype(np.int64))
@@ -257,16 +286,23 @@ class Reconstruction:
     def pixel_to_ray(self, camera, uv, distortion: bool = True) -> Tuple[np.ndarray, np.ndarray]:
         """Pixels (n, 2) of one photo → rays in the model frame.
 
-        Returns (origin (3,), unit directions (n, 3)); the lens distortion is inverted by
-        Newton iteration to better than 1e-6 px. Intersect with a surface in the model frame
-        and convert with :meth:`from_model` to get map coordinates.
+        Returns (origins, unit directions (n, 3)). The origin is the camera centre (3,), or for a
+        rolling-shutter camera the centre at each pixel's row (n, 3); both broadcast against
+        the directions. The lens distortion is inverted by Newton iteration to better than
+        1e-6 px; ``distortion=False`` reads pixels of the undistorted photo, exactly as
+        :meth:`project_points` writes them. Intersect with a surface in the model frame and
+        convert with :meth:`from_model` to get map coordinates.
         """
         cam = self._select([camera])[0]
         s = self._calibrated(cam)
         uv = np.atleast_2d(np.asarray(uv, dtype=np.float64))
         x, y = s.calibration.pixel_to_normalised(uv[:, 0], uv[:, 1], distortion)
-        d = np.column_stack([x, y, np.ones_like(x)]) @ cam.R   # Rᵀ·(x, y, 1)
-        return cam.C.copy(), d / np.linalg.norm(d, axis=1, keepdims=True)
+        if cam.rolling_shutter is None:
+            d = np.column_stack([x, y, np.ones_like(x)]) @ cam.R   # Rᵀ·(x, y, 1)
+            return cam.C.copy(), d / np.linalg.norm(d, axis=1, keepdims=True)
+        rows = sensor_rows(s.calibration, x, y, uv[:, 1], s.r2_limit, distortion)
+        origins, d = ray_poses(cam.R, cam.C, cam.rolling_shutter, row_tau(rows, s.height), x, y)
+        return origins, d / np.linalg.norm(d, axis=1, keepdims=True)
 
     def summary(self) -> str:
         """A short human-readable description (what a user checks first)."""
@@ -274,4 +310,6 @@ class Reconstruction:
         return (f"{self.software} {self.label!r} from {self.source}: CRS {crs}; "
                 f"{len(self.sensors)} sensor(s); {len(self.cameras)} camera(s), "
                 f"{len(self.aligned_cameras)} aligned and enabled, "
-                f"{len(self.unaligned_cameras)} not aligned")
+                f"{len(self.unaligned_cameras)} not aligned"
+                + (f"; rolling-shutter compensation on {len(self.rolling_shutter_cameras)}"
+                   if self.rolling_shutter_cameras else ""))

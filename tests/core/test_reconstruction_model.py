@@ -55,15 +55,19 @@ def test_opencv_projectpoints_agrees(wheat):
 
 
 def test_opencv_agrees_with_b1_b2_as_fx_and_skew(goya):
-    """goya has b1, b2 (→ fx = f + b1, skew = b2) and k4 (no OpenCV term: compare with k4 = 0)."""
+    """goya has b1, b2 (→ fx = f + b1, skew = b2) and k4 (no OpenCV term: compare with k4 = 0).
+    One pose per photo here (its rolling shutter off); test_rolling_shutter.py compares the
+    rolling-shutter poses with OpenCV."""
     import dataclasses
     s = goya.sensors["0"]
     orig = s.calibration
-    s.calibration, s._r2 = dataclasses.replace(orig, k4=0.0), None
+    cam = goya.camera("DJI_0300.JPG")
+    rs = cam.rolling_shutter
+    s.calibration, s._r2, cam.rolling_shutter = dataclasses.replace(orig, k4=0.0), None, None
     try:
         ours, theirs = _opencv_case(goya, "DJI_0300.JPG")
     finally:
-        s.calibration, s._r2 = orig, None
+        s.calibration, s._r2, cam.rolling_shutter = orig, None, rs
     d = np.abs(ours - theirs).max()
     print(f"OpenCV vs ours (goya b1, b2, skew): max {d:.1e} px")
     assert d < 1e-4
