@@ -99,7 +99,7 @@ def main(out: str) -> int:
     dsm_err = np.array([(t[k] - g[k]) - crop_h[k] for k in crop_h])
     pc_err = np.array([f["h_p99"] - crop_h[f["plot_id"]] for f in _features(stats["OUTPUT"])])
     proj = _projection_errors(s, truth)
-    odm_raw, odm_exact, plots_apart = _odm_errors(s, truth)
+    plots_apart = _plots_apart(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
 
     png = _overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
@@ -120,8 +120,6 @@ def main(out: str) -> int:
     for name, err in proj.items():
         print(f"  truth points → photo pixels, {name}: max {err:.1e} px over "
               f"{len(truth['observations']['point'])} observations")
-    print(f"  truth points → photo pixels, ODM: max {odm_raw:.2f} px (the demo camera's skew b2, "
-          f"which OpenSfM cannot hold), {odm_exact:.1e} px without it")
     print(f"  plot corners back-projected through Metashape, Pix4D and ODM: at most "
           f"{plots_apart:.2f} px apart")
     print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
@@ -143,13 +141,14 @@ def _overview(png: str, raster: str, vectors) -> str:
 
 
 def _projection_errors(s, truth) -> dict:
-    """Max pixel error of the truth observations projected through both projects (core)."""
+    """Max pixel error of the truth observations projected through the three projects (core)."""
     from ..core import open_reconstruction
     xyz = np.array(truth["points"]["xyz"])
     obs = truth["observations"]
     out = {}
     for name, path, suffix in (("Metashape", s["METASHAPE_PROJECT"], ""),
-                               ("Pix4D", s["PIX4D_PROJECT"], ".JPG")):
+                               ("Pix4D", s["PIX4D_PROJECT"], ".JPG"),
+                               ("ODM", s["ODM_PROJECT"], ".JPG")):
         p = open_reconstruction(path).project_points(xyz, truth["crs"])
         index = {lab: i for i, lab in enumerate(p.camera_labels)}
         cam = np.array([index[lab + suffix] for lab in obs["photo"]])
@@ -158,30 +157,16 @@ def _projection_errors(s, truth) -> dict:
     return out
 
 
-def _odm_errors(s, truth):
-    """ODM project vs truth: max pixel error as is and with the skew term b2·(v − cy)/f that
-    OpenSfM's camera cannot hold put back; and how far apart the plot corners land through the
-    Metashape, Pix4D and ODM projects (core ``project_points``)."""
+def _plots_apart(s, truth) -> float:
+    """How far apart (px) the plot corners land through the Metashape, Pix4D and ODM projects."""
     from ..core import open_reconstruction
-    xyz = np.array(truth["points"]["xyz"])
-    obs = truth["observations"]
-    odm = open_reconstruction(s["ODM_PROJECT"])
-    cal = open_reconstruction(s["METASHAPE_PROJECT"]).sensors["0"].calibration
-    p = odm.project_points(xyz, truth["crs"])
-    index = {lab: i for i, lab in enumerate(p.camera_labels)}
-    uv = p.pixels[np.array([index[lab + ".JPG"] for lab in obs["photo"]]), np.array(obs["point"])]
-    want = np.array(obs["pixel"])
-    raw = float(np.abs(uv - want).max())
-    want[:, 0] -= cal.b2 * (want[:, 1] - cal.cy) / cal.f
-    exact = float(np.abs(uv - want).max())
     corners = np.array([c for plot in truth["plots"].values() for c in plot["corners"]])
     px = []
     for path in (s["METASHAPE_PROJECT"], s["PIX4D_PROJECT"], s["ODM_PROJECT"]):
         pr = open_reconstruction(path).project_points(corners, truth["crs"])
         order = np.argsort([lab.split(".")[0] for lab in pr.camera_labels])
         px.append(np.where(pr.status[order, :, None] == 0, pr.pixels[order], np.nan))
-    apart = max(float(np.nanmax(np.abs(a - px[0]))) for a in px[1:])
-    return raw, exact, apart
+    return max(float(np.nanmax(np.abs(a - px[0]))) for a in px[1:])
 
 
 def _footprint_coverage(footprints: str, truth) -> float:

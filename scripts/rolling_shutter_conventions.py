@@ -24,8 +24,6 @@ in ARCHITECTURE.md ("Rolling shutter") is its output on goya_test.
 import argparse
 import os
 import sys
-import xml.etree.ElementTree as ET
-import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple

@@ -17,8 +17,7 @@ the floor of the photos' mean UTM position, as ODM chooses it. The map-coordinat
 truth frame itself (UTM minus an offset), so it holds the true poses. The topocentric poses are
 fitted like the Metashape ones (:func:`.metashape_writer.fit_enu_pose`: they see the surface in
 the same directions, far below 0.001 px apart). The camera is ``brown``: OpenSfM has no skew
-term, so the demo camera's b2 is lost and ODM pixels differ from the truth by exactly
-``b2·(v − cy)/f`` in x (below 0.15 px on the small survey).
+term, and neither has the demo camera (see :func:`.flight.make_camera`).
 """
 import json
 import os

@@ -90,7 +90,7 @@ def test_truth_points_project_through_metashape(survey, truth):
     assert [os.path.realpath(c.photo_path) for c in recon.cameras] == \
         [os.path.realpath(p) for p in survey.photos]
     s = recon.sensors["0"].calibration
-    assert s.b1 != 0 and s.b2 != 0 and s.k3 != 0 and s.p1 != 0 and s.p2 != 0
+    assert s.b1 != 0 and s.k3 != 0 and s.p1 != 0 and s.p2 != 0   # no skew: ODM has none
     err = _check_projection(recon, truth, lambda name: name)
     print(f"Metashape: max error {err:.2e} px")
     # the ground control markers carry exact pixel observations
@@ -445,22 +445,16 @@ def test_point_cloud_cropped_by_the_plots_matches_an_independent_count(survey, t
 
 # --- the OpenDroneMap project ----------------------------------------------------------------------
 def _odm_check(recon, truth, survey):
-    """Max pixel error of the truth observations through an ODM reconstruction: as is, and
-    against the truth with the demo camera's skew removed. OpenSfM cameras have no skew term,
-    so they see u − b2·(v − cy)/f where the truth camera sees u (exact, v unchanged)."""
-    cal = open_reconstruction(survey.metashape_project).sensors["0"].calibration
+    """Max pixel error of the truth observations through an ODM reconstruction."""
     p = recon.project_points(truth["xyz"], "EPSG:32654")
     index = {lab: i for i, lab in enumerate(p.camera_labels)}
     cam = np.array([index[n + ".JPG"] for n in truth["obs_photo"]])
-    uv = p.pixels[cam, truth["obs_point"]]
-    want = truth["obs_pixel"].copy()
-    want[:, 0] -= cal.b2 * (want[:, 1] - cal.cy) / cal.f
-    return float(np.abs(uv - truth["obs_pixel"]).max()), float(np.abs(uv - want).max())
+    return float(np.abs(p.pixels[cam, truth["obs_point"]] - truth["obs_pixel"]).max())
 
 
 def test_truth_points_project_through_the_odm_project(survey, truth):
     """The ODM project folder: OpenSfM's topocentric file is read (mapped exactly with pyproj);
-    photos come from images/; the truth pixels are met to 0.01 px but for the skew term."""
+    photos come from images/; the truth pixels are met to 0.01 px."""
     recon = open_reconstruction(survey.odm_project)
     assert recon.software == "odm" and recon.crs.to_epsg() == 32654
     assert len(recon.aligned_cameras) == 36 and not recon.unaligned_cameras
@@ -469,10 +463,9 @@ def test_truth_points_project_through_the_odm_project(survey, truth):
     assert cam.photo_path == os.path.join(survey.odm_project, "images", "DJI_0007.JPG")
     with open(cam.photo_path, "rb") as a, open(os.path.join(survey.photo_folder, "DJI_0007.JPG"), "rb") as b:
         assert a.read() == b.read()
-    raw, exact = _odm_check(recon, truth, survey)
-    print(f"\nODM (topocentric): max {raw:.3f} px as is, {exact:.1e} px without the skew term")
-    assert exact < 0.01
-    assert 0.05 < raw < 0.15                     # the skew b2 = -0.27 px times |v - cy|/f <= 0.44
+    err = _odm_check(recon, truth, survey)
+    print(f"\nODM (topocentric): max {err:.1e} px")
+    assert err < 0.01
 
 
 def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_path):
@@ -484,16 +477,15 @@ def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_pa
     (odm / "opensfm" / "reconstruction.topocentric.json").unlink()
     recon = open_reconstruction(odm / "opensfm" / "reconstruction.json")
     assert any("map coordinates minus the offset" in n and "shots.geojson" in n for n in recon.notes)
-    raw, exact = _odm_check(recon, truth, survey)
-    assert exact < 0.01
+    assert _odm_check(recon, truth, survey) < 0.01
     geo = odm / "opensfm" / "reconstruction.geocoords.json"       # export_geocoords' own name
     shutil.copy(odm / "opensfm" / "reconstruction.json", geo)
-    assert _odm_check(open_reconstruction(geo), truth, survey)[1] < 0.01
+    assert _odm_check(open_reconstruction(geo), truth, survey) < 0.01
     geo.unlink()
     (odm / "odm_report" / "shots.geojson").unlink()
     recon = open_reconstruction(odm)
     assert any("map coordinates minus the offset" in n and "GPS positions" in n for n in recon.notes)
-    assert _odm_check(recon, truth, survey)[1] < 0.01
+    assert _odm_check(recon, truth, survey) < 0.01
     (odm / "odm_georeferencing" / "coords.txt").write_text("WGS84 UTM 54N\n")
     with pytest.raises(InputError, match=r"coords\.txt: the east/north offset \(line 2\) is missing"):
         open_reconstruction(odm)
@@ -501,9 +493,8 @@ def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_pa
 
 def test_plots_back_projected_through_the_three_projects_land_on_the_same_pixels(survey, truth):
     """The plot corners (on the DSM surface) through the Metashape, Pix4D and ODM projects of
-    the demo: the same pixels, to 0.01 px once the skew OpenSfM cannot hold is put back."""
+    the demo: the same pixels, to 0.01 px."""
     corners = np.array([c for p in truth["plots"].values() for c in p["corners"]])
-    cal = open_reconstruction(survey.metashape_project).sensors["0"].calibration
     px = {}
     for name, path in (("metashape", survey.metashape_project), ("pix4d", survey.pix4d_project),
                        ("odm", survey.odm_project)):
@@ -519,11 +510,5 @@ def test_plots_back_projected_through_the_three_projects_land_on_the_same_pixels
                                     ms_uv[..., 1], truth["image_size"][1] - ms_uv[..., 1]])
         assert (st[seen & (margin > 0.2)] == INSIDE).all()
         d = np.abs(uv[seen] - ms_uv[seen]).max()
-        if name == "odm":
-            fixed = uv[seen].copy()
-            fixed[:, 0] += cal.b2 * (fixed[:, 1] - cal.cy) / cal.f
-            print(f"\nplot corners, ODM vs Metashape: {d:.3f} px as is, "
-                  f"{np.abs(fixed - ms_uv[seen]).max():.1e} px with the skew")
-            assert d < 0.15 and np.abs(fixed - ms_uv[seen]).max() < 0.01
-        else:
-            assert d < 0.01
+        print(f"\nplot corners, {name} vs Metashape: {d:.1e} px")
+        assert d < 0.01

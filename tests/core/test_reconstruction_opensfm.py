@@ -84,7 +84,6 @@ def _model_pixels(recon, label, X):
     cal = recon.sensors[c.sensor_id].calibration
     Xc = (X - c.C) @ c.R.T
     return np.column_stack(cal.project_normalised(Xc[:, 0] / Xc[:, 2], Xc[:, 1] / Xc[:, 2]))
-    assert all(s == INSIDE for s in p.status[[cam[o[0]] for o in obs], [o[1] for o in obs]])
 
 
 def _ecef_from_lla(lat, lon, alt):
