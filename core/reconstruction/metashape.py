@@ -78,10 +78,9 @@ class _Source:
 
     def read(self, rel: str) -> bytes:
         if isinstance(self.root, zipfile.ZipFile):
-            try:
-                return self.root.read(rel)
-            except KeyError:
-                raise InputError(f"{self.label}: the archive has no {rel}; it is incomplete.") from None
+            if rel not in self.root.namelist():
+                raise InputError(f"{self.label}: the archive has no {rel}; it is incomplete.")
+            return _zip_member(self.root, rel, self.label)
         p = self.root / rel
         if not p.is_file():
             raise InputError(f"{p}: file is missing; the project folder {self.root} is incomplete.")
@@ -97,14 +96,34 @@ class _Source:
         if not rel.endswith(".zip"):
             return _parse_xml(data, where)
         try:
-            with zipfile.ZipFile(io.BytesIO(data)) as z:
-                if "doc.xml" not in z.namelist():
-                    raise InputError(f"{where}: no doc.xml inside this zip (found "
-                                     f"{', '.join(z.namelist()[:5]) or 'nothing'}); the project "
-                                     "is damaged or was not written by Metashape.")
-                return _parse_xml(z.read("doc.xml"), f"{where}!doc.xml")
-        except zipfile.BadZipFile:
+            z = zipfile.ZipFile(io.BytesIO(data))
+        except (zipfile.BadZipFile, ValueError, OSError, EOFError):
             raise InputError(f"{where}: not a valid zip archive; the project is damaged.") from None
+        with z:
+            if "doc.xml" not in z.namelist():
+                raise InputError(f"{where}: no doc.xml inside this zip (found "
+                                 f"{', '.join(z.namelist()[:5]) or 'nothing'}); the project "
+                                 "is damaged or was not written by Metashape.")
+            return _parse_xml(_zip_member(z, "doc.xml", where), f"{where}!doc.xml")
+
+
+MAX_DOC_BYTES = 1 << 30
+"""The largest project document read (a damaged zip may claim any size)."""
+
+
+def _zip_member(z: zipfile.ZipFile, name: str, where: str) -> bytes:
+    """One member of a project zip; a damaged archive raises :class:`InputError`."""
+    try:
+        info = z.getinfo(name)
+        if info.file_size > MAX_DOC_BYTES:
+            raise InputError(f"{where}: {name} claims {info.file_size:,} bytes; the project is "
+                             "damaged.")
+        return z.read(info)
+    except InputError:
+        raise
+    except Exception as exc:    # zlib.error, BadZipFile, EOFError, bad seeks, … from zipfile
+        raise InputError(f"{where}: {name} cannot be read from the archive ({type(exc).__name__}: "
+                         f"{exc}); the project is damaged.") from None
 
 
 # --- project / chunk selection ----------------------------------------------------------------
@@ -120,12 +139,12 @@ def _open_project(path: Path) -> Tuple[_Source, ET.Element]:
     if path.suffix.lower() == ".psz":
         try:
             z = zipfile.ZipFile(path)
-        except zipfile.BadZipFile:
+        except (zipfile.BadZipFile, ValueError, OSError, EOFError):
             raise InputError(f"{path}: not a valid .psz (zip) archive; the file is damaged.") from None
         src = _Source(z, str(path))
         if "doc.xml" not in z.namelist():
             raise InputError(f"{path}: no doc.xml inside this .psz archive; it is damaged.")
-        return src, _parse_xml(z.read("doc.xml"), f"{path}!doc.xml")
+        return src, _parse_xml(_zip_member(z, "doc.xml", str(path)), f"{path}!doc.xml")
     root = _parse_xml(path.read_bytes(), str(path))
     rel = root.get("path")
     if rel is None:
