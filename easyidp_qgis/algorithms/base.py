@@ -6,6 +6,7 @@ from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
+from ..outputs import check_outputs
 from ..resources import ICON
 
 
@@ -65,6 +66,7 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
             from ...core.errors import EasyIDPError
         except ImportError as exc:
             raise QgsProcessingException(dependencies.import_error_message(exc)) from None
+        check_outputs(self, parameters, context, self.overwrite(parameters, context))
         try:
             return self.run_tool(parameters, context, feedback)
         except EasyIDPError as exc:
@@ -83,7 +85,9 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         self.addParameter(p)
 
     def overwrite(self, parameters, context) -> bool:
-        return self.parameterAsBool(parameters, self.OVERWRITE, context)
+        """OVERWRITE when the tool has it (every tool that writes files does)."""
+        return self.parameterDefinition(self.OVERWRITE) is not None and \
+            self.parameterAsBool(parameters, self.OVERWRITE, context)
 
     def run_tool(self, parameters, context, feedback) -> dict:
         raise NotImplementedError

@@ -76,6 +76,7 @@ class CameraFootprints(EasyIDPAlgorithm):
             self.OUTPUT_CAMERAS, self.tr("Camera positions"), QgsProcessing.TypeVectorPoint))
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_FOOTPRINTS, self.tr("Camera footprints"), QgsProcessing.TypeVectorPolygon))
+        self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
         from ...core.reconstruction import camera_footprints, open_reconstruction

@@ -99,6 +99,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("ROIs with point cloud statistics"),
             QgsProcessing.TypeVectorPolygon))
+        self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
         from ...core.pointcloud import canopy_summary

@@ -69,6 +69,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("ROIs with heights"), QgsProcessing.TypeVectorPolygon))
+        self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
         from ...core.raster.dsm_heights import roi_heights, vertex_heights

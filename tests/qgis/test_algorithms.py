@@ -277,3 +277,30 @@ def test_rois_are_reprojected_with_the_projects_transform_context(provider, tmp_
         with tifffile.TiffFile(path) as t:
             return t.pages[0].tags[33922].value[3]
     assert origin(shifted["OUTPUT_FILES"][0]) - origin(plain["OUTPUT_FILES"][0]) == pytest.approx(10, abs=0.5)
+
+
+def test_outputs_never_replace_inputs_each_other_or_existing_files(provider, realdata, tmp_path):
+    """ROI heights writing over its own ROI GeoPackage, footprints with both outputs on one file,
+    and a sink onto a user's existing file: each refused before anything is written."""
+    gpkg = tmp_path / "plots.gpkg"
+    from osgeo import gdal
+    gdal.VectorTranslate(str(gpkg), str(realdata / ZONES), format="GPKG", layerName="plots")
+    digest = hashlib.sha256(gpkg.read_bytes()).hexdigest()
+    with pytest.raises(QgsProcessingException, match="is also the input 'ROIs"):
+        _run("easyidp:roiheightsfromdsm", {"ROIS": f"{gpkg}|layername=plots",
+                                           "DSM": str(realdata / DSM), "OUTPUT": str(gpkg)})
+    assert hashlib.sha256(gpkg.read_bytes()).hexdigest() == digest
+    one = tmp_path / "cams.gpkg"
+    with pytest.raises(QgsProcessingException, match="are both .*cams.gpkg"):
+        _run("easyidp:camerafootprints", {
+            "PROJECT": str(realdata / "easyidp/metashape/wheat_tanashi.psx"), "GROUND_HEIGHT": 100,
+            "OUTPUT_CAMERAS": str(one), "OUTPUT_FOOTPRINTS": str(one)})
+    assert not one.exists()
+    mine = tmp_path / "mine.gpkg"
+    mine.write_bytes(b"a user's file")
+    params = {"ROIS": str(realdata / ZONES), "DSM": str(realdata / DSM), "OUTPUT": str(mine)}
+    with pytest.raises(QgsProcessingException, match="mine.gpkg already exists and nothing was written"):
+        _run("easyidp:roiheightsfromdsm", params)
+    assert mine.read_bytes() == b"a user's file"
+    _run("easyidp:roiheightsfromdsm", dict(params, OVERWRITE=True))
+    assert mine.read_bytes()[:15] == b"SQLite format 3"

@@ -1,0 +1,82 @@
+"""The output policy of every tool, checked before any work (see README, "Files and safety"):
+an input is never an output, two outputs are never one file, and a file that already exists is
+replaced only when the user ticks OVERWRITE (folders are checked by the core, name by name)."""
+import os
+
+from qgis.core import (QgsProcessingException, QgsProcessingParameterFeatureSink,
+                       QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
+                       QgsProcessingParameterFolderDestination, QgsProcessingParameterMultipleLayers,
+                       QgsProcessingParameterRasterDestination,
+                       QgsProcessingParameterVectorDestination)
+
+
+def _file_of(source: str) -> str:
+    """The file behind a layer source or output URI ('x.gpkg|layername=a', 'ogr:dbname=…')."""
+    s = str(source or "")
+    if s.startswith("ogr:"):
+        s = s[4:]
+        for part in s.split():
+            if part.startswith("dbname="):
+                s = part[7:].strip("'\"")
+                break
+    s = s.split("|")[0]
+    return os.path.realpath(s) if s and os.path.isabs(s) else ""
+
+
+def _inputs(alg, parameters, context):
+    """(file, parameter description) of every input file or file-backed layer."""
+    out = []
+    for p in alg.parameterDefinitions():
+        if p.isDestination() or p.name() not in parameters or parameters[p.name()] in (None, ""):
+            continue
+        paths = []
+        if isinstance(p, QgsProcessingParameterFile):
+            paths = [alg.parameterAsFile(parameters, p.name(), context)]
+        elif isinstance(p, QgsProcessingParameterMultipleLayers):
+            paths = [lay.source() for lay in alg.parameterAsLayerList(parameters, p.name(), context)]
+        elif p.type() in ("source", "vector", "raster", "layer", "mesh", "pointcloud"):
+            layer = alg.parameterAsLayer(parameters, p.name(), context)
+            paths = [layer.source()] if layer is not None else []
+        out += [(f, p.description()) for f in map(_file_of, paths) if f]
+    return out
+
+
+def _outputs(alg, parameters, context):
+    """(file, parameter description) of every file output (sinks to memory are skipped)."""
+    out = []
+    for p in alg.destinationParameterDefinitions():
+        if isinstance(p, QgsProcessingParameterFolderDestination):
+            continue                      # the core checks the names it writes into a folder
+        if isinstance(p, (QgsProcessingParameterFeatureSink, QgsProcessingParameterVectorDestination)):
+            dest = alg.parameterAsOutputLayer(parameters, p.name(), context)
+        elif isinstance(p, (QgsProcessingParameterFileDestination, QgsProcessingParameterRasterDestination)):
+            dest = alg.parameterAsFileOutput(parameters, p.name(), context)
+        else:
+            continue
+        f = _file_of(dest)
+        if f:
+            out.append((f, p.description()))
+    return out
+
+
+def check_outputs(alg, parameters, context, overwrite: bool) -> None:
+    """Raise QgsProcessingException before any work when an output would replace an input,
+    two outputs share a file, or (without ``overwrite``) an output file already exists."""
+    inputs = _inputs(alg, parameters, context)
+    seen = {}
+    for f, what in _outputs(alg, parameters, context):
+        for g, src in inputs:
+            if f == g:
+                raise QgsProcessingException(alg.tr(
+                    "{output}: {path} is also the input '{input}'. Inputs are never overwritten: "
+                    "choose another file.").format(output=what, path=f, input=src))
+        if f in seen:
+            raise QgsProcessingException(alg.tr(
+                "'{a}' and '{b}' are both {path}: one would replace the other. Choose two "
+                "files.").format(a=seen[f], b=what, path=f))
+        seen[f] = what
+        if os.path.exists(f) and not overwrite:
+            raise QgsProcessingException(alg.tr(
+                "{output}: {path} already exists and nothing was written. Choose another file, "
+                "or tick 'Overwrite existing files' (advanced) to replace it.").format(
+                    output=what, path=f))
