@@ -23,6 +23,7 @@ from typing import Iterator, List, Optional
 from ..errors import EasyIDPError
 
 POLL_SECONDS = 0.05
+CONNECT_TIMEOUT = "20s"          # to reach a Dask scheduler
 DASK_HINT = ("Install Dask for the Python that runs EasyIDP: pip install \"dask[distributed]\" "
              "(Debian/Ubuntu: apt install python3-distributed).")
 
@@ -107,7 +108,7 @@ def open_runner(workers: Optional[int] = None, scheduler: Optional[str] = None,
     cluster = None
     if scheduler:
         try:
-            client = Client(scheduler, timeout="20s")
+            client = Client(scheduler, timeout=CONNECT_TIMEOUT)
         except (OSError, TimeoutError, ValueError) as exc:
             raise EasyIDPError(f"Cannot reach the Dask scheduler at {scheduler!r} ({exc}). Start "
                                "one with `dask scheduler` and workers with `dask worker "

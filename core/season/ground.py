@@ -7,9 +7,10 @@ of the ROI's bounding box. The plane comes from either
 * a bare-soil DSM or DTM of the season: the least-squares plane through its valid pixels
   inside the ROI (:func:`fit_plane`); it follows slopes exactly and smooths furrows and clods;
 * or, without one, the ROI's own low points: the ``q``-th percentile of the heights in each
-  cell of a 3 × 3 grid over the ROI, and the plane through those (:func:`low_plane`). This
-  follows a slope across the plot (a single low percentile would put the ground at the plot's
-  lowest corner) but needs bare soil in most cells: on a closed canopy, use a DTM.
+  cell of a 3 × 3 grid over the ROI, and the plane through those, refined on the heights above
+  it (:func:`low_plane`). This follows a slope across the plot (a single low percentile would
+  put the ground at the plot's lowest corner: 4 cm too low on a 4 m plot at 2 %), but needs bare
+  soil in most cells: on a closed canopy, use a DTM.
 """
 from typing import NamedTuple, Optional
 
@@ -47,8 +48,10 @@ def fit_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, centre) -> Optional[P
 
 
 def low_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float, centre) -> Optional[Plane]:
-    """The plane through the ``q``-th percentile of z in each cell of a 3 × 3 grid over the
-    points' extent (at the cell's mean position); with fewer than 3 such cells, flat at the
+    """The plane through the ``q``-th percentile heights of the cells of a 3 × 3 grid over the
+    points' extent (each at its cell's mean position), refined twice on the heights above the
+    previous plane, so that a slope across a cell does not pull the ground down to the cell's
+    lowest corner. With fewer than 3 cells of :data:`LOW_MIN_COUNT` values, flat at the
     ``q``-th percentile of all. None without points."""
     if not len(z):
         return None
@@ -59,15 +62,15 @@ def low_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float, centre) -> 
         k = np.floor((axis - lo) / max(hi - lo, 1e-12) * LOW_GRID).astype(np.int64)
         cells.append(np.clip(k, 0, LOW_GRID - 1))
     cell = cells[1] * LOW_GRID + cells[0]
-    px, py, pz = [], [], []
-    for c in range(LOW_GRID * LOW_GRID):
-        sel = cell == c
-        if np.count_nonzero(sel) >= LOW_MIN_COUNT:
-            px.append(x[sel].mean())
-            py.append(y[sel].mean())
-            pz.append(np.percentile(z[sel], q))
-    if len(pz) >= 3:
-        plane = fit_plane(np.array(px), np.array(py), np.array(pz), centre)
-        if plane is not None and (plane.bx or plane.by):
-            return plane
-    return Plane(centre[0], centre[1], float(np.percentile(z, q)), 0.0, 0.0)
+    members = [np.flatnonzero(cell == c) for c in range(LOW_GRID * LOW_GRID)]
+    members = [m for m in members if len(m) >= LOW_MIN_COUNT]
+    if len(members) < 3:
+        return Plane(centre[0], centre[1], float(np.percentile(z, q)), 0.0, 0.0)
+    px = np.array([x[m].mean() for m in members])
+    py = np.array([y[m].mean() for m in members])
+    plane = Plane(centre[0], centre[1], 0.0, 0.0, 0.0)
+    for _ in range(3):
+        r = z - plane.at(x, y)
+        fix = fit_plane(px, py, np.array([np.percentile(r[m], q) for m in members]), centre)
+        plane = Plane(centre[0], centre[1], plane.a + fix.a, plane.bx + fix.bx, plane.by + fix.by)
+    return plane
