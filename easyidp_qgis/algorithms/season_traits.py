@@ -151,14 +151,13 @@ class SeasonTraits(EasyIDPAlgorithm):
 
     # ---- run --------------------------------------------------------------------------------
     def run_tool(self, parameters, context, feedback):
-        from ...core.season import plot_growth_curves, run_season, surveys_from_rows
+        from ...core.season import plot_growth_curves, run_season
 
         table_layer = self.parameterAsVectorLayer(parameters, self.SURVEYS, context)
         if table_layer is None:
             raise QgsProcessingException(self.tr("Survey table: no table given, or it could not "
                                                  "be loaded."))
-        table = surveys_from_rows(_rows(table_layer), _table_folder(table_layer, context),
-                                  label=table_layer.name())
+        table = _survey_table(table_layer, context)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
         group_field = self.parameterAsString(parameters, self.GROUP_FIELD, context)
@@ -294,6 +293,19 @@ def _value_text(v) -> str:
     return "" if v is None or str(v) == "NULL" else str(v)
 
 
+def _survey_table(layer, context):
+    """The surveys of a table layer. A CSV file is read as text by the core (QGIS's type
+    detection reads a path like '2024-06-01/dsm.tif' as a date); any other table through its
+    features, with relative paths taken from its file's folder or the project's."""
+    from ...core.season import read_survey_table, surveys_from_rows
+    path = _source_path(layer)
+    if path and os.path.splitext(path)[1].lower() in (".csv", ".txt", ".tsv") and \
+            not layer.subsetString():
+        return read_survey_table(path)
+    return surveys_from_rows(_rows(layer), os.path.dirname(path) if path else
+                             _project_folder(context), label=layer.name())
+
+
 def _rows(layer):
     """The table's features as {field name: value} dicts (dates as ISO text, NULL as None)."""
     names = layer.fields().names()
@@ -305,16 +317,17 @@ def _rows(layer):
     return rows
 
 
-def _table_folder(layer, context) -> str:
-    """The folder that relative paths in the table start from: the table file's, else the
-    project's home, else the working folder."""
+def _source_path(layer) -> str:
+    """The file behind a layer ('' when there is none)."""
     parts = QgsProviderRegistry.instance().decodeUri(layer.providerType(), layer.source())
     path = parts.get("path") or ""
     if path.startswith("file://"):
         from urllib.parse import unquote, urlparse
         path = unquote(urlparse(path).path)
-    if path and os.path.exists(path):
-        return os.path.dirname(os.path.abspath(path))
+    return os.path.abspath(path) if path and os.path.isfile(path) else ""
+
+
+def _project_folder(context) -> str:
     project = context.project()
     if project is not None and project.homePath():
         return project.homePath()

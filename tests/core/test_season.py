@@ -395,3 +395,11 @@ def test_crops_per_date(season, rois, tmp_path):
         sorted(f"{n}.tif" for n in rois.names)
     assert len(list((tmp_path / "crops" / d / "dsm").iterdir())) == 6
     assert not (tmp_path / "crops" / d / "point_cloud").exists()   # cloud traits not asked
+
+
+def test_demo_season_is_deterministic(season, tmp_path):
+    again = small_season(tmp_path / "again", dates=2)
+    for a, b in ((season.plots, again.plots), (season.ground, again.ground),
+                 (season.orthomosaics[0], again.orthomosaics[0]), (season.dsms[0], again.dsms[0]),
+                 (season.point_clouds[0], again.point_clouds[0])):
+        assert open(a, "rb").read() == open(b, "rb").read(), os.path.basename(a)
