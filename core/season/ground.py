@@ -18,6 +18,7 @@ import numpy as np
 
 LOW_GRID = 3          # cells per side of the grid of low points
 LOW_MIN_COUNT = 8     # values a cell needs to give a low point
+LOW_PASSES = 2        # the plane through the cells' low points, then once on the heights above it
 
 
 class Plane(NamedTuple):
@@ -48,11 +49,11 @@ def fit_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, centre) -> Optional[P
 
 
 def low_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float, centre) -> Optional[Plane]:
-    """The plane through the ``q``-th percentile heights of the cells of a 3 × 3 grid over the
-    points' extent (each at its cell's mean position), refined twice on the heights above the
-    previous plane, so that a slope across a cell does not pull the ground down to the cell's
-    lowest corner. With fewer than 3 cells of :data:`LOW_MIN_COUNT` values, flat at the
-    ``q``-th percentile of all. None without points."""
+    """The plane through the ``q``-th percentile heights (nearest rank) of the cells of a 3 × 3
+    grid over the points' extent (each at its cell's mean position), refined on the heights
+    above that plane, so that a slope across a cell does not pull the ground
+    down to the cell's lowest corner. With fewer than 3 cells of :data:`LOW_MIN_COUNT` values,
+    flat at the ``q``-th percentile of all. None without points."""
     if not len(z):
         return None
     x, y, z = (np.asarray(v, np.float64) for v in (x, y, z))
@@ -62,15 +63,23 @@ def low_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float, centre) -> 
         k = np.floor((axis - lo) / max(hi - lo, 1e-12) * LOW_GRID).astype(np.int64)
         cells.append(np.clip(k, 0, LOW_GRID - 1))
     cell = cells[1] * LOW_GRID + cells[0]
-    members = [np.flatnonzero(cell == c) for c in range(LOW_GRID * LOW_GRID)]
-    members = [m for m in members if len(m) >= LOW_MIN_COUNT]
-    if len(members) < 3:
-        return Plane(centre[0], centre[1], float(np.percentile(z, q)), 0.0, 0.0)
-    px = np.array([x[m].mean() for m in members])
-    py = np.array([y[m].mean() for m in members])
+    order = np.argsort(cell, kind="stable")            # the values of each cell contiguous
+    x, y, z = x[order], y[order], z[order]
+    ends = np.cumsum(np.bincount(cell, minlength=LOW_GRID * LOW_GRID))
+    spans = [(b - n, b) for n, b in zip(np.diff(ends, prepend=0), ends) if n >= LOW_MIN_COUNT]
+    if len(spans) < 3:
+        return Plane(centre[0], centre[1], _low(z, q), 0.0, 0.0)
+    px = np.array([x[a:b].mean() for a, b in spans])
+    py = np.array([y[a:b].mean() for a, b in spans])
     plane = Plane(centre[0], centre[1], 0.0, 0.0, 0.0)
-    for _ in range(3):
+    for _ in range(LOW_PASSES):
         r = z - plane.at(x, y)
-        fix = fit_plane(px, py, np.array([np.percentile(r[m], q) for m in members]), centre)
+        fix = fit_plane(px, py, np.array([_low(r[a:b], q) for a, b in spans]), centre)
         plane = Plane(centre[0], centre[1], plane.a + fix.a, plane.bx + fix.bx, plane.by + fix.by)
     return plane
+
+
+def _low(v: np.ndarray, q: float) -> float:
+    """The ``q``-th percentile of ``v`` by nearest rank (one partition)."""
+    k = int(round(q / 100.0 * (len(v) - 1)))
+    return float(np.partition(v, k)[k])

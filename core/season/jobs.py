@@ -228,7 +228,7 @@ def _orthomosaic(job: Job, res: JobResult, prog: Progress) -> None:
         if not ok.any():
             res.skipped[p.roi.name] = NO_PIXEL if not mask.any() else "all pixels inside it are nodata"
             return
-        v = arr[ok][:, colour]
+        v = arr[ok] if len(colour) == tif.bands else arr[ok][:, colour]
         out: Dict[str, float] = {}
         if "bands" in job.traits:
             means = v.mean(axis=0, dtype=np.float64)
