@@ -105,8 +105,10 @@ def plot_growth_curves(result: SeasonResult, path: str, groups: Optional[Dict[st
     for ax in axes.ravel():
         ax.xaxis.set_major_locator(locator)
         ax.xaxis.set_major_formatter(ConciseDateFormatter(locator))
+        ax.xaxis.get_offset_text().set_fontsize(7)
+    unit = " (m)" if "height" in trait else ""
     for ax in axes[:, 0]:
-        ax.set_ylabel(trait, fontsize=8)
+        ax.set_ylabel(trait + unit, fontsize=8)
     head = title or "Growth curves"
     what = f"{trait} (solid)" + (", cover % (dashed, right axis)" if second else "")
     if by_group:

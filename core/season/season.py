@@ -98,6 +98,13 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
         raise EasyIDPError(f"Ground raster not found: {ground}")
     if cover_threshold is not None and not math.isfinite(cover_threshold):
         raise EasyIDPError(f"The cover threshold must be a number (got {cover_threshold}).")
+    if "cover" in traits and cover_threshold is None:
+        try:
+            import skimage.filters  # noqa: F401 (Otsu's threshold, in the jobs)
+        except ImportError as exc:
+            raise EasyIDPError(f"Canopy cover with an automatic threshold needs scikit-image "
+                               f"({exc}): pip install scikit-image (Debian/Ubuntu: apt install "
+                               "python3-skimage), or give a cover threshold.") from None
 
     problems = list(table.problems)
     notes: List[str] = []

@@ -342,6 +342,19 @@ def test_bad_arguments_are_refused(season, rois):
         run_season(season.surveys, rois, percentiles=[50, 120], workers=1)
 
 
+def test_a_missing_package_is_named(season, rois, local_result, tmp_path, monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "skimage.filters", None)
+    with pytest.raises(EasyIDPError, match="needs scikit-image.*pip install scikit-image"):
+        run_season(season.surveys, rois, traits=["cover"], workers=1)
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    with pytest.raises(EasyIDPError, match="pip install .dask.distributed.."):
+        run_season(season.surveys, rois, traits=["height"], local_cluster=True)
+    monkeypatch.setitem(sys.modules, "matplotlib.backends.backend_agg", None)
+    with pytest.raises(EasyIDPError, match="need matplotlib.*pip install matplotlib"):
+        plot_growth_curves(local_result, str(tmp_path / "c.png"))
+
+
 # ---- outputs ------------------------------------------------------------------------------------
 
 def test_outputs_csv_geopackage_and_curves(local_result, rois, tmp_path):
