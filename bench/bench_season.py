@@ -27,7 +27,6 @@ import shutil
 import signal
 import subprocess
 import sys
-import tempfile
 import threading
 import time
 from pathlib import Path
@@ -127,9 +126,8 @@ def write_headline(path: Path, size: int, variants) -> None:
 def rois_in_season(size: int, grid: int):
     """The crop benchmark's plot grid (GeoJSON and shapefile), moved into SEASON."""
     geojson, shp, n = write_rois(size, grid)
-    moved = []
     for p in sorted(geojson.parent.glob(geojson.stem + ".*")):
-        moved.append(Path(shutil.move(str(p), SEASON / p.name)))
+        shutil.move(str(p), SEASON / p.name)
     return SEASON / geojson.name, SEASON / shp.name, n
 
 

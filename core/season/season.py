@@ -113,59 +113,15 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
                      "projection of a season comes later)")
     base = dict(rois=rois, traits=traits, percentiles=percentiles,
                 ground_percentile=ground_percentile, cover_threshold=cover_threshold)
-    first, later = [], []            # jobs that start at once / after the ground job
-    seen_dates: Dict[str, int] = {}
-    for s in table.surveys:
-        tag = s.date if s.date not in seen_dates else f"{s.date}_row{s.row}"
-        seen_dates.setdefault(s.date, s.row)
-        for kind, path in s.files().items():
-            if not set(KIND_TRAITS[kind]) & set(traits):
-                continue
-            job = Job(key=f"r{s.row}-{kind}", kind=kind, path=path, row=s.row, date=s.date,
-                      crs=s.crs, bands=s.bands if kind == "orthomosaic" else None,
-                      crops=os.path.join(crops, _safe(tag), kind) if crops else None, **base)
-            (later if kind in ("dsm", "point_cloud") and ground else first).append(job)
+    first, later = _plan(table, traits, crops, ground, base)
     if not first and not later:
         detail = "; ".join(str(p) for p in problems[:5])
         raise EasyIDPError("Nothing to compute: no survey row has a readable file for the traits "
                            f"asked ({', '.join(traits)}). {detail}")
     if ground and later:
         first.insert(0, Job(key="ground", kind="ground", path=ground, crs=ground_crs, **base))
-
-    cancel_dir = tempfile.mkdtemp(prefix="easyidp-season-")
-    cancel_file = os.path.join(cancel_dir, "cancel")
-    for job in first + later:
-        job.cancel_file = cancel_file
-    total = len(first) + len(later)
-    results: List[JobResult] = []
-    try:
-        with open_runner(workers, scheduler, local_cluster, log=say) as runner:
-            say(f"{total} jobs on {runner.label}")
-            if runner.workers:
-                threads = max(1, (os.cpu_count() or 1) // runner.workers)
-                if not scheduler:   # local processes share this machine's cores
-                    for job in first + later:
-                        job.threads = threads
-            pending = {runner.submit(run_job, j, j.key): j for j in first}
-            try:
-                while pending:
-                    done = wait_any(list(pending), prog.cancelled)
-                    prog.check()
-                    for f in done:
-                        job = pending.pop(f)
-                        res = _result(f, job)
-                        results.append(res)
-                        _report(res, say)
-                        if job.kind == "ground":
-                            _start_later(res, later, pending, runner)
-                        prog.set(100.0 * len(results) / total)
-            except BaseException:
-                open(cancel_file, "w").close()   # running jobs stop at their next block
-                for f in pending:
-                    f.cancel()
-                raise
-    finally:
-        shutil.rmtree(cancel_dir, ignore_errors=True)
+    with open_runner(workers, scheduler, local_cluster, log=say) as runner:
+        results = _execute(runner, first, later, not scheduler, prog, say)
 
     rows, dup = _long_rows(rois, results, problems, notes)
     if dup:
@@ -193,6 +149,59 @@ def _checked_rois(rois: ROISet) -> ROISet:
                        f"{', '.join(sorted(set(dups))[:MAX_NAMED])}. Choose a name field with one "
                        "value per ROI (or none: the feature ids are used).")
     return rois
+
+
+def _plan(table: SurveyTable, traits, crops, ground, base) -> Tuple[List[Job], List[Job]]:
+    """(jobs that start at once, jobs that wait for the ground job): one per file whose traits
+    are asked; crops go to ``<crops>/<date>/<kind>/`` (``<date>_row<n>`` for a repeated date)."""
+    first, later = [], []
+    seen_dates = set()
+    for s in table.surveys:
+        tag = s.date if s.date not in seen_dates else f"{s.date}_row{s.row}"
+        seen_dates.add(s.date)
+        for kind, path in s.files().items():
+            if not set(KIND_TRAITS[kind]) & set(traits):
+                continue
+            job = Job(key=f"r{s.row}-{kind}", kind=kind, path=path, row=s.row, date=s.date,
+                      crs=s.crs, bands=s.bands if kind == "orthomosaic" else None,
+                      crops=os.path.join(crops, _safe(tag), kind) if crops else None, **base)
+            (later if kind in ("dsm", "point_cloud") and ground else first).append(job)
+    return first, later
+
+
+def _execute(runner, first: List[Job], later: List[Job], local: bool, prog, say) -> List[JobResult]:
+    """Run the jobs on ``runner``: ``first`` at once, ``later`` with the ground job's planes.
+    Progress after every job; on cancellation or error, pending jobs are cancelled and a cancel
+    file tells running ones to stop at their next block."""
+    total = len(first) + len(later)
+    say(f"{total} jobs on {runner.label}")
+    cancel_dir = tempfile.mkdtemp(prefix="easyidp-season-")
+    cancel_file = os.path.join(cancel_dir, "cancel")
+    threads = max(1, (os.cpu_count() or 1) // runner.workers) if runner.workers and local else None
+    for job in first + later:
+        job.cancel_file, job.threads = cancel_file, threads   # local workers share the cores
+    results: List[JobResult] = []
+    pending = {runner.submit(run_job, j, j.key): j for j in first}
+    try:
+        while pending:
+            done = wait_any(list(pending), prog.cancelled)
+            prog.check()
+            for f in done:
+                job = pending.pop(f)
+                res = _result(f, job)
+                results.append(res)
+                _report(res, say)
+                if job.kind == "ground":
+                    _start_later(res, later, pending, runner)
+                prog.set(100.0 * len(results) / total)
+    except BaseException:
+        open(cancel_file, "w").close()
+        for f in pending:
+            f.cancel()
+        raise
+    finally:
+        shutil.rmtree(cancel_dir, ignore_errors=True)
+    return results
 
 
 def _safe(tag: str) -> str:
