@@ -21,7 +21,8 @@ def run_season_demo(steps, surveys: str, out: str) -> dict:
                      "OUTPUT_TABLE": os.path.join(out, "season_traits.csv"),
                      "OUTPUT_LAYER": os.path.join(out, "season_latest.gpkg"),
                      "OUTPUT_CURVES": os.path.join(out, "season_curves.png")})
-    truth = json.load(open(os.path.join(folder, "season_truth.json")))
+    with open(os.path.join(folder, "season_truth.json")) as fh:
+        truth = json.load(fh)
     values = {}
     with open(res["OUTPUT_TABLE"], newline="") as fh:
         for row in csv.DictReader(fh):

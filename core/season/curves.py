@@ -15,7 +15,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..errors import EasyIDPError
-from ..files import atomic_output
+from ..files import atomic_output, check_not_inputs
 from .season import SeasonResult
 
 MAX_PANELS = 48
@@ -49,6 +49,7 @@ def plot_growth_curves(result: SeasonResult, path: str, groups: Optional[Dict[st
     except ImportError as exc:
         raise EasyIDPError(f"Growth curves need matplotlib ({exc}): pip install matplotlib "
                            "(Debian/Ubuntu: apt install python3-matplotlib).") from None
+    check_not_inputs(path, result.inputs)
     trait = trait or main_trait(result.traits)
     if trait is None:
         raise EasyIDPError("No trait has a value: there is nothing to draw.")

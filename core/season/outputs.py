@@ -10,7 +10,7 @@ import csv
 import io
 from typing import List, Optional, Tuple
 
-from ..files import write_bytes
+from ..files import check_not_inputs, write_bytes
 from ..gpkg import GpkgTable, field_type, write_geopackage
 from .season import SeasonResult
 
@@ -27,7 +27,8 @@ def long_csv_text(result: SeasonResult) -> str:
 
 
 def write_long_csv(result: SeasonResult, path: str) -> str:
-    """The long table as CSV, written atomically."""
+    """The long table as CSV, written atomically (never over an input of the season)."""
+    check_not_inputs(path, result.inputs)
     write_bytes(path, long_csv_text(result).encode("utf-8"))
     return path
 
@@ -57,7 +58,8 @@ def _attr(v):
 def write_season_geopackage(result: SeasonResult, path: str, long_layer: Optional[str] = "traits",
                             wide_layer: Optional[str] = "latest") -> str:
     """One GeoPackage with the long table (attribute table ``long_layer``) and the wide layer
-    (``wide_layer``); either may be None to leave it out."""
+    (``wide_layer``); either may be None to leave it out. Never written over an input."""
+    check_not_inputs(path, result.inputs)
     tables = []
     if long_layer:
         tables.append(GpkgTable(long_layer, [("roi", "TEXT"), ("date", "TEXT"), ("trait", "TEXT"),

@@ -43,6 +43,7 @@ class SeasonResult:
     jobs: List[JobResult] = field(default_factory=list)
     executor: str = ""
     seconds: float = 0.0
+    inputs: List[str] = field(default_factory=list)   # files read (never written over)
 
     def table(self) -> Dict[Tuple[str, str], Dict[str, float]]:
         """{(roi, date): {trait: value}}."""
@@ -133,8 +134,10 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
     order = {r.name: k for k, r in enumerate(rois)}
     rows.sort(key=lambda r: (order[r[0]], r[1], index[r[2]]))
     results.sort(key=lambda r: (r.row, r.kind))
+    inputs = [p for p in [table.source, ground] if p]
+    inputs += [p for s in table.surveys for p in (*s.files().values(), s.project) if p]
     return SeasonResult(rois, dates, names, rows, problems, notes, results, runner.label,
-                        time.perf_counter() - t0)
+                        time.perf_counter() - t0, inputs)
 
 
 def _checked_rois(rois: ROISet) -> ROISet:

@@ -175,6 +175,7 @@ class SeasonTraits(EasyIDPAlgorithm):
         workers = self.parameterAsInt(parameters, self.WORKERS, context)
         for problem in table.problems:
             feedback.pushWarning(self.tr("Survey {p}").format(p=problem))
+        self._check_outputs(parameters, context, table, ground)
         feedback.pushInfo(self.tr("{n} surveys, {r} ROIs, traits: {t}").format(
             n=len(table.surveys), r=len(rois), t=", ".join(traits)))
 
@@ -216,6 +217,23 @@ class SeasonTraits(EasyIDPAlgorithm):
             v=len(result.rows), k=len(result.traits), r=len(rois), d=len(result.dates),
             s=result.seconds, e=result.executor, p=len(result.problems)))
         return out
+
+    def _check_outputs(self, parameters, context, table, ground):
+        """Refuse output files that are inputs (the table, a raster, a cloud, the ground)."""
+        from ...core.files import check_not_inputs
+        inputs = [p for p in [table.source, ground, _source_path_of(parameters, self.SURVEYS,
+                                                                      self, context)] if p]
+        inputs += [p for s in table.surveys for p in (*s.files().values(), s.project) if p]
+        for name in (self.OUTPUT_TABLE, self.OUTPUT_LAYER):
+            dest = self.parameterAsOutputLayer(parameters, name, context) or ""
+            path = dest.split("|")[0]
+            if path.startswith("ogr:"):
+                continue
+            if path and os.path.splitext(path)[1]:
+                check_not_inputs(path, inputs)
+        curves = self.parameterAsFileOutput(parameters, self.OUTPUT_CURVES, context)
+        if curves:
+            check_not_inputs(curves, inputs)
 
     def _long_table(self, result, parameters, context):
         fields = QgsFields()
@@ -325,6 +343,11 @@ def _source_path(layer) -> str:
         from urllib.parse import unquote, urlparse
         path = unquote(urlparse(path).path)
     return os.path.abspath(path) if path and os.path.isfile(path) else ""
+
+
+def _source_path_of(parameters, name, alg, context) -> str:
+    layer = alg.parameterAsVectorLayer(parameters, name, context)
+    return _source_path(layer) if layer is not None else ""
 
 
 def _project_folder(context) -> str:

@@ -45,7 +45,8 @@ def rois(season):
 
 @pytest.fixture(scope="module")
 def truth(season):
-    return json.load(open(season.truth))
+    with open(season.truth) as fh:
+        return json.load(fh)
 
 
 @pytest.fixture(scope="module")
@@ -388,6 +389,10 @@ def test_outputs_csv_geopackage_and_curves(local_result, rois, tmp_path):
         assert f.GetGeometryRef().GetArea() == pytest.approx(rois[0].area, rel=1e-9)
         assert ds.GetLayerByName("traits").GetFeatureCount() == len(local_result.rows)
 
+    with pytest.raises(InputError, match="inputs are never overwritten"):
+        write_long_csv(local_result, local_result.inputs[0])
+    with pytest.raises(InputError, match="inputs are never overwritten"):
+        write_season_geopackage(local_result, local_result.inputs[-1])
     png = plot_growth_curves(local_result, str(tmp_path / "curves.png"),
                              groups={r.name: r.attributes["variety"] for r in rois})
     from matplotlib.image import imread
@@ -415,4 +420,5 @@ def test_demo_season_is_deterministic(season, tmp_path):
     for a, b in ((season.plots, again.plots), (season.ground, again.ground),
                  (season.orthomosaics[0], again.orthomosaics[0]), (season.dsms[0], again.dsms[0]),
                  (season.point_clouds[0], again.point_clouds[0])):
-        assert open(a, "rb").read() == open(b, "rb").read(), os.path.basename(a)
+        with open(a, "rb") as fa, open(b, "rb") as fb:
+            assert fa.read() == fb.read(), os.path.basename(a)
