@@ -19,6 +19,7 @@ import numpy as np
 LOW_GRID = 3          # cells per side of the grid of low points
 LOW_MIN_COUNT = 8     # values a cell needs to give a low point
 LOW_PASSES = 2        # the plane through the cells' low points, then once on the heights above it
+LOW_SAMPLE = 20000    # values used at most (every k-th of a larger ROI)
 
 
 class Plane(NamedTuple):
@@ -53,10 +54,12 @@ def low_plane(x: np.ndarray, y: np.ndarray, z: np.ndarray, q: float, centre) -> 
     grid over the points' extent (each at its cell's mean position), refined on the heights
     above that plane, so that a slope across a cell does not pull the ground
     down to the cell's lowest corner. With fewer than 3 cells of :data:`LOW_MIN_COUNT` values,
-    flat at the ``q``-th percentile of all. None without points."""
+    flat at the ``q``-th percentile of all. Large ROIs are sampled (every k-th value, at most
+    :data:`LOW_SAMPLE`). None without points."""
     if not len(z):
         return None
-    x, y, z = (np.asarray(v, np.float64) for v in (x, y, z))
+    step = -(-len(z) // LOW_SAMPLE)
+    x, y, z = (np.asarray(v, np.float64)[::step] for v in (x, y, z))
     cells = []
     for axis in (x, y):
         lo, hi = axis.min(), axis.max()

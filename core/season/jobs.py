@@ -131,9 +131,15 @@ def _placed(tif: GeoTiff, rois: ROISet):
     return placed, skipped
 
 
-def _pixel_xy(tif: GeoTiff, window, rr: np.ndarray, cc: np.ndarray):
-    """Map coordinates of the centres of window pixels (rr, cc)."""
+def _pixel_xy(tif: GeoTiff, window, flat: np.ndarray):
+    """Map coordinates of the centres of window pixels given by flat (row-major) indices."""
+    rr, cc = np.divmod(flat, window.cols)
     return tif.pixel_to_map(window.col + cc + 0.5, window.row + rr + 0.5)
+
+
+def _take(arr: np.ndarray, flat: np.ndarray) -> np.ndarray:
+    """The values (n, bands) of a window array at flat pixel indices (a fast gather)."""
+    return np.take(arr.reshape(-1, arr.shape[-1]), flat, axis=0)
 
 
 def _single_band(tif: GeoTiff, what: str) -> None:
@@ -154,13 +160,12 @@ def _ground(job: Job, res: JobResult, prog: Progress) -> None:
 
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]
-        a = arr[..., 0]
-        rr, cc = np.nonzero(p.mask() & valid_heights(tif, a))
-        if not len(rr):
+        flat = np.flatnonzero(p.mask() & valid_heights(tif, arr[..., 0]))
+        if not len(flat):
             res.skipped[p.roi.name] = "no valid pixel of the ground raster inside it"
             return
-        x, y = to_roi(*_pixel_xy(tif, p.window, rr, cc))
-        planes[p.index] = fit_plane(x, y, a[rr, cc], _centre(job.rois[p.index]))
+        x, y = to_roi(*_pixel_xy(tif, p.window, flat))
+        planes[p.index] = fit_plane(x, y, _take(arr, flat)[:, 0], _centre(job.rois[p.index]))
 
     sweep_windows(tif, [p.window for p in placed], consume, prog, job.threads)
     res.planes = planes
@@ -175,14 +180,13 @@ def _dsm(job: Job, res: JobResult, prog: Progress) -> None:
 
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]
-        a = arr[..., 0]
         mask = p.mask()
-        rr, cc = np.nonzero(mask & valid_heights(tif, a))
-        if not len(rr):
+        flat = np.flatnonzero(mask & valid_heights(tif, arr[..., 0]))
+        if not len(flat):
             res.skipped[p.roi.name] = NO_PIXEL if not mask.any() else "all DSM pixels inside it are nodata"
             return
-        x, y = to_roi(*_pixel_xy(tif, p.window, rr, cc))
-        z = a[rr, cc].astype(np.float64)
+        x, y = to_roi(*_pixel_xy(tif, p.window, flat))
+        z = _take(arr, flat)[:, 0].astype(np.float64)
         plane = _plane(job, p.index, x, y, z)
         if plane is None:
             res.skipped[p.roi.name] = "no ground under it (the ground raster has no pixel there)"
@@ -228,13 +232,14 @@ def _orthomosaic(job: Job, res: JobResult, prog: Progress) -> None:
         if not ok.any():
             res.skipped[p.roi.name] = NO_PIXEL if not mask.any() else "all pixels inside it are nodata"
             return
-        v = arr[ok] if len(colour) == tif.bands else arr[ok][:, colour]
+        v = _take(arr, np.flatnonzero(ok))
+        bands = np.ascontiguousarray(v.T[colour], dtype=np.float64)   # (bands, n): fast sums
         out: Dict[str, float] = {}
         if "bands" in job.traits:
-            means = v.mean(axis=0, dtype=np.float64)
+            means = bands.sum(axis=1) / bands.shape[1]
             out.update({f"mean_{n}": float(m) for n, m in zip(names, means)})
         if want_index or want_cover:
-            idx = tr.vegetation_index(kind, v, names)
+            idx = tr.vegetation_index(kind, bands, names)
             if want_index:
                 finite = idx[np.isfinite(idx)]
                 out[kind] = float(finite.mean()) if len(finite) else float("nan")

@@ -101,15 +101,15 @@ def index_kind(names: Sequence[str], tif: GeoTiff) -> Optional[str]:
 
 
 def vegetation_index(kind: str, bands: np.ndarray, names: Sequence[str]) -> np.ndarray:
-    """ExG or NDVI of (n, bands) values as float64; NaN where undefined (zero sum)."""
-    v = bands.astype(np.float64, copy=False)
+    """ExG or NDVI of the values ``bands`` (bands, n), float64; NaN where undefined (zero
+    sum)."""
+    v = np.asarray(bands, np.float64)
     with np.errstate(invalid="ignore", divide="ignore"):
         if kind == "ndvi":
-            red, nir = v[:, names.index("red")], v[:, names.index("nir")]
+            red, nir = v[names.index("red")], v[names.index("nir")]
             return (nir - red) / (nir + red)
-        r, g, b = (v[:, names.index(n)] for n in RGB_NAMES)
-        s = r + g + b
-        return (2 * g - r - b) / s
+        r, g, b = (v[names.index(n)] for n in RGB_NAMES)
+        return (2 * g - r - b) / (r + g + b)
 
 
 def index_histogram(kind: str, values: np.ndarray) -> Tuple[int, np.ndarray]:
