@@ -13,6 +13,7 @@ import time
 
 import numpy as np
 
+from .demo_season import SEASON_DATES, run_season_demo
 from .qgis_process import qgis_process_env, run_algorithm
 
 
@@ -56,8 +57,9 @@ def main(out: str) -> int:
     _fresh_folder(out)
     print(f"EasyIDP demo: every tool on a generated survey, through qgis_process → {out}", flush=True)
     steps = Steps()
-    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 3 projects, cloud)",
-                  "easyidp:createdemosurvey", {"OUTPUT_FOLDER": os.path.join(out, "survey")})
+    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 3 projects, cloud; "
+                  f"a {SEASON_DATES}-date growth season)", "easyidp:createdemosurvey",
+                  {"OUTPUT_FOLDER": os.path.join(out, "survey"), "SEASON_DATES": SEASON_DATES})
     truth = json.load(open(s["TRUTH"]))
     plots, dsm = s["PLOTS"], s["DSM"]
 
@@ -101,6 +103,7 @@ def main(out: str) -> int:
     proj = _projection_errors(s, truth)
     plots_apart = _plots_apart(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
+    season = run_season_demo(steps, s["SEASON_SURVEYS"], out)
 
     png = _overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
                     [plots, ms["OUTPUT_FOOTPRINTS"]])
@@ -123,6 +126,8 @@ def main(out: str) -> int:
     print(f"  plot corners back-projected through Metashape, Pix4D and ODM: at most "
           f"{plots_apart:.2f} px apart")
     print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
+    print(f"  season, {SEASON_DATES} dates × 40 plots: height max {100 * season['height']:.1f} cm "
+          f"(DSM), {100 * season['cloud']:.1f} cm (cloud); cover max {100 * season['cover']:.1f} %")
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
           f"from orthomosaic, DSM and point cloud; projections agree with the truth to "

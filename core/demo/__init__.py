@@ -3,6 +3,7 @@
 Not imported by ``easyidp_toolbox.core``: ``from easyidp_toolbox.core.demo import
 make_demo_survey``.
 """
+from .season import DemoSeason, make_demo_season
 from .survey import SIZES, DemoSurvey, make_demo_survey
 
-__all__ = ["make_demo_survey", "DemoSurvey", "SIZES"]
+__all__ = ["make_demo_survey", "DemoSurvey", "SIZES", "make_demo_season", "DemoSeason"]

@@ -5,6 +5,7 @@ from .crop_point_cloud_by_rois import CropPointCloudByROIs
 from .crop_raster_by_rois import CropRasterByROIs
 from .point_cloud_roi_statistics import PointCloudROIStatistics
 from .roi_heights_from_dsm import ROIHeightsFromDSM
+from .season_traits import SeasonTraits
 
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
-              PointCloudROIStatistics, CreateDemoSurvey]
+              PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits]

@@ -1,4 +1,6 @@
 """Processing tool: Create demo survey (easyidp:createdemosurvey)."""
+import os
+
 from qgis.core import (QgsProcessingContext, QgsProcessingOutputFile, QgsProcessingOutputFolder,
                        QgsProcessingOutputRasterLayer,
                        QgsProcessingOutputVectorLayer, QgsProcessingParameterDefinition,
@@ -22,6 +24,8 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
     PIX4D_PROJECT = "PIX4D_PROJECT"
     ODM_PROJECT = "ODM_PROJECT"
     TRUTH = "TRUTH"
+    SEASON_DATES = "SEASON_DATES"
+    SEASON_SURVEYS = "SEASON_SURVEYS"
 
     NAME = "createdemosurvey"
     DISPLAY = "Create demo survey"
@@ -39,7 +43,11 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         "OpenDroneMap project (odm/, with its opensfm/ files);\n"
         "- LabelMe annotations on four photos;\n"
         "- truth.json: where known ground points are in every photo.\n\n"
-        "The same seed gives the same files. Small takes seconds; medium has larger photos.")
+        "The same seed gives the same files. Small takes seconds; medium has larger photos.\n\n"
+        "Growth season (advanced): with N dates, also the same field flown on N dates while the "
+        "crop grows along known curves, in season/: per date an orthomosaic, a DSM and a point "
+        "cloud, a bare-soil DSM, the plots with their variety, surveys.csv (the table for 'Plot "
+        "traits over a season') and season_truth.json (height and cover per plot and date).")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFolderDestination(
@@ -54,6 +62,13 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
                                          minValue=0)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
+        p = QgsProcessingParameterNumber(
+            self.SEASON_DATES, self.tr("Growth season: dates flown (0: none)"),
+            QgsProcessingParameterNumber.Integer, defaultValue=0, minValue=0, maxValue=30)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addOutput(QgsProcessingOutputFile(self.SEASON_SURVEYS,
+                                               self.tr("Season survey table (surveys.csv)")))
         self.addOutput(QgsProcessingOutputRasterLayer(self.ORTHOMOSAIC, self.tr("Orthomosaic")))
         self.addOutput(QgsProcessingOutputRasterLayer(self.DSM, self.tr("DSM")))
         self.addOutput(QgsProcessingOutputVectorLayer(self.PLOTS, self.tr("Plots")))
@@ -82,7 +97,16 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
                                     (s.plots_gpkg, "Demo plots", self.PLOTS)):
                 context.addLayerToLoadOnCompletion(
                     path, QgsProcessingContext.LayerDetails(name, context.project(), out))
-        return {self.OUTPUT_FOLDER: folder, self.ORTHOMOSAIC: s.orthomosaic, self.DSM: s.dsm,
+        out = {}
+        dates = self.parameterAsInt(parameters, self.SEASON_DATES, context)
+        if dates:
+            from ...core.demo import make_demo_season
+            season = make_demo_season(os.path.join(folder, "season"), dates=dates, seed=seed,
+                                      is_cancelled=feedback.isCanceled)
+            feedback.pushInfo(self.tr("Growth season: {n} dates in {f}").format(
+                n=len(season.dates), f=season.folder))
+            out[self.SEASON_SURVEYS] = season.surveys
+        return {**out, self.OUTPUT_FOLDER: folder, self.ORTHOMOSAIC: s.orthomosaic, self.DSM: s.dsm,
                 self.PLOTS: s.plots_gpkg, self.POINT_CLOUD: s.point_cloud_laz,
                 self.METASHAPE_PROJECT: s.metashape_project, self.PIX4D_PROJECT: s.pix4d_project,
                 self.ODM_PROJECT: s.odm_project, self.TRUTH: s.truth}

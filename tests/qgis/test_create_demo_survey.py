@@ -7,7 +7,8 @@ def test_create_demo_survey(provider, tmp_path):
     import processing
     context = QgsProcessingContext()
     context.setProject(QgsProject.instance())
-    res = processing.run("easyidp:createdemosurvey", {"OUTPUT_FOLDER": str(tmp_path / "survey")},
+    res = processing.run("easyidp:createdemosurvey", {"OUTPUT_FOLDER": str(tmp_path / "survey"),
+                                                      "SEASON_DATES": 1},
                          context=context, feedback=QgsProcessingFeedback())
     assert QgsRasterLayer(res["ORTHOMOSAIC"], "o").bandCount() == 3
     dsm = QgsRasterLayer(res["DSM"], "d")
@@ -16,6 +17,8 @@ def test_create_demo_survey(provider, tmp_path):
     assert plots.featureCount() == 40 and plots.fields().indexFromName("plot_id") >= 0
     for key in ("POINT_CLOUD", "METASHAPE_PROJECT", "PIX4D_PROJECT", "ODM_PROJECT", "TRUTH"):
         assert (tmp_path / "survey").as_posix() in res[key]
+    assert (tmp_path / "survey" / "season" / "surveys.csv").read_text().count("\n") == 2
+    assert res["SEASON_SURVEYS"] == str(tmp_path / "survey" / "season" / "surveys.csv")
     names = sorted(d.name for d in context.layersToLoadOnCompletion().values())
     assert names == ["Demo DSM", "Demo orthomosaic", "Demo plots"]
     _odm_footprints_match_metashape(res)
