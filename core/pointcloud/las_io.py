@@ -47,6 +47,7 @@ def read_las(path, crs=None) -> PointCloud:
     path = Path(path)
     if not path.is_file():
         raise InputError(f"Point cloud {str(path)!r} does not exist: check the path.")
+    _check_las_header(path)
     try:
         with laspy.open(str(path)) as reader:
             header = reader.header
@@ -84,6 +85,31 @@ def read_las(path, crs=None) -> PointCloud:
             "the CRS given is used." if crs is not None else
             "it is treated as having no CRS. Give the point cloud's CRS."))
     return cloud
+
+
+def _check_las_header(path: Path) -> None:
+    """Refuse a LAS/LAZ whose header's counts and offsets cannot be true for its size, before
+    laspy reads it (it would loop over billions of VLRs a damaged header announces)."""
+    size = os.path.getsize(path)
+    with open(path, "rb") as fh:
+        head = fh.read(375)
+    if len(head) < 227 or head[:4] != b"LASF":
+        raise InputError(f"Point cloud {path.name!r} is not a LAS/LAZ file (no LASF header); check "
+                         "that the file is complete.")
+    minor = head[25]
+    header_size, offset_points, n_vlr = struct.unpack_from("<HII", head, 94)
+    bad = None
+    if not 227 <= header_size <= offset_points <= size:
+        bad = (f"its header ({header_size} bytes) and point data (at byte {offset_points:,}) do "
+               f"not fit a file of {size:,} bytes")
+    elif n_vlr * 54 > offset_points - header_size:
+        bad = f"it announces {n_vlr:,} VLRs in {offset_points - header_size:,} bytes"
+    elif minor >= 4 and header_size >= 247 and len(head) >= 247:
+        evlr_start, n_evlr = struct.unpack_from("<QI", head, 235)
+        if n_evlr and (evlr_start > size or n_evlr * 60 > size - evlr_start):
+            bad = f"it announces {n_evlr:,} extended VLRs past its end"
+    if bad:
+        raise InputError(f"Point cloud {path.name!r} is damaged: {bad}. Export or copy it again.")
 
 
 MAX_LAZ_RATIO = 1000

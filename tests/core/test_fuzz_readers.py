@@ -1,9 +1,10 @@
 """Property-based fuzzing of every reader (hypothesis): truncated, bit-flipped, spliced and random
 versions of real files. Only the project's own exceptions may come out, with a message, in
-bounded time and memory. The budget is set by EASYIDP_FUZZ_EXAMPLES (per reader, default 60)."""
+bounded time and memory. The budget is set by EASYIDP_FUZZ_EXAMPLES (per reader, default 100)."""
 import io
 import os
 import shutil
+import signal
 import tracemalloc
 import zipfile
 
@@ -19,8 +20,9 @@ from easyidp_toolbox.core.raster.geotiff import open_geotiff
 from easyidp_toolbox.core.reconstruction import open_reconstruction
 from easyidp_toolbox.core.roi import read_geojson
 
-EXAMPLES = int(os.environ.get("EASYIDP_FUZZ_EXAMPLES", "60"))
+EXAMPLES = int(os.environ.get("EASYIDP_FUZZ_EXAMPLES", "100"))
 MAX_BYTES = 256 * 2**20        # peak Python/numpy allocation allowed for one damaged file
+MAX_SECONDS = 20               # per damaged file, generous for a loaded 2-core machine
 FUZZ = settings(max_examples=EXAMPLES, deadline=None, derandomize=True, database=None,
                 suppress_health_check=list(HealthCheck))
 
@@ -45,14 +47,27 @@ def damaged(draw, data: bytes):
     return bytes(buf[:i]) + draw(st.binary(min_size=0, max_size=64)) + bytes(buf[j:])
 
 
+class _TooSlow(Exception):
+    pass
+
+
+def _alarm(signum, frame):
+    raise _TooSlow(f"a damaged file took more than {MAX_SECONDS} s")
+
+
 def _only_our_errors(read, path):
-    """Run ``read(path)``: it returns, or raises an EasyIDPError with a message; memory bounded."""
+    """Run ``read(path)``: it returns, or raises an EasyIDPError with a message; memory and time
+    bounded (a reader that loops over what a damaged header announces fails here)."""
     tracemalloc.start()
+    old = signal.signal(signal.SIGALRM, _alarm)
+    signal.alarm(MAX_SECONDS)
     try:
         read(path)
     except EasyIDPError as exc:
         assert str(exc).strip(), "an error without a message"
     finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, old)
         peak = tracemalloc.get_traced_memory()[1]
         tracemalloc.stop()
     assert peak < MAX_BYTES, f"{peak / 2**20:.0f} MiB for one damaged file"
