@@ -19,3 +19,28 @@ class ROIError(EasyIDPError):
 
 class Cancelled(EasyIDPError):
     """The caller asked to stop; partial outputs have been removed."""
+
+
+def reads_file(advice: str):
+    """Decorate a reader ``fn(path, …)``: whatever a damaged file makes the parsing raise
+    (ValueError, KeyError, struct.error, zlib.error, …) becomes an :class:`InputError` that names
+    the file and gives ``advice``; the reader's own, more precise errors pass through."""
+    import functools
+    import struct
+    import zlib
+
+    parse_errors = (ValueError, TypeError, KeyError, IndexError, LookupError, AttributeError,
+                    ArithmeticError, EOFError, struct.error, zlib.error, OSError)
+
+    def deco(fn):
+        @functools.wraps(fn)
+        def wrapper(path, *args, **kwargs):
+            try:
+                return fn(path, *args, **kwargs)
+            except EasyIDPError:
+                raise
+            except parse_errors as exc:
+                raise InputError(f"{path}: the file is damaged and cannot be read "
+                                 f"({type(exc).__name__}: {exc}). {advice}") from None
+        return wrapper
+    return deco

@@ -11,13 +11,14 @@ from typing import List
 
 import numpy as np
 
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from ..files import load_json
 from .model import LINE, POINT, POLYGON, PhotoAnnotations, PhotoShape
 
 CIRCLE_VERTICES = 64
 
 
+@reads_file("Open and save it again in LabelMe.")
 def read_labelme(path) -> PhotoAnnotations:
     """Read a LabelMe JSON file. Raises :class:`InputError` naming the file and the shape."""
     path = os.fspath(path)

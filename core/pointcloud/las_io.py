@@ -17,7 +17,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..crs import as_crs, same_crs
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from .cloud import PointCloud
 from ..files import atomic_output, check_not_inputs
 
@@ -38,6 +38,7 @@ def las_crs(header) -> Tuple[Optional[CRS], Optional[str]]:
         return None, f"its CRS record cannot be read ({type(exc).__name__}: {exc})"
 
 
+@reads_file("Export or copy the point cloud again.")
 def read_las(path, crs=None) -> PointCloud:
     """Read a .las or .laz file.
 

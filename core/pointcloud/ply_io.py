@@ -11,7 +11,7 @@ from typing import Optional
 import numpy as np
 
 from ..crs import as_crs
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from .cloud import XYZ_PLY, PlyHeader, PointCloud
 from ..files import atomic_output, check_not_inputs
 
@@ -19,6 +19,7 @@ from ..files import atomic_output, check_not_inputs
 _PLY_OK = {"i1", "u1", "i2", "u2", "i4", "u4", "f4", "f8"}
 
 
+@reads_file("Export or copy the point cloud again.")
 def read_ply(path, crs=None) -> PointCloud:
     """Read the vertex element of a PLY file (binary files are memory-mapped copy-on-write)."""
     from plyfile import PlyData

@@ -26,7 +26,7 @@ from typing import Dict, List, Optional, Tuple, Union
 import numpy as np
 from pyproj import CRS
 
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import GeocentricFrame, LocalFrame, is_local, unbound
 from .model import Camera, Marker, Reconstruction, Sensor
@@ -66,7 +66,7 @@ def _float_attr(el: ET.Element, name: str, where: str) -> Optional[float]:
 def _parse_xml(data: bytes, where: str) -> ET.Element:
     try:
         return ET.fromstring(data)
-    except ET.ParseError as exc:
+    except (ET.ParseError, LookupError, ValueError) as exc:   # LookupError: unknown encoding
         raise InputError(f"{where}: not a readable XML document ({exc}).") from None
 
 
@@ -473,9 +473,13 @@ def _shutter_notes(sensors: Dict[str, Sensor], aligned: List[Camera], shutter,
     return notes
 
 
+@reads_file("Open and save it again in Metashape, or restore it from a copy.")
 def open_metashape(path, chunk=None) -> Reconstruction:
     """Open a Metashape ``.psx``/``.psz`` (one chunk, by id or label) or a cameras ``.xml``."""
-    path = Path(path)
+    return _open_metashape(Path(path), chunk)
+
+
+def _open_metashape(path: Path, chunk) -> Reconstruction:
     if path.suffix.lower() == ".xml":
         if not path.is_file():
             raise InputError(f"{path}: file not found.")

@@ -35,7 +35,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..crs import as_crs, same_crs, transformer
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from .geodesy import GeocentricFrame, LocalFrame, ModelFrame, OffsetFrame, geocentric_of
 from .model import Camera, Marker, Reconstruction, Sensor
 from .opensfm import (camera_table, choose, load_json, normalised_to_pixels, read_gcp_json,
@@ -221,6 +221,7 @@ def list_reconstructions(path) -> List[dict]:
              "cameras": len(r.get("cameras", {}))} for i, (r, n) in enumerate(zip(recons, shot_counts(recons)))]
 
 
+@reads_file("Run the OpenDroneMap task again or restore the project from a copy.")
 def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
     """Open an ODM project folder, an OpenSfM dataset folder or a reconstruction file.
 

@@ -26,7 +26,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..crs import as_crs
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
@@ -249,6 +249,7 @@ def _p4d_photos(p4d: Optional[Path]) -> Dict[str, str]:
     return out
 
 
+@reads_file("Export the params folder from Pix4D again.")
 def open_pix4d(path, crs=None) -> Reconstruction:
     """Open a Pix4D project; ``crs`` overrides/supplies the output CRS when no ``_wkt.prj``."""
     path = Path(path)

@@ -2,12 +2,13 @@
 import os
 from typing import Optional
 
-from ..errors import InputError
+from ..errors import InputError, reads_file
 from ..files import load_json
 from .features import rois_from_features
 from .model import ROISet
 
 
+@reads_file("Export the layer again (QGIS: Export ▸ Save Features As… GeoJSON).")
 def read_geojson(path, name_field: Optional[str] = None, crs=None) -> ROISet:
     """ROIs from a GeoJSON file: a FeatureCollection, a single Feature or a bare geometry.
 
