@@ -6,9 +6,12 @@ cuts the ROIs out of the photos, each photo decoded once. Pixels: origin at the 
 corner of the photo, x = column right, y = row down, centre of the top-left pixel (0.5, 0.5).
 """
 from .backward import back_project, score
+from .photo_crops import PhotoCropResult, crop_photos, draw_previews
+from .photos import read_photo, resolve_photos
 from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
 from .result import PIXEL_CONVENTION, BackProjection, FlatPolygons, read_easyidp_json
 
 __all__ = ["back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION",
            "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
-           "height_source"]
+           "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
+           "resolve_photos"]
