@@ -243,10 +243,11 @@ def _write_crop(folder, stem, crop, mask, meta):
         top = 1.0 if data.dtype.kind == "f" else np.iinfo(data.dtype).max
         arr = np.concatenate([data, (mask * top).astype(data.dtype)[..., None]], axis=2)
         rgb = data.shape[2] == 3
+        extras = (0,) * (arr.shape[2] - (3 if rgb else 1) - 1) + (2,)   # the last: alpha
         path = os.path.join(folder, stem + ".tif")
         with atomic_output(path) as tmp:
             tifffile.imwrite(tmp, arr, photometric="rgb" if rgb else "minisblack",
-                             planarconfig="contig", extrasamples=(2,), compression="zlib",
+                             planarconfig="contig", extrasamples=extras, compression="zlib",
                              compressionargs={"level": PNG_LEVEL}, metadata=None)
     meta["file"] = os.path.basename(path)
     side = os.path.join(folder, stem + ".json")
