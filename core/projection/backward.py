@@ -35,7 +35,8 @@ from ..progress import as_progress
 from ..reconstruction import INSIDE
 from ..reconstruction.footprints import border_pixels
 from ..roi import ROISet
-from .clip import ConvexRegion, clip_convex, orient, rectangle, signed_area
+from .clip import (ConvexRegion, clip_convex, clip_convex_rings_to_frames, convex_rings, orient,
+                   rectangle, signed_area)
 from .heights import (ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, check_geometry_z,
                       height_source, missing_heights_error, per_roi_values, sample_dsm)
 from .result import BackProjection, FlatPolygons, _offsets, _ranges
@@ -448,29 +449,60 @@ def _block_records(rings, X, g, cand, recon, cams, geo, distortion, clip, uv, st
     todo_c, todo_r = np.nonzero(some | outside_all)
     if not len(todo_c):
         return
-    res_roi, res_cam, res_vis, res_polys = [], [], [], []
-    for c, rr in zip(todo_c, todo_r):
+    # fast path: one-ring ROIs, every vertex valid, convex in the photo: clipped all at once
+    single = (rings.roi_rings[r0 + todo_r + 1] - rings.roi_rings[r0 + todo_r]) == 1
+    valid = n_fin[todo_c, todo_r] == nvb[todo_r]
+    fast = np.flatnonzero(single & valid)
+    res_roi, res_cam, res_flat = [], [], []
+    if len(fast):
+        ci, ri = todo_c[fast], todo_r[fast]
+        whole_rings = _gather_whole(rings, uv, ci, ri + r0, a)
+        convex = convex_rings(whole_rings.xy, whole_rings.ring_offsets)
+        f = np.flatnonzero(convex)
+        if len(f):
+            src = whole_rings.take(f)
+            wh = np.array([[geo[cams[sub_cams[c]].sensor_id].sensor.width,
+                            geo[cams[sub_cams[c]].sensor_id].sensor.height] for c in ci[f]], float)
+            cxy, coff = clip_convex_rings_to_frames(src.xy, src.ring_offsets, wh[:, 0], wh[:, 1])
+            n_out = np.diff(coff)
+            flat = FlatPolygons(cxy, coff, np.zeros(len(f), np.int32), np.zeros(len(f), bool),
+                                np.arange(len(f) + 1, dtype=np.int64))
+            ok = np.flatnonzero(n_out >= 3)
+            res_roi.append(ri[f][ok] + r0)
+            res_cam.append(sub_cams[ci[f][ok]])
+            res_flat.append(flat.take(ok))
+        slow = np.setdiff1d(np.arange(len(todo_c)), fast[f])
+    else:
+        slow = np.arange(len(todo_c))
+    lists_roi, lists_cam, lists_polys = [], [], []
+    for c, rr in zip(todo_c[slow], todo_r[slow]):
         r = rr + r0
         cam = cams[sub_cams[c]]
         sg = geo[cam.sensor_id]
         va, vb = rings.roi_vertex_range(r)
         polys = _clip_record(rings, r, X[va:vb], uv[c, va - a:vb - a], n_fin[c, rr] == nvb[rr],
                              cam, sg, g, distortion, recon)
-        if not polys:
-            continue
-        vis = _visible_fraction(polys, rings, r, X[va:vb], g, cam, sg, recon, distortion)
-        if not vis > 0:
-            continue
-        res_roi.append(r)
-        res_cam.append(sub_cams[c])
-        res_vis.append(min(vis, 1.0))
-        res_polys.append(polys)
-    if res_roi:
-        out["roi"].append(np.array(res_roi, np.int64))
-        out["cam"].append(np.array(res_cam, np.int64))
-        out["vis"].append(np.array(res_vis))
-        out["clipped"].append(np.ones(len(res_roi), bool))
-        out["polys"].append(FlatPolygons.from_lists(res_polys))
+        if polys:
+            lists_roi.append(r)
+            lists_cam.append(sub_cams[c])
+            lists_polys.append(polys)
+    if lists_roi:
+        res_roi.append(np.array(lists_roi, np.int64))
+        res_cam.append(np.array(lists_cam, np.int64))
+        res_flat.append(FlatPolygons.from_lists(lists_polys))
+    if not res_roi:
+        return
+    roi_i, cam_i = np.concatenate(res_roi), np.concatenate(res_cam)
+    flat = FlatPolygons.concat(res_flat)
+    if not len(flat):
+        return
+    vis = _visible_fractions(flat, roi_i, cam_i, rings, X, g, cams, geo, recon, distortion)
+    keep = np.flatnonzero(vis > 0)
+    out["roi"].append(roi_i[keep])
+    out["cam"].append(cam_i[keep])
+    out["vis"].append(np.minimum(vis[keep], 1.0))
+    out["clipped"].append(np.ones(len(keep), bool))
+    out["polys"].append(flat.take(keep))
 
 
 def _gather_whole(rings: _Rings, uv, ci, r, a) -> FlatPolygons:
@@ -559,7 +591,7 @@ def _clip_record(rings, r, Xr, uvr, all_valid, cam, sg, g, distortion, recon):
 
 
 def _densify_ring(ring: np.ndarray, step: float) -> np.ndarray:
-    b = np.roll(ring, -1, axis=0)
+    b = np.concatenate((ring[1:], ring[:1]))
     k = np.clip(np.ceil(np.linalg.norm(b - ring, axis=1) / step), 1, MAX_SUBDIVISIONS).astype(np.int64)
     src = np.repeat(np.arange(len(ring)), k)
     t = (np.arange(int(k.sum())) - np.repeat(_offsets(k)[:-1], k)) / np.repeat(k, k)
@@ -584,42 +616,73 @@ def _image_orientation(g: _ROIGeometry, r: int, Xr: np.ndarray, cam) -> int:
     return 1 if s > 0 else (-1 if s < 0 else 0)
 
 
-def _visible_fraction(polys, rings, r, Xr, g: _ROIGeometry, cam, sg, recon, distortion) -> float:
-    """Ground area of the clipped pixel polygons (rays cast onto the ROI's plane) over the
-    ROI's area on that plane (its vertices cast from the camera centre onto the plane). The
-    pixel rings are densified first (the frame's straight edges are bent on the ground)."""
-    a, b, c = g.plane[r]
-    if np.isfinite(sg.segment_px):
-        polys = [[_densify_ring(ring, sg.segment_px) for ring in p] for p in polys]
-    C = cam.C
+def _visible_fractions(flat: FlatPolygons, roi_i, cam_i, rings: _Rings, X, g: _ROIGeometry,
+                       cams, geo, recon, distortion) -> np.ndarray:
+    """Per clipped record: the ground area of its pixel polygons (densified, cast as rays onto
+    the ROI's best-fit plane) over the ROI's area on that plane (its vertices cast from the
+    camera centre onto the plane). Vectorised over records; one ray call per photo."""
+    k = len(flat)
+    step = np.array([geo[cams[j].sensor_id].segment_px for j in cam_i])
+    dense = _densify_flat(flat, np.where(np.isfinite(step), step, np.inf))
+    rec_of_ring = np.repeat(np.arange(k), np.diff(dense.record_rings))
+    rec_of_v = np.repeat(rec_of_ring, np.diff(dense.ring_offsets))
+    dirs = np.empty((len(dense.xy), 3))
+    cam_of_v = cam_i[rec_of_v]
+    for j in np.unique(cam_i):
+        sel = cam_of_v == j
+        _, dirs[sel] = recon.pixel_to_ray(cams[j], dense.xy[sel], distortion)
+    C = np.array([cams[j].C for j in cam_i])
+    ground, ok = _on_plane(C[rec_of_v], dirs, g.plane[roi_i[rec_of_v]])
+    area_vis, _ = FlatPolygons(ground, dense.ring_offsets, dense.ring_polygon, dense.ring_hole,
+                               dense.record_rings).areas_centroids()
+    bad = np.bincount(rec_of_v, ~ok, minlength=k) > 0
+    # the whole ROI on the same plane, cast from the same camera centre
+    rr0, rr1 = rings.roi_rings[roi_i], rings.roi_rings[roi_i + 1]
+    ring_idx = _ranges(rr0, rr1)
+    vs, ve = rings.ring_offsets[ring_idx], rings.ring_offsets[ring_idx + 1]
+    vidx = _ranges(vs, ve)
+    rec_of_rv = np.repeat(np.repeat(np.arange(k), rr1 - rr0), ve - vs)
+    full, ok_full = _on_plane(C[rec_of_rv], X[vidx] - C[rec_of_rv], g.plane[roi_i[rec_of_rv]])
+    area_full, _ = FlatPolygons(full, _offsets(ve - vs), rings.ring_part[ring_idx],
+                                rings.ring_hole[ring_idx], _offsets(rr1 - rr0)).areas_centroids()
+    behind = np.bincount(rec_of_rv, ~ok_full, minlength=k) > 0
+    # vertices beyond the camera's horizon have no image on the plane: the ROI's own area
+    area_full = np.where(behind | ~(area_full > 0), g.area[roi_i], area_full)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        vis = np.where(bad, 0.0, area_vis / area_full)
+    return np.nan_to_num(vis, nan=0.0)
 
-    def on_plane(d):                                # points C + t·d on z = a + b·x + c·y
-        denom = d[:, 2] - b * d[:, 0] - c * d[:, 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (a + b * C[0] + c * C[1] - C[2]) / denom
-        return C[:2] + t[:, None] * d[:, :2], t
 
-    flat = [ring for p in polys for ring in p]
-    _, dirs = recon.pixel_to_ray(cam, np.concatenate(flat), distortion)
-    pts, t = on_plane(dirs)
-    if not np.all(np.isfinite(pts)) or np.any(t <= 0):
-        return 0.0
-    vis, k = 0.0, 0
-    for p in polys:
-        for j, ring in enumerate(p):
-            ar = abs(signed_area(pts[k:k + len(ring)]))
-            vis += ar if j == 0 else -ar
-            k += len(ring)
-    full_pts, tf = on_plane(Xr - C)
-    total = 0.0
-    for p in _roi_structure(rings, r, full_pts):
-        for j, ring in enumerate(p):
-            ar = abs(signed_area(ring))
-            total += ar if j == 0 else -ar
-    if not total > 0 or not np.all(np.isfinite(full_pts)) or np.any(tf <= 0):
-        # some vertices are beyond the camera's horizon: use the ROI's own horizontal area
-        total = float(g.area[r])
-    return vis / total if total > 0 else 0.0
+def _on_plane(C, d, plane):
+    """Horizontal (x, y) of C + t·d on z = a + b·x + c·y per row, and whether t > 0."""
+    a, b, c = plane[:, 0], plane[:, 1], plane[:, 2]
+    denom = d[:, 2] - b * d[:, 0] - c * d[:, 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (a + b * C[:, 0] + c * C[:, 1] - C[:, 2]) / denom
+    ok = np.isfinite(t) & (t > 0)
+    xy = C[:, :2] + np.where(ok, t, 0.0)[:, None] * d[:, :2]
+    return xy, ok
+
+
+def _densify_flat(flat: FlatPolygons, step: np.ndarray) -> FlatPolygons:
+    """Every ring edge of record i split into pieces of at most ``step[i]`` px."""
+    if not np.isfinite(step).any() or not len(flat.xy):
+        return flat
+    lens = np.diff(flat.ring_offsets)
+    starts = flat.ring_offsets[:-1]
+    nxt = np.arange(len(flat.xy)) + 1
+    nxt[flat.ring_offsets[1:] - 1] = starts
+    rec_of_ring = np.repeat(np.arange(len(flat)), np.diff(flat.record_rings))
+    st = np.repeat(step[rec_of_ring], lens)
+    seg = np.linalg.norm(flat.xy[nxt] - flat.xy, axis=1)
+    n = np.clip(np.ceil(np.where(np.isfinite(st), seg / st, 1.0)), 1, MAX_SUBDIVISIONS).astype(np.int64)
+    src = np.repeat(np.arange(len(flat.xy)), n)
+    t = (np.arange(int(n.sum())) - np.repeat(_offsets(n)[:-1], n)) / np.repeat(n, n)
+    xy = flat.xy[src] + t[:, None] * (flat.xy[nxt[src]] - flat.xy[src])
+    ring_of_v = np.repeat(np.arange(len(lens)), lens)
+    new_lens = np.bincount(ring_of_v[src], minlength=len(lens))
+    return FlatPolygons(xy, _offsets(new_lens), flat.ring_polygon, flat.ring_hole,
+                        flat.record_rings)
 
 
 # --- ranking and the result ------------------------------------------------------------------------

@@ -22,12 +22,17 @@ Polygons = List[List[np.ndarray]]      # [[exterior, hole, ...], ...], 2-D open 
 _EPS_T = 1e-12
 
 
+def following(a: np.ndarray) -> np.ndarray:
+    """The next element of a closed sequence (a[1], ..., a[n-1], a[0]); faster than np.roll."""
+    return np.concatenate((a[1:], a[:1]))
+
+
 def signed_area(ring: np.ndarray) -> float:
     """Shoelace area of an open 2-D ring, relative to its first vertex (precise far from 0)."""
     if len(ring) < 3:
         return 0.0
-    x, y = ring[:, 0] - ring[0, 0], ring[:, 1] - ring[0, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+    x, y = ring[1:, 0] - ring[0, 0], ring[1:, 1] - ring[0, 1]
+    return 0.5 * float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1]))
 
 
 def polygons_area(polys: Polygons) -> float:
@@ -44,7 +49,7 @@ def area_centroid(polys: Polygons) -> Tuple[float, np.ndarray]:
                 continue
             o = ring[0]
             x, y = ring[:, 0] - o[0], ring[:, 1] - o[1]
-            xn, yn = np.roll(x, -1), np.roll(y, -1)
+            xn, yn = following(x), following(y)
             cross = x * yn - xn * y
             a = 0.5 * float(cross.sum())
             c = np.array([float(((x + xn) * cross).sum()), float(((y + yn) * cross).sum())])
@@ -104,7 +109,7 @@ def _pieces(ring: np.ndarray, region: ConvexRegion):
     per chain; or "inside" / "outside" for a ring that never crosses the boundary."""
     n = len(ring)
     F = region.values(ring)                                  # (n, K)
-    Fa, Fb = F, np.roll(F, -1, axis=0)
+    Fa, Fb = F, following(F)
     with np.errstate(divide="ignore", invalid="ignore"):
         tc = Fa / (Fa - Fb)                                  # crossing parameter per half-space
     lo = np.where((Fa < 0) & (Fb >= 0), tc, 0.0)
@@ -120,9 +125,10 @@ def _pieces(ring: np.ndarray, region: ConvexRegion):
     full = ins & (t0 == 0.0) & (t1 == 1.0)
     if full.all():
         return "inside"
-    b = np.roll(ring, -1, axis=0)
+    b = following(ring)
     # a segment continues the chain of the previous one when both meet at the shared vertex
-    cont = ins & (t0 == 0.0) & np.roll(ins & (t1 == 1.0), 1)
+    end = ins & (t1 == 1.0)
+    cont = ins & (t0 == 0.0) & np.concatenate((end[-1:], end[:-1]))
     starts = np.flatnonzero(ins & ~cont)
     chains = []
     for s in starts:
@@ -242,3 +248,70 @@ def _walk(chains, region: ConvexRegion) -> List[np.ndarray]:
         if len(ring) >= 3:
             rings.append(ring)
     return rings
+
+
+def clip_convex_rings_to_frames(xy: np.ndarray, offsets: np.ndarray, width: np.ndarray,
+                                height: np.ndarray):
+    """Many *convex* rings, each clipped to its own frame [0, w] × [0, h], vectorised.
+
+    ``xy`` (V, 2) all vertices, ring i = ``xy[offsets[i]:offsets[i + 1]]``; ``width``/``height``
+    (R,). For a convex ring, clipping by the frame's four half-planes one after the other
+    (Sutherland–Hodgman) is exact. Returns (xy, offsets) of the clipped rings, consecutive
+    duplicate vertices removed; a ring wholly outside comes back with fewer than 3 vertices.
+    """
+    xy = np.asarray(xy, np.float64)
+    offsets = np.asarray(offsets, np.int64)
+    for axis, side in ((1, 0), (0, 1), (1, 1), (0, 0)):       # edges in the frame's order
+        n = np.diff(offsets)
+        ring = np.repeat(np.arange(len(n)), n)
+        if side:
+            limit = (width if axis == 0 else height)[ring]
+            F = limit - xy[:, axis]
+        else:
+            F = xy[:, axis]
+        nxt = np.arange(len(xy)) + 1
+        nxt[offsets[1:][n > 0] - 1] = offsets[:-1][n > 0]
+        ins = F >= 0
+        cross = ins != ins[nxt]
+        emit = ins.astype(np.int64) + cross
+        slot = np.cumsum(emit) - emit
+        out = np.empty((int(emit.sum()), 2))
+        out[slot[ins]] = xy[ins]
+        c = np.flatnonzero(cross)
+        Fa, Fb = F[c], F[nxt[c]]
+        t = Fa / (Fa - Fb)
+        p = xy[c] + t[:, None] * (xy[nxt[c]] - xy[c])
+        p[:, axis] = (width if axis == 0 else height)[ring[c]] if side else 0.0  # exactly on it
+        out[slot[c] + ins[c]] = p
+        offsets = _counts_to_offsets(np.bincount(ring, emit, minlength=len(n)).astype(np.int64))
+        xy = out
+    # drop consecutive duplicates (corners met exactly)
+    n = np.diff(offsets)
+    ring = np.repeat(np.arange(len(n)), n)
+    nxt = np.arange(len(xy)) + 1
+    nxt[offsets[1:][n > 0] - 1] = offsets[:-1][n > 0]
+    keep = np.any(xy != xy[nxt], axis=1) if len(xy) else np.zeros(0, bool)
+    return xy[keep], _counts_to_offsets(np.bincount(ring[keep], minlength=len(n)).astype(np.int64))
+
+
+def convex_rings(xy: np.ndarray, offsets: np.ndarray) -> np.ndarray:
+    """(R,) bool: each ring's turns all go the same way (a convex, simple ring)."""
+    n = np.diff(offsets)
+    if not len(xy):
+        return np.zeros(len(n), bool)
+    nxt = np.arange(len(xy)) + 1
+    nxt[offsets[1:] - 1] = offsets[:-1]
+    e = xy[nxt] - xy
+    turn = e[:, 0] * e[nxt, 1] - e[:, 1] * e[nxt, 0]
+    starts = offsets[:-1]
+    lo = np.minimum.reduceat(turn, starts)
+    hi = np.maximum.reduceat(turn, starts)
+    total = np.add.reduceat(np.arctan2(turn, np.einsum("ij,ij->i", e, e[nxt])), starts)
+    # one full turn (not a star that winds twice) and no turn against the others
+    return (n >= 3) & ((lo >= 0) | (hi <= 0)) & (np.abs(np.abs(total) - 2 * np.pi) < 1e-6)
+
+
+def _counts_to_offsets(counts: np.ndarray) -> np.ndarray:
+    out = np.zeros(len(counts) + 1, np.int64)
+    np.cumsum(counts, out=out[1:])
+    return out

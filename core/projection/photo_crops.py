@@ -407,7 +407,7 @@ def _tile(result: BackProjection, i: int, img: np.ndarray) -> np.ndarray:
 
 def _draw_ring(img: np.ndarray, ring: np.ndarray, colour) -> None:
     """A closed polyline, 2 px wide, burnt into ``img`` (rows, cols, 3)."""
-    a, b = ring, np.roll(ring, -1, axis=0)
+    a, b = ring, np.concatenate((ring[1:], ring[:1]))
     n = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) * 2).astype(np.int64), 1)
     seg = np.repeat(np.arange(len(a)), n)
     t = (np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)

@@ -112,3 +112,34 @@ def test_holes_and_multipart_against_brute_force():
         b = points_in_rings(p[:, 0], p[:, 1], [outer, hole, other])
         assert (a == b).mean() > 0.999
     assert tried >= 10
+
+
+def test_vectorised_convex_clip_equals_the_general_one():
+    """Many convex rings clipped at once (Sutherland–Hodgman, exact for convex rings) against
+    the Weiler–Atherton clipper, ring by ring; and the convexity test against random shapes."""
+    from easyidp_toolbox.core.projection.clip import clip_convex_rings_to_frames, convex_rings
+    rng = np.random.default_rng(11)
+    rings, sizes = [], []
+    for _ in range(300):
+        k = rng.integers(3, 9)
+        ang = np.sort(rng.uniform(0, 2 * np.pi, k))
+        ring = rng.uniform(-3, 13, 2) + rng.uniform(1, 6) * np.column_stack([np.cos(ang), np.sin(ang)])
+        if rng.uniform() < 0.5:
+            ring = ring[::-1]
+        rings.append(ring)
+        sizes.append(rng.choice([[10.0, 8.0], [6.0, 12.0]]))
+    offsets = np.concatenate([[0], np.cumsum([len(r) for r in rings])])
+    assert convex_rings(np.concatenate(rings), offsets).all()
+    sizes = np.array(sizes)
+    xy, off = clip_convex_rings_to_frames(np.concatenate(rings), offsets, sizes[:, 0], sizes[:, 1])
+    for i, ring in enumerate(rings):
+        out = xy[off[i]:off[i + 1]]
+        ref = clip_convex(orient([[ring]]), rectangle(*sizes[i]))
+        a = abs(signed_area(out)) if len(out) >= 3 else 0.0
+        assert a == pytest.approx(polygons_area(ref), abs=1e-9)
+        if len(out):
+            assert out.min() >= 0 and (out <= sizes[i]).all()
+    star = np.array([[0, 0], [4, 0], [1, 1], [2, 4], [0, 2.]])
+    tri = np.array([[0, 0], [4, 0], [0, 3.]])
+    both = np.concatenate([star, tri])
+    assert convex_rings(both, np.array([0, 5, 8])).tolist() == [False, True]
