@@ -687,7 +687,8 @@ def _densify_flat(flat: FlatPolygons, step: np.ndarray) -> FlatPolygons:
 
 # --- ranking and the result ------------------------------------------------------------------------
 def score(share, view_angle_deg, gsd, gsd_best, centre_distance):
-    """The rank of a photo for a ROI, in (0, 1]: the product of
+    """The rank of a photo for a ROI, in [0, 1] (0 when the DSM hides the whole ROI): the
+    product of
 
     * ``share`` = visible_fraction × (1 − occluded_fraction): how much of the ROI it shows;
     * cos(view angle off nadir): oblique views foreshorten and hide more;
@@ -716,7 +717,7 @@ def _finish(rois, recon, cams, geo, g: _ROIGeometry, recs, occluded, min_visible
         cdist = np.linalg.norm(cen_px - pp[cam], axis=1) / half_diag
     share = vis * (1.0 - np.nan_to_num(occluded, nan=0.0))
     dropped = {"partly_outside": int(recs["partial"])}
-    keep = (share >= min_visible) & (share > 0)
+    keep = share >= min_visible
     dropped["below_min_visible"] = int((~keep).sum())
     by_roi_dropped = np.bincount(roi[~keep], minlength=len(names))
     idx = np.flatnonzero(keep)

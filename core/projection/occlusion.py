@@ -28,6 +28,7 @@ from ..reconstruction import INSIDE
 from .heights import DSMHeights
 
 MAX_REFINE = 4     # halvings of the grid spacing for thin ROIs with too few samples inside
+RAYS_AT_ONCE = 1 << 20   # lines of sight cast per call (bounds the memory of the ray caster)
 
 
 def sample_grid(rings: List[np.ndarray], n: int) -> np.ndarray:
@@ -103,39 +104,49 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
     if valid.any():
         model[valid] = recon.to_model(xyz[valid], dcrs)
     tol = _tolerance(recon, tif, dcrs) if tolerance is None else float(tolerance)
-    out = np.full(len(rec_roi), np.nan)
-    undecided = 0
+    # in-frame samples per record (one projection per photo), then all lines of sight at once
+    owners, origins, targets = [], [], []
+    n_in = np.zeros(len(rec_roi), np.int64)
     order = np.argsort(rec_cam, kind="stable")
     groups = np.split(order, np.flatnonzero(np.diff(rec_cam[order])) + 1) if len(order) else []
     for g_i, grp in enumerate(groups):
         prog.check()
-        cam = cams[int(rec_cam[grp[0]])]
+        cam_i = int(rec_cam[grp[0]])
         idx, owner = [], []
         for i in grp:
             a, b = starts[int(rec_roi[i])]
             sel = np.arange(a, b)[valid[a:b]]
             idx.append(sel)
             owner.append(np.full(len(sel), i))
-        idx = np.concatenate(idx)
-        owner = np.concatenate(owner)
+        idx, owner = np.concatenate(idx), np.concatenate(owner)
         if not len(idx):
             continue
-        st = recon.project_points(xyz[idx], dcrs, cameras=[cam]).status[0]
-        seen = st == INSIDE
-        idx, owner = idx[seen], owner[seen]
-        n_in = np.bincount(owner, minlength=len(rec_roi))[grp]
-        if len(idx):
-            d = model[idx] - cam.C
-            dist = np.linalg.norm(d, axis=1)
-            hits = first_hits(surface, recon.frame, cam.C, d / dist[:, None],
-                              max_distance=np.maximum(dist - tol, 0.0))
-            blocked = np.bincount(owner[hits.status == HIT], minlength=len(rec_roi))[grp]
-            undecided += int((hits.status == NODATA).sum())
-        else:
-            blocked = np.zeros(len(grp))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            out[grp] = np.where(n_in > 0, blocked / np.maximum(n_in, 1), np.nan)
-        prog.set(100.0 * (g_i + 1) / len(groups))
+        seen = recon.project_points(xyz[idx], dcrs, cameras=[cams[cam_i]]).status[0] == INSIDE
+        owners.append(owner[seen])
+        targets.append(idx[seen])
+        origins.append(np.full(int(seen.sum()), cam_i))
+        prog.set(20.0 * (g_i + 1) / len(groups))
+    out = np.full(len(rec_roi), np.nan)
+    if not owners:
+        return out, notes
+    owner, target, cam_of = (np.concatenate(v) for v in (owners, targets, origins))
+    np.add.at(n_in, owner, 1)
+    C = np.array([c.C for c in cams])
+    blocked = np.zeros(len(rec_roi), np.int64)
+    undecided = 0
+    for s0 in range(0, len(owner), RAYS_AT_ONCE):
+        sl = slice(s0, s0 + RAYS_AT_ONCE)
+        o = C[cam_of[sl]]
+        d = model[target[sl]] - o
+        dist = np.linalg.norm(d, axis=1)
+        hits = first_hits(surface, recon.frame, o, d / dist[:, None],
+                          max_distance=np.maximum(dist - tol, 0.0), progress=None,
+                          is_cancelled=prog.cancelled)
+        blocked += np.bincount(owner[sl][hits.status == HIT], minlength=len(rec_roi))
+        undecided += int((hits.status == NODATA).sum())
+        prog.set(20.0 + 80.0 * min(s0 + RAYS_AT_ONCE, len(owner)) / len(owner))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        out = np.where(n_in > 0, blocked / np.maximum(n_in, 1), np.nan)
     if undecided:
         notes.append(f"{undecided} line(s) of sight crossed DSM nodata before their sample point "
                      "and were counted as not occluded")

@@ -42,7 +42,10 @@ PREVIEW_CACHE_BYTES = 128 << 20
 PREVIEW_HEIGHT = 256     # px, height of one view in a preview sheet
 PREVIEW_PAD = 40         # px of photo around the ROI in a preview view (EasyIDP's buffer)
 PREVIEW_GAP = 6          # px between views
-PNG_LEVEL = 1            # zlib level: about as small as level 6 on photo crops, several times faster
+PNG_FAST = {"level": 1, "strategy": 3, "filter": 16}
+"""PNG settings of OpenCV's encoder (zlib level 1, RLE, SUB filter): on photo crops about 8×
+faster than zlib level 6 for files about 1.5× larger."""
+TIFF_LEVEL = 1
 
 
 @dataclass
@@ -236,7 +239,7 @@ def _write_crop(folder, stem, crop, mask, meta):
             if crop.shape[2] == 4:
                 arr[..., 3] &= crop[..., 3]
         path = os.path.join(folder, stem + ".png")
-        write_bytes(path, imagecodecs.png_encode(arr, level=PNG_LEVEL))
+        write_bytes(path, imagecodecs.png_encode(arr, **PNG_FAST))
     else:
         import tifffile
         data = crop if crop.ndim == 3 else crop[..., None]
@@ -248,10 +251,10 @@ def _write_crop(folder, stem, crop, mask, meta):
         with atomic_output(path) as tmp:
             tifffile.imwrite(tmp, arr, photometric="rgb" if rgb else "minisblack",
                              planarconfig="contig", extrasamples=extras, compression="zlib",
-                             compressionargs={"level": PNG_LEVEL}, metadata=None)
+                             compressionargs={"level": TIFF_LEVEL}, metadata=None)
     meta["file"] = os.path.basename(path)
     side = os.path.join(folder, stem + ".json")
-    write_json(side, meta, indent=1)
+    write_json(side, meta, separators=(",", ":"))
     return path, side
 
 
@@ -429,5 +432,5 @@ def _write_sheet(path, tiles):
     for t in tiles:
         sheet[PREVIEW_GAP:PREVIEW_GAP + t.shape[0], x:x + t.shape[1]] = t
         x += t.shape[1] + PREVIEW_GAP
-    write_bytes(path, imagecodecs.png_encode(sheet, level=PNG_LEVEL))
+    write_bytes(path, imagecodecs.png_encode(sheet, **PNG_FAST))
     return path, None

@@ -49,7 +49,7 @@ def test_backproject_demo_plots(provider, survey, tmp_path):
     context.setProject(QgsProject.instance())
     res = _run({"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
                 "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 1, "DSM": survey.dsm,
-                "MAX_IMAGES": 4, "OCCLUSION": False, "OUTPUT_JSON": str(tmp_path / "back2raw.json"),
+                "MAX_IMAGES": 4, "OUTPUT_JSON": str(tmp_path / "back2raw.json"),
                 "CROPS_FOLDER": str(tmp_path / "crops"),
                 "PREVIEW_FOLDER": str(tmp_path / "previews")}, context)
     pix, summary = res["OUTPUT"], res["OUTPUT_SUMMARY"]
@@ -58,6 +58,7 @@ def test_backproject_demo_plots(provider, survey, tmp_path):
     assert 40 < len(feats) <= 160
     for f in feats:
         assert f["rank"] <= 4 and 0 < f["score"] <= 1 and f["photo_path"].endswith(".JPG")
+        assert 0 <= f["occluded_fraction"] <= 0.5         # tested against the DSM (default on)
         box = f.geometry().boundingBox()
         assert box.xMinimum() >= -1e-6 and box.xMaximum() <= 800 + 1e-6
         assert box.yMaximum() <= 1e-6 and box.yMinimum() >= -600 - 1e-6
@@ -114,7 +115,7 @@ def test_through_qgis_process(qp_env, survey, tmp_path):
     from easyidp_toolbox.scripts.qgis_process import run_algorithm
     res = run_algorithm(ALG, {"ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id",
                               "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 1,
-                              "DSM": survey.dsm, "MAX_IMAGES": 2, "OCCLUSION": False,
+                              "DSM": survey.dsm, "MAX_IMAGES": 2,
                               "OUTPUT": tmp_path / "pixels.gpkg",
                               "OUTPUT_SUMMARY": tmp_path / "summary.gpkg",
                               "OUTPUT_JSON": tmp_path / "b.json",
