@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 import pytest
-from qgis.core import (QgsPointXY, QgsProcessingContext, QgsProcessingException,
+from qgis.core import (QgsCoordinateReferenceSystem, QgsMapSettings, QgsPointXY, QgsProcessingContext, QgsProcessingException,
                        QgsProcessingFeedback, QgsProject, QgsRaster, QgsRasterLayer,
                        QgsRectangle, QgsVectorLayer)
 
@@ -77,10 +77,15 @@ def test_backproject_demo_plots(provider, survey, tmp_path):
     assert len(crops) == len(feats) and len(list((tmp_path / "previews").glob("*.png"))) == 40
     side = json.loads(crops[0].with_suffix(".json").read_text())
     assert side["roi"] == crops[0].parent.name and "pixels" in side
-    # an overlay check in QGIS's own placement: the polygon's centroid lies over the photo
+    # overlay in QGIS's own placement: the polygon's centroid lies over the photo, and in a
+    # map of any CRS neither CRS-less layer is transformed, so they stay on top of each other
     photo = QgsRasterLayer(f["photo_path"], "p")
     c = f.geometry().centroid().asPoint()
     assert photo.extent().contains(c)
+    ms = QgsMapSettings()
+    ms.setDestinationCrs(QgsCoordinateReferenceSystem("EPSG:32654"))
+    for layer in (photo, pix):
+        assert ms.layerToMapCoordinates(layer, QgsPointXY(c)) == QgsPointXY(c)
 
 
 def test_whole_only_and_constant_height(provider, survey):
