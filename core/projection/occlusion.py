@@ -4,7 +4,7 @@
 centres inside the polygon, in the DSM's CRS) and placed **on the DSM surface** (bilinear
 between pixel centres, the surface the rays are cast on). A sample seen by a photo (inside its
 frame) is *occluded* when the line of sight from the camera centre to the sample meets the
-surface more than ``tolerance`` before the sample (:func:`core.projection.ray_surface.first_hits`
+surface more than ``tolerance`` before the sample (:func:`.ray_surface.first_hits`
 with the ray ended at ``distance − tolerance``). ``occluded_fraction`` is the share of the
 in-frame samples that are occluded.
 
@@ -21,11 +21,13 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from ..crs import as_crs, same_crs, transform_xy
-from ..errors import EasyIDPError
 from ..geometry import area as rings_area
 from ..geometry import points_in_rings
+from ..progress import as_progress
+from ..raster.dsm_heights import sample_points
 from ..reconstruction import INSIDE
 from .heights import DSMHeights
+from .ray_surface import HIT, NODATA, DSMSurface, first_hits
 
 MAX_REFINE = 4     # halvings of the grid spacing for thin ROIs with too few samples inside
 RAYS_AT_ONCE = 1 << 20   # lines of sight cast per call (bounds the memory of the ray caster)
@@ -54,12 +56,7 @@ def sample_grid(rings: List[np.ndarray], n: int) -> np.ndarray:
     return pts
 
 
-def _surface(dsm):
-    try:
-        from .ray_surface import DSMSurface
-    except ImportError as exc:  # the ray–DSM intersector is a separate module of this package
-        raise EasyIDPError(f"The occlusion test needs core.projection.ray_surface, which is not "
-                           f"available ({exc}); run without occlusion.") from None
+def _surface(dsm) -> DSMSurface:
     if isinstance(dsm, DSMHeights):
         return DSMSurface(dsm.dsm, crs=dsm.crs)
     return DSMSurface(dsm)
@@ -70,12 +67,9 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
                        progress=None) -> Tuple[np.ndarray, List[str]]:
     """Occluded share of each record (ROI ``rec_roi[i]`` in camera ``cams[rec_cam[i]]``);
     NaN where no sample of the ROI is inside the photo. Returns (fractions, notes)."""
-    from ..progress import as_progress
-    from ..raster.dsm_heights import sample_points
 
     prog = as_progress(progress)
     surface = _surface(dsm)
-    from .ray_surface import HIT, NODATA, first_hits
     tif = surface.tif
     dcrs = surface.crs
     rcrs = as_crs(rois.crs)
