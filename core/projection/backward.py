@@ -25,7 +25,7 @@ Rules (ARCHITECTURE.md, "Backward projection", has the reasons):
 """
 import math
 from dataclasses import dataclass
-from typing import Dict, List, Optional, Sequence
+from typing import List, Optional, Sequence
 
 import numpy as np
 

@@ -30,7 +30,7 @@ from .heights import DSMHeights
 from .ray_surface import HIT, NODATA, DSMSurface, first_hits
 
 MAX_REFINE = 4     # halvings of the grid spacing for thin ROIs with too few samples inside
-RAYS_AT_ONCE = 1 << 20   # lines of sight cast per call (bounds the memory of the ray caster)
+RAYS_AT_ONCE = 1 << 18   # lines of sight cast per call (bounds the memory of the ray caster)
 
 
 def sample_grid(rings: List[np.ndarray], n: int) -> np.ndarray:
@@ -98,9 +98,29 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
     if valid.any():
         model[valid] = recon.to_model(xyz[valid], dcrs)
     tol = _tolerance(recon, tif, dcrs) if tolerance is None else float(tolerance)
-    # in-frame samples per record (one projection per photo), then all lines of sight at once
-    owners, origins, targets = [], [], []
+    # in-frame samples per record (one projection per photo); lines of sight cast in batches of
+    # RAYS_AT_ONCE across photos, so memory stays bounded whatever the number of pairs
+    C = np.array([c.C for c in cams])
     n_in = np.zeros(len(rec_roi), np.int64)
+    blocked = np.zeros(len(rec_roi), np.int64)
+    state = {"undecided": 0}
+    pending: List[Tuple[np.ndarray, np.ndarray, np.ndarray]] = []
+    queued = [0]
+
+    def cast():
+        owner = np.concatenate([p[0] for p in pending])
+        target = np.concatenate([p[1] for p in pending])
+        cam_of = np.concatenate([p[2] for p in pending])
+        pending.clear()
+        queued[0] = 0
+        o = C[cam_of]
+        d = model[target] - o
+        dist = np.linalg.norm(d, axis=1)
+        hits = first_hits(surface, recon.frame, o, d / dist[:, None],
+                          max_distance=np.maximum(dist - tol, 0.0), is_cancelled=prog.cancelled)
+        blocked[:] += np.bincount(owner[hits.status == HIT], minlength=len(rec_roi))
+        state["undecided"] += int((hits.status == NODATA).sum())
+
     order = np.argsort(rec_cam, kind="stable")
     groups = np.split(order, np.flatnonzero(np.diff(rec_cam[order])) + 1) if len(order) else []
     for g_i, grp in enumerate(groups):
@@ -113,37 +133,21 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
             idx.append(sel)
             owner.append(np.full(len(sel), i))
         idx, owner = np.concatenate(idx), np.concatenate(owner)
-        if not len(idx):
-            continue
-        seen = recon.project_points(xyz[idx], dcrs, cameras=[cams[cam_i]]).status[0] == INSIDE
-        owners.append(owner[seen])
-        targets.append(idx[seen])
-        origins.append(np.full(int(seen.sum()), cam_i))
-        prog.set(20.0 * (g_i + 1) / len(groups))
-    out = np.full(len(rec_roi), np.nan)
-    if not owners:
-        return out, notes
-    owner, target, cam_of = (np.concatenate(v) for v in (owners, targets, origins))
-    np.add.at(n_in, owner, 1)
-    C = np.array([c.C for c in cams])
-    blocked = np.zeros(len(rec_roi), np.int64)
-    undecided = 0
-    for s0 in range(0, len(owner), RAYS_AT_ONCE):
-        sl = slice(s0, s0 + RAYS_AT_ONCE)
-        o = C[cam_of[sl]]
-        d = model[target[sl]] - o
-        dist = np.linalg.norm(d, axis=1)
-        hits = first_hits(surface, recon.frame, o, d / dist[:, None],
-                          max_distance=np.maximum(dist - tol, 0.0), progress=None,
-                          is_cancelled=prog.cancelled)
-        blocked += np.bincount(owner[sl][hits.status == HIT], minlength=len(rec_roi))
-        undecided += int((hits.status == NODATA).sum())
-        prog.set(20.0 + 80.0 * min(s0 + RAYS_AT_ONCE, len(owner)) / len(owner))
+        if len(idx):
+            seen = recon.project_points(xyz[idx], dcrs, cameras=[cams[cam_i]]).status[0] == INSIDE
+            np.add.at(n_in, owner[seen], 1)
+            pending.append((owner[seen], idx[seen], np.full(int(seen.sum()), cam_i)))
+            queued[0] += int(seen.sum())
+            if queued[0] >= RAYS_AT_ONCE:
+                cast()
+        prog.set(100.0 * (g_i + 1) / len(groups))
+    if pending:
+        cast()
     with np.errstate(invalid="ignore", divide="ignore"):
         out = np.where(n_in > 0, blocked / np.maximum(n_in, 1), np.nan)
-    if undecided:
-        notes.append(f"{undecided} line(s) of sight crossed DSM nodata before their sample point "
-                     "and were counted as not occluded")
+    if state["undecided"]:
+        notes.append(f"{state['undecided']} line(s) of sight crossed DSM nodata before their "
+                     "sample point and were counted as not occluded")
     return out, notes
 
 

@@ -29,7 +29,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
-from ..errors import Cancelled, InputError
+from ..errors import InputError
 from ..files import atomic_output, write_bytes, write_json
 from ..geometry import rasterize
 from ..naming import unique_names

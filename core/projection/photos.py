@@ -80,7 +80,11 @@ def read_photo(path) -> np.ndarray:
     try:
         with open(path, "rb") as fh:
             head = fh.read(4)
-        if head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
+        if head[:2] == b"\xff\xd8":                      # JPEG: libjpeg-turbo, straight
+            import imagecodecs
+            with open(path, "rb") as fh:
+                arr = imagecodecs.jpeg_decode(fh.read())
+        elif head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
             import tifffile
             with tifffile.TiffFile(path) as tif:
                 page = tif.pages.first
