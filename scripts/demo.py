@@ -94,6 +94,8 @@ def main(out: str) -> int:
                       {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "PERCENTILES": "50,95,99",
                        "OUTPUT": os.path.join(out, "plots_pointcloud_stats.gpkg")})
 
+    back = _backward_projection(steps, s, out)
+
     # ---- checks against the truth ----------------------------------------------------------
     crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}
     t = {f["plot_id"]: f["height"] for f in _features(top["OUTPUT"])}
@@ -115,6 +117,8 @@ def main(out: str) -> int:
     print("  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
           "metashape_/pix4d_/odm_ cameras and footprints (.gpkg)")
     print(f"  picture:     {png}")
+    print("  raw photos:  plots_in_photos.gpkg (photo pixels: x = column, y = -row), "
+          "plots_best_photo.gpkg, back2raw.json, crops_photos/, previews/")
     print("Errors against the truth")
     print(f"  plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "
           f"max {100 * np.max(np.abs(dsm_err)):.1f} cm over {len(dsm_err)} plots")
@@ -128,11 +132,86 @@ def main(out: str) -> int:
     print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
     print(f"  season, {SEASON_DATES} dates × 40 plots: height max {100 * season['height']:.1f} cm "
           f"(DSM), {100 * season['cloud']:.1f} cm (cloud); cover max {100 * season['cover']:.1f} %")
+    for line in _backward_errors(back, s, truth):
+        print(f"  {line}")
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
           f"from orthomosaic, DSM and point cloud; projections agree with the truth to "
           f"{max(proj.values()):.0e} px; plot heights within {100 * np.mean(np.abs(dsm_err)):.0f} cm.")
     return 0
+
+
+def _backward_projection(steps, s, out):
+    """Plots → raw photos (issue 9): best 4 photos per plot with crops and previews (DSM heights,
+    occlusion on); and EasyIDP's whole-plots-only rule, to compare with the truth."""
+    best = steps.run("back-project plots to raw photos (DSM heights, occlusion, crops, previews)",
+                     "easyidp:backprojectrois",
+                     {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["METASHAPE_PROJECT"],
+                      "HEIGHT_SOURCE": 1, "DSM": s["DSM"], "MAX_IMAGES": 4,
+                      "OUTPUT": os.path.join(out, "plots_in_photos.gpkg"),
+                      "OUTPUT_SUMMARY": os.path.join(out, "plots_best_photo.gpkg"),
+                      "OUTPUT_JSON": os.path.join(out, "back2raw.json"),
+                      "CROPS_FOLDER": os.path.join(out, "crops_photos"),
+                      "PREVIEW_FOLDER": os.path.join(out, "previews")})
+    whole = steps.run("back-project plots, whole plots only (EasyIDP's rule), Pix4D project",
+                      "easyidp:backprojectrois",
+                      {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["PIX4D_PROJECT"],
+                       "HEIGHT_SOURCE": 1, "DSM": s["DSM"], "CLIP": 1, "MIN_VISIBLE": 0,
+                       "OCCLUSION": False, "OUTPUT": os.path.join(out, "plots_in_photos_whole.gpkg"),
+                       "OUTPUT_SUMMARY": "TEMPORARY_OUTPUT"})
+    clipped = steps.run("back-project plots, clipped to the frame, every photo",
+                        "easyidp:backprojectrois",
+                        {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["METASHAPE_PROJECT"],
+                         "HEIGHT_SOURCE": 1, "DSM": s["DSM"], "MIN_VISIBLE": 0, "OCCLUSION": False,
+                         "OUTPUT": os.path.join(out, "plots_in_photos_clipped.gpkg"),
+                         "OUTPUT_SUMMARY": "TEMPORARY_OUTPUT"})
+    return {"best": best, "whole": whole, "clipped": clipped}
+
+
+def _backward_errors(back, s, truth):
+    """Back-projection against the truth: photo sets (whole plots), corner pixels, visible
+    fractions of clipped plots (dense ground sampling), occlusion of the kept pairs."""
+    from ..core import open_reconstruction
+    from ..core.reconstruction import INSIDE
+    whole = _features(back["whole"]["OUTPUT"])
+    sets = {}
+    for f in whole:
+        sets.setdefault(f["roi"], set()).add(os.path.splitext(f["photo"])[0])
+    same = sum(sets.get(k, set()) == set(v["photos_whole"]) for k, v in truth["plots"].items())
+    ids = truth["points"]["id"]
+    obs = truth["observations"]
+    pix = {(ids[p], ph): uv for p, ph, uv in zip(obs["point"], obs["photo"], obs["pixel"])}
+    worst = 0.0
+    for f in whole:
+        ring = np.array(f["_geom"].GetGeometryRef(0).GetGeometryRef(0).GetPoints())[:, :2] * [1, -1]
+        for k in range(4):
+            uv = pix.get((f"{f['roi']}_c{k + 1}", os.path.splitext(f["photo"])[0]))
+            if uv is not None:
+                worst = max(worst, float(np.min(np.linalg.norm(ring - uv, axis=1))))
+    recon = open_reconstruction(s["METASHAPE_PROJECT"])
+    g = (np.arange(120) + 0.5) / 120
+    u, v = [a.ravel()[:, None] for a in np.meshgrid(g, g)]
+    vis_err = []
+    clipped = [f for f in _features(back["clipped"]["OUTPUT"]) if f["clipped"]]
+    by_plot = {}
+    for f in clipped:
+        by_plot.setdefault(f["roi"], []).append(f)
+    for pid, feats in by_plot.items():
+        c = np.array(truth["plots"][pid]["corners"])
+        pts = c[0] * (1 - u) * (1 - v) + c[1] * u * (1 - v) + c[2] * u * v + c[3] * (1 - u) * v
+        p = recon.project_points(pts, truth["crs"])
+        frac = dict(zip(p.camera_labels, (p.status == INSIDE).mean(axis=1)))
+        vis_err += [abs(f["visible_fraction"] - frac[f["photo"]]) for f in feats]
+    best = _features(back["best"]["OUTPUT"])
+    occ = np.array([f["occluded_fraction"] for f in best])
+    crops = sum(len(files) for _, _, files in os.walk(back["best"]["CROPS_FOLDER"]))
+    return [f"plots → photos, whole plots only (Pix4D): photo sets equal the truth for {same} of "
+            f"{len(truth['plots'])} plots; corners within {worst:.1e} px",
+            f"plots → photos, clipped (Metashape): visible fraction within "
+            f"{max(vis_err):.4f} of a dense ground count over {len(vis_err)} clipped plot × photo pairs",
+            f"best 4 photos per plot: {len(best)} pairs, occluded share of the plot surface median "
+            f"{np.median(occ):.2f}, max {occ.max():.2f} (soil between crop rows); "
+            f"{crops // 2} crops and their JSON written"]
 
 
 def _overview(png: str, raster: str, vectors) -> str:

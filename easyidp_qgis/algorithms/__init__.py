@@ -1,4 +1,5 @@
 """One module per Processing tool; ALGORITHMS lists the classes the provider registers."""
+from .back_project_rois import BackProjectROIs
 from .camera_footprints import CameraFootprints
 from .create_demo_survey import CreateDemoSurvey
 from .crop_point_cloud_by_rois import CropPointCloudByROIs
@@ -8,4 +9,4 @@ from .roi_heights_from_dsm import ROIHeightsFromDSM
 from .season_traits import SeasonTraits
 
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
-              PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits]
+              PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits, BackProjectROIs]

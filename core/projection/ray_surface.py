@@ -1,0 +1,653 @@
+"""The first hit of rays on a DSM: exact, vectorised, reading only the DSM tiles along the rays.
+
+**Surface.** The DSM is the bilinear surface between pixel centres (ARCHITECTURE.md). Beyond
+the outermost pixel centres, out to the raster edge, it continues flat (the edge rows and
+columns are repeated), as :func:`core.raster.dsm_heights.sample_points` does; the *extent* is
+the raster's [0, width] × [0, height] pixels. A dual *cell* is the square between four pixel
+centres; a cell with a nodata corner is a nodata cell (the surface there is unknown).
+
+**Rays** are given in the reconstruction's model frame (``Reconstruction.pixel_to_ray``) and
+mapped to DSM pixel space (u = column + 0.5, v = row + 0.5, z = height in the DSM's vertical
+reference) by an affine map: the model frame linearised at an anchor. The map is exact for
+Pix4D projects in the DSM's CRS and for local frames; otherwise (Metashape's geocentric frame,
+another CRS) its error is *measured* on a lattice over the region where the rays meet the
+surface and rays are re-run in groups, each with its own anchor, until the measured error is
+below :data:`LINEARISATION_TOLERANCE` (``RayHits.linearisation_error`` reports it).
+
+**Traversal.** A lockstep 2-D DDA (Amanatides & Woo) over three levels: tiles of
+:data:`TILE` cells (the unit read from the file, with their height range), blocks of
+:data:`BLOCK` cells (a max-mipmap level) and cells. A tile or block is entered only when the
+ray comes down to its highest height; in a cell, the bilinear height along the ray is a
+quadratic in the ray parameter, solved exactly for its smallest root. Every cell crossed by
+the ray's ground track is visited in order, so no ridge can be stepped over.
+
+**Result** per ray: ``HIT`` (the first point of the ray at or below the surface, from its
+origin), ``MISS`` (it never reaches the surface inside the DSM within ``max_distance``, e.g.
+it points up, passes over or beside the DSM, or enters the extent through its side already
+under the surface), ``LEFT`` (it leaves the DSM extent at a height
+where it could still meet the ground: below the highest height read), ``NODATA`` (it enters a
+nodata cell below the highest height read, before any hit: what lies there is unknown).
+"""
+import os
+import threading
+from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass, replace
+from typing import Optional
+
+import numpy as np
+
+from ..errors import EasyIDPError, InputError
+from ..progress import as_progress
+from ..raster.geotiff import GeoTiff, open_geotiff
+from ..raster.sweep import Window, sweep_windows
+
+HIT, MISS, LEFT, NODATA = 0, 1, 2, 3
+STATUS_NAMES = {HIT: "hit", MISS: "miss", LEFT: "left the DSM", NODATA: "nodata"}
+
+TILE = 256          # cells per tile side: the unit read from the DSM
+BLOCK = 8          # cells per block side: the max-mipmap level inside a tile
+LINEARISATION_TOLERANCE = 5e-4   # m: largest accepted error of the linearised model frame
+FAR = 1e7           # model units: the end of a ray without max_distance
+BATCH = 16384       # rays traversed at once (per thread)
+PREFETCH = 4        # tiles looked ahead on a ray's way when one must be read
+
+
+@dataclass
+class RayHits:
+    """First hits of n rays. ``distance`` (n,) along the ray in model-frame units, NaN where
+    there is no hit; ``xyz`` (n, 3) of the hit in the DSM's CRS (its vertical reference),
+    NaN where there is no hit; ``status`` (n,) uint8: HIT, MISS, LEFT or NODATA.
+    ``linearisation_error``: largest measured error (m) of the model → DSM linearisation over
+    the places where the rays met the surface (0 for an exact affine map)."""
+    distance: np.ndarray
+    xyz: np.ndarray
+    status: np.ndarray
+    linearisation_error: float = 0.0
+
+    @property
+    def hit(self) -> np.ndarray:
+        return self.status == HIT
+
+
+class DSMSurface:
+    """A DSM GeoTIFF as a surface for ray casting; its tiles are read on demand and kept.
+
+    ``dsm``: a GeoTIFF path or an opened :class:`GeoTiff`; ``crs`` overrides the file's CRS.
+    Heights are in the DSM's own vertical reference and units.
+    """
+
+    def __init__(self, dsm, crs=None, tile: int = TILE):
+        if isinstance(dsm, GeoTiff):
+            tif = dsm
+            if crs is not None:
+                from ..crs import as_crs
+                tif = replace(dsm, crs=as_crs(crs, f"CRS of {dsm.path}"))
+        else:
+            tif = open_geotiff(str(dsm), crs=crs)
+        if tif.bands != 1:
+            raise InputError(f"The DSM {tif.path} has {tif.bands} bands; a DSM must have exactly "
+                             "one (heights). Choose the elevation raster.")
+        if tile % BLOCK:
+            raise ValueError(f"tile must be a multiple of {BLOCK}")
+        self.tif = tif
+        self.crs = tif.crs
+        self.T = int(tile)
+        self.W, self.H = tif.width, tif.height
+        nc_u, nc_v = self.W + 1, self.H + 1                 # cells per row / column
+        self.ntu, self.ntv = -(-nc_u // self.T), -(-nc_v // self.T)
+        nb = self.T // BLOCK
+        self.slot = np.full((self.ntv, self.ntu), -1, np.int64)
+        self.tile_max = np.full((self.ntv, self.ntu), -np.inf)     # highest valid height
+        self.tile_nod = np.zeros((self.ntv, self.ntu), bool)       # has a nodata cell
+        self.block_max = np.full((self.ntv * nb, self.ntu * nb), -np.inf)
+        self.block_nod = np.zeros((self.ntv * nb, self.ntu * nb), bool)
+        self.dtype = np.float64 if tif.dtype == np.float64 else np.float32
+        self._store = np.zeros((0, self.T + 1, self.T + 1), self.dtype)   # cell corners
+        self._cmax = np.zeros((0, self.T, self.T), self.dtype)           # cell maxima, NaN: nodata
+        self._n = 0
+        self.zmin, self.zmax = np.inf, -np.inf               # valid heights read so far
+        self.tiles_read = 0
+        self._lock = threading.Lock()
+
+    # --- geometry ------------------------------------------------------------------------------
+    def map_to_uv(self, x, y):
+        """Map (x, y) in the DSM CRS → (u, v) = (column + 0.5, row + 0.5)."""
+        col, row = self.tif.map_to_pixel(x, y)
+        return col + 0.5, row + 0.5
+
+    def uv_to_map(self, u, v):
+        return self.tif.pixel_to_map(np.asarray(u) - 0.5, np.asarray(v) - 0.5)
+
+    @property
+    def loaded(self) -> int:
+        return self._n
+
+    # --- reading -------------------------------------------------------------------------------
+    def load(self, tiles, progress=None) -> None:
+        """Read tiles (iterable of (tile row, tile column)) not yet in memory, in one sweep.
+        Thread-safe: traversal threads share the surface."""
+        with self._lock:
+            self._load(tiles, progress)
+
+    def _load(self, tiles, progress) -> None:
+        todo = sorted({(int(a), int(b)) for a, b in tiles if self.slot[a, b] < 0})
+        if not todo:
+            return
+        T, H, W = self.T, self.H, self.W
+        wins = []
+        for ti, tj in todo:
+            r0, r1 = max(ti * T - 1, 0), min((ti + 1) * T - 1, H - 1)
+            c0, c1 = max(tj * T - 1, 0), min((tj + 1) * T - 1, W - 1)
+            wins.append(Window(r0, c0, r1 - r0 + 1, c1 - c0 + 1))
+        need = self._n + len(todo)
+        if need > len(self._store):
+            grown = np.empty((max(need, 2 * len(self._store)), T + 1, T + 1), self.dtype)
+            grown[:self._n] = self._store[:self._n]
+            cgrown = np.empty((len(grown), T, T), self.dtype)
+            cgrown[:self._n] = self._cmax[:self._n]
+            self._cmax = cgrown
+            self._store = grown
+        tif = self.tif
+
+        def consume(k: int, arr: np.ndarray) -> None:
+            ti, tj = todo[k]
+            w = wins[k]
+            a = arr[..., 0].astype(self.dtype)
+            if a.dtype.kind == "f":
+                bad = ~np.isfinite(a)
+            else:
+                bad = np.zeros(a.shape, bool)
+            if tif.nodata is not None:
+                bad |= arr[..., 0] == np.asarray(tif.nodata, arr.dtype)
+            a[bad] = np.nan
+            # sample s (cell corner) ↔ pixel s − 1, clamped to the raster (flat beyond the edge)
+            rows = np.clip(np.arange(ti * T, ti * T + T + 1) - 1, 0, H - 1) - w.row
+            cols = np.clip(np.arange(tj * T, tj * T + T + 1) - 1, 0, W - 1) - w.col
+            slot = self._n + k
+            s = self._store[slot]
+            np.take(np.take(a, rows, axis=0), cols, axis=1, out=s)
+            self._summarise(ti, tj, s, self._cmax[slot])
+            self.slot[ti, tj] = slot
+
+        sweep_windows(tif, wins, consume, as_progress(progress))
+        self._n = need
+        self.tiles_read += len(todo)
+
+    def _summarise(self, ti: int, tj: int, s: np.ndarray, cell_max: np.ndarray) -> None:
+        """Tile and block maxima (valid heights) and nodata flags of a freshly read tile."""
+        T, nb = self.T, self.T // BLOCK
+        nv = min(T, self.H + 1 - ti * T)                     # real cells of this tile
+        nu = min(T, self.W + 1 - tj * T)
+        c = np.stack([s[:-1, :-1], s[1:, :-1], s[:-1, 1:], s[1:, 1:]])
+        nod = np.isnan(c).any(axis=0)
+        cmax = np.where(nod, -np.inf, np.nanmax(np.where(np.isnan(c), -np.inf, c), axis=0))
+        nod[nv:, :] = False
+        nod[:, nu:] = False
+        cmax[nv:, :] = -np.inf
+        cmax[:, nu:] = -np.inf
+        cell_max[...] = np.where(nod, np.nan, cmax)
+        bm = cmax.reshape(nb, BLOCK, nb, BLOCK).max(axis=(1, 3))
+        bn = nod.reshape(nb, BLOCK, nb, BLOCK).any(axis=(1, 3))
+        self.block_max[ti * nb:(ti + 1) * nb, tj * nb:(tj + 1) * nb] = bm
+        self.block_nod[ti * nb:(ti + 1) * nb, tj * nb:(tj + 1) * nb] = bn
+        self.tile_max[ti, tj] = bm.max()
+        self.tile_nod[ti, tj] = bn.any()
+        real = s[:nv + 1, :nu + 1]
+        if np.isfinite(real).any():
+            self.zmin = min(self.zmin, float(np.nanmin(real)))
+            self.zmax = max(self.zmax, float(np.nanmax(real)))
+
+    def samples_flat(self) -> np.ndarray:
+        """The corner heights of the tiles read, flat: tile slot k, corner (v, u) at
+        k·(T+1)² + v·(T+1) + u (NaN: nodata)."""
+        return self._store.reshape(-1)
+
+    def cell_max_flat(self) -> np.ndarray:
+        """The highest corner of every cell of the tiles read, flat (k·T² + v·T + u); NaN
+        for a nodata cell."""
+        return self._cmax.reshape(-1)
+
+
+# ---- model frame → DSM pixel space ---------------------------------------------------------------
+class _Affine:
+    """Model-frame point p → (u, v, z) = M·p + m, linearised at ``anchor`` (DSM CRS x, y, z)."""
+
+    def __init__(self, frame, surface: DSMSurface, anchor_xyz):
+        self.frame, self.surface = frame, surface
+        anchor = np.asarray(anchor_xyz, np.float64).reshape(1, 3)
+        p0 = frame.to_model(anchor, surface.crs)[0]
+        h = 1.0
+        pts = np.vstack([p0 + h * np.eye(3), p0 - h * np.eye(3)])
+        g = frame.from_model(pts, surface.crs)
+        J = (g[:3] - g[3:]).T / (2 * h)                      # d(x, y, z)/d(model)
+        c, a, _, f, _, e = surface.tif.geotransform
+        P = np.diag([1 / a, 1 / e, 1.0])
+        q = np.array([-c / a + 0.5, -f / e + 0.5, 0.0])
+        self.M = P @ J
+        self.m = P @ (anchor[0] - J @ p0) + q
+        self.metres = 1.0 / np.linalg.norm(self.M, axis=1)  # model units per pixel (u, v) / per z unit
+
+    def error(self, x0, x1, y0, y1, z0, z1, n: int = 5) -> float:
+        """Largest error (model units, i.e. metres) of the linearisation on an n×n×3 lattice
+        over the DSM-CRS box [x0, x1] × [y0, y1] × [z0, z1]."""
+        gx, gy, gz = np.meshgrid(np.linspace(x0, x1, n), np.linspace(y0, y1, n),
+                                 np.linspace(z0, z1, 3))
+        xyz = np.column_stack([gx.ravel(), gy.ravel(), gz.ravel()])
+        p = self.frame.to_model(xyz, self.surface.crs)
+        u, v = self.surface.map_to_uv(xyz[:, 0], xyz[:, 1])
+        exact = np.column_stack([u, v, xyz[:, 2]])
+        d = (p @ self.M.T + self.m - exact) * self.metres
+        return float(np.sqrt((d * d).sum(axis=1)).max())
+
+
+# ---- the traversal ---------------------------------------------------------------------------------
+class _Rays:
+    """Rays in pixel space for one batch: (u, v, z)(t) = o + t·d for t in [t0, t1]."""
+
+    def __init__(self, o, d, t0, t1, at_edge):
+        self.ou, self.ov, self.oz = o[:, 0].copy(), o[:, 1].copy(), o[:, 2].copy()
+        self.du, self.dv, self.dz = d[:, 0].copy(), d[:, 1].copy(), d[:, 2].copy()
+        self.t0, self.t1, self.at_edge = t0, t1, at_edge
+
+
+def _walk(r: _Rays, idx, ta, tb, size: int, lo, hi, classify, max_steps: int, aux=None,
+          bounded: bool = True):
+    """Lockstep DDA (Amanatides & Woo) over the square grid of ``size`` cells, for the rays
+    ``idx`` along [ta, tb], every crossed grid cell in order.
+
+    ``lo``/``hi`` (v, u) bound the grid indices visited (inclusive; with ``bounded`` False the
+    caller's classify copes with indices a step beyond). ``classify(ids, iv, iu,
+    t_in, t_out, z_low, aux)`` gets the cells being visited (``ids``: positions in ``idx``;
+    ``z_low``: the ray's lowest height over the cell) and returns an int8 code per cell: 0 go
+    on, > 0 stop there. Returns (code, iv, iu, t_in, t_out) per ray: code 0 when the segment
+    ended (t_in = t_out = tb) or ``max_steps`` were taken (t_in = t_out = where it stopped).
+    """
+    n = len(idx)
+    code = np.zeros(n, np.int8)
+    out_iv = np.zeros(n, np.int64)
+    out_iu = np.zeros(n, np.int64)
+    out_a, out_b = tb.copy(), tb.copy()
+    ou, ov, oz = r.ou[idx], r.ov[idx], r.oz[idx]
+    du, dv, dz = r.du[idx], r.dv[idx], r.dz[idx]
+    s = float(size)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u, v = (ou + du * ta) / s, (ov + dv * ta) / s
+        iu = np.where(du < 0, np.ceil(u) - 1, np.floor(u)).astype(np.int64)
+        iv = np.where(dv < 0, np.ceil(v) - 1, np.floor(v)).astype(np.int64)
+        np.clip(iu, lo[1], hi[1], out=iu)
+        np.clip(iv, lo[0], hi[0], out=iv)
+        su, sv = np.sign(du).astype(np.int64), np.sign(dv).astype(np.int64)
+        inv_u = np.where(du != 0, 1.0 / du, np.inf)
+        inv_v = np.where(dv != 0, 1.0 / dv, np.inf)
+        nu_t = np.where(su != 0, ((iu + (su > 0)) * s - ou) * inv_u, np.inf)
+        nv_t = np.where(sv != 0, ((iv + (sv > 0)) * s - ov) * inv_v, np.inf)
+    tdu, tdv = np.abs(s * inv_u), np.abs(s * inv_v)
+    lowz = np.where(dz < 0, 1, 0).astype(bool)
+    t_in, t_end = ta.copy(), tb.copy()
+    ids = np.arange(n)
+    alive = np.ones(n, bool)
+    n_alive = n
+    for _ in range(max_steps):
+        if n_alive == 0:
+            break
+        t_out = np.minimum(nu_t, nv_t)
+        np.maximum(t_out, t_in, out=t_out)
+        np.minimum(t_out, t_end, out=t_out)
+        zl = oz + dz * np.where(lowz, t_out, t_in)
+        c = classify(ids, iv, iu, t_in, t_out, zl, aux)
+        stop = (c > 0) & alive
+        if stop.any():
+            k = ids[stop]
+            code[k] = c[stop]
+            out_iv[k], out_iu[k] = iv[stop], iu[stop]
+            out_a[k], out_b[k] = t_in[stop], t_out[stop]
+        go_u = nu_t <= nv_t
+        go_v = ~go_u
+        np.add(iu, su, out=iu, where=go_u)
+        np.add(iv, sv, out=iv, where=go_v)
+        np.add(nu_t, tdu, out=nu_t, where=go_u)
+        np.add(nv_t, tdv, out=nv_t, where=go_v)
+        gone = t_out >= t_end
+        if bounded:
+            gone |= (iu < lo[1]) | (iu > hi[1]) | (iv < lo[0]) | (iv > hi[0])
+            np.clip(iu, lo[1], hi[1], out=iu)
+            np.clip(iv, lo[0], hi[0], out=iv)
+        t_in = t_out
+        gone |= stop
+        gone &= alive
+        if gone.any():
+            alive &= ~gone
+            n_alive = int(np.count_nonzero(alive))
+            if n_alive < 0.75 * len(alive):      # compact: drop the finished rays
+                keep = alive
+                (ou, ov, oz, du, dv, dz, iu, iv, su, sv, nu_t, nv_t, tdu, tdv, lowz, t_in, t_end,
+                 ids) = [x[keep] for x in (ou, ov, oz, du, dv, dz, iu, iv, su, sv, nu_t, nv_t,
+                                           tdu, tdv, lowz, t_in, t_end, ids)]
+                if aux is not None:
+                    aux = aux[keep]
+                alive = np.ones(n_alive, bool)
+    if n_alive:                                     # out of steps: report where each stopped
+        k = ids[alive]
+        out_a[k] = t_in[alive]
+        out_b[k] = t_in[alive]
+    return code, out_iv, out_iu, out_a, out_b
+
+
+def _solve_cells(r: _Rays, idx, iv, iu, t_in, t_out, h):
+    """Smallest t in [t_in, t_out] where the ray is at or below the bilinear cell (iv, iu)
+    with corner heights h = (h00, h10, h01, h11); NaN where there is none.
+
+    Along the ray the bilinear height is a quadratic in t, so ``z(t) − h(t) = C + B·s + A·s²``
+    (s = t − t_in) is solved in closed form (the numerically stable quadratic formula)."""
+    h00, h10, h01, h11 = h
+    du, dv, dz = r.du[idx], r.dv[idx], r.dz[idx]
+    a = r.ou[idx] + du * t_in - iu
+    b = r.ov[idx] + dv * t_in - iv
+    hx, hy = h10 - h00, h01 - h00
+    hxy = h11 - h10 - h01 + h00
+    C = r.oz[idx] + dz * t_in - (h00 + hx * a + hy * b + hxy * a * b)
+    B = dz - (hx * du + hy * dv + hxy * (a * dv + b * du))
+    A = -hxy * du * dv
+    L = t_out - t_in
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        disc = B * B - 4 * A * C
+        q = -0.5 * (B + np.copysign(np.sqrt(np.maximum(disc, 0.0)), B))
+        r1 = np.where(A != 0, q / A, np.inf)
+        r2 = np.where(q != 0, C / q, np.inf)
+    r1 = np.where((r1 >= 0) & (r1 <= L), r1, np.inf)
+    r2 = np.where((r2 >= 0) & (r2 <= L), r2, np.inf)
+    s = np.where(disc >= 0, np.minimum(r1, r2), np.inf)
+    s = np.where(C <= 0, 0.0, s)
+    return np.where(np.isfinite(s), t_in + s, np.nan)
+
+
+def _traverse(surface: DSMSurface, r: _Rays, prog):
+    """First hits of a batch of rays in pixel space → (t (n,), status (n,))."""
+    n = len(r.t0)
+    t = np.full(n, np.nan)
+    status = np.full(n, MISS, np.uint8)
+    T, nb = surface.T, surface.T // BLOCK
+    T1 = T + 1
+    t_cur = r.t0.copy()
+    active = np.flatnonzero(r.t0 < r.t1)
+    zero = np.array([0, 0])
+    tiles_hi = np.array([surface.ntv - 1, surface.ntu - 1])
+    blocks_hi = np.array([surface.ntv * nb - 1, surface.ntu * nb - 1])
+    cells_hi = np.array([surface.H, surface.W])
+    while active.size:
+        prog.check()
+        # nodata may hide anything up to the highest height read
+        zc = surface.zmax if np.isfinite(surface.zmax) else np.inf
+
+        def tile_class(ids, iv, iu, ta, tb, zl, aux):
+            top = surface.tile_max[iv, iu]
+            top = np.where(surface.tile_nod[iv, iu], np.maximum(top, zc), top)
+            c = ((zl <= top) & (tb > ta)).astype(np.int8)
+            c[surface.slot[iv, iu] < 0] = 2
+            return c
+
+        code, tv, tu, ta, tb = _walk(r, active, t_cur[active], r.t1[active], T, zero, tiles_hi,
+                                     tile_class, surface.ntu + surface.ntv + 2)
+        ended = (code == 0) & (ta >= r.t1[active])
+        if ended.any():
+            _end_status(surface, r, active[ended], status)
+        t_cur[active] = ta                               # tile entry, or where the walk stopped
+        want = np.flatnonzero(code == 2)
+        if want.size:
+            need = set(zip(tv[want].tolist(), tu[want].tolist()))
+            if np.isfinite(surface.zmax):   # and the unread tiles next on the way down
+                need |= _tiles_ahead(surface, r, active[want], ta[want], PREFETCH)
+            surface.load(need, prog)
+        keep = ~ended
+        cand = np.flatnonzero(code == 1)
+        if cand.size:
+            ci = active[cand]
+
+            def block_class(ids, iv, iu, ta_, tb_, zl, aux):
+                top = surface.block_max[iv, iu]
+                top = np.where(surface.block_nod[iv, iu], np.maximum(top, zc), top)
+                return ((zl <= top) & (tb_ > ta_)).astype(np.int8)
+
+            bcode, _, _, bta, btb = _walk(r, ci, ta[cand], tb[cand], BLOCK, zero, blocks_hi,
+                                          block_class, 2 * nb + 2)
+            t_cur[ci] = btb                              # no candidate block: the tile's exit
+            has = np.flatnonzero(bcode == 1)
+            if has.size:
+                bi = ci[has]
+                aux = np.column_stack([surface.slot[tv[cand[has]], tu[cand[has]]],
+                                       tv[cand[has]] * T, tu[cand[has]] * T])
+                hit_t = np.full(len(bi), np.nan)
+                has_nod = bool(surface.tile_nod[tv[cand[has]], tu[cand[has]]].any())
+                cmax = surface.cell_max_flat()
+                samples = surface.samples_flat()
+
+                def cell_class(ids, iv, iu, ta_, tb_, zl, ax):
+                    # segments lie in one block: a cell beyond it is a zero-length sliver at
+                    # its edge, where the edge cell's patch (clipped index) is exact
+                    lv = np.clip(iv - ax[:, 1], 0, T - 1)
+                    lu = np.clip(iu - ax[:, 2], 0, T - 1)
+                    f = ax[:, 0] * (T * T) + lv * T + lu
+                    top = cmax[f]
+                    c = np.zeros(len(ids), np.int8)
+                    if has_nod:
+                        nod = np.isnan(top)
+                        c[nod & (zl <= zc) & (tb_ > ta_)] = 2
+                    test = np.flatnonzero(zl <= top)
+                    if test.size:
+                        f = ax[test, 0] * (T1 * T1) + lv[test] * T1 + lu[test]
+                        h = (samples[f].astype(np.float64), samples[f + 1].astype(np.float64),
+                             samples[f + T1].astype(np.float64),
+                             samples[f + T1 + 1].astype(np.float64))
+                        items = bi[ids[test]]
+                        th = _solve_cells(r, items, iv[test], iu[test], ta_[test], tb_[test], h)
+                        got = np.isfinite(th)
+                        c[test[got]] = 1
+                        k = ids[test[got]]
+                        first = np.isnan(hit_t[k])     # finished rays walk on until compacted
+                        hit_t[k[first]] = th[got][first]
+                    return c
+
+                ccode, _, _, cta, ctb = _walk(r, bi, bta[has], btb[has], 1, zero, cells_hi,
+                                              cell_class, 2 * BLOCK + 4, aux, bounded=False)
+                h1, h2 = ccode == 1, ccode == 2
+                t[bi[h1]], status[bi[h1]] = hit_t[h1], HIT
+                t[bi[h2]], status[bi[h2]] = cta[h2], NODATA
+                t_cur[bi] = ctb
+                stopped = np.zeros(n, bool)
+                stopped[bi[~(ccode == 0)]] = True
+                keep &= ~stopped[active]
+        active = active[keep]
+    return t, status
+
+
+def _tiles_ahead(surface: DSMSurface, r: _Rays, idx, ta, k: int) -> set:
+    """Unread tiles among the next ``k`` tiles on the rays' way from ``ta`` while they are
+    not above the highest height read (so a wave reads more than one tile per ray)."""
+    found = set()
+    ceiling = surface.zmax + max(surface.zmax - surface.zmin, 1.0)
+    seen = np.zeros(len(idx), np.int64)
+
+    def classify(ids, iv, iu, t_in, t_out, zl, aux):
+        unread = (surface.slot[iv, iu] < 0) & (zl <= ceiling)
+        for a, b in zip(iv[unread].tolist(), iu[unread].tolist()):
+            found.add((a, b))
+        seen[ids] += 1
+        return (seen[ids] >= k).astype(np.int8)
+
+    _walk(r, idx, ta, r.t1[idx], surface.T, np.array([0, 0]),
+          np.array([surface.ntv - 1, surface.ntu - 1]), classify, k)
+    return found
+
+
+def _end_status(surface: DSMSurface, r: _Rays, k, status) -> None:
+    """Rays whose range ended without a hit: LEFT when they leave the extent at a height where
+    they could still meet the ground, else MISS."""
+    z_end = r.oz[k] + r.dz[k] * r.t1[k]
+    left = r.at_edge[k] & (z_end <= surface.zmax)
+    status[k] = np.where(left, LEFT, MISS)
+
+
+def _clip_to_extent(surface: DSMSurface, o, d, tmax):
+    """Ray parameter range [t0, t1] inside the extent (slab method) and whether t1 is the
+    extent's edge (not ``tmax``)."""
+    lo = np.array([0.5, 0.5])
+    hi = np.array([surface.W + 0.5, surface.H + 0.5])
+    t0 = np.zeros(len(o))
+    t1 = np.array(tmax, np.float64)
+    edge = np.zeros(len(o), bool)
+    for k in range(2):
+        dk, ok = d[:, k], o[:, k]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ta = (lo[k] - ok) / dk
+            tb = (hi[k] - ok) / dk
+        near = np.where(dk != 0, np.minimum(ta, tb), np.where((ok >= lo[k]) & (ok <= hi[k]), -np.inf, np.inf))
+        far = np.where(dk != 0, np.maximum(ta, tb), np.where((ok >= lo[k]) & (ok <= hi[k]), np.inf, -np.inf))
+        t0 = np.maximum(t0, near)
+        edge = np.where(far < t1, True, edge)
+        t1 = np.minimum(t1, far)
+    # shrink by a hair so that the first/last cell indices stay inside the grid
+    return t0, t1, edge
+
+
+def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
+    o = origins @ aff.M.T + aff.m
+    d = directions @ aff.M.T
+    t0, t1, edge = _clip_to_extent(surface, o, d, tmax)
+    n = len(o)
+    t = np.full(n, np.nan)
+    st = np.full(n, MISS, np.uint8)
+
+    def batch(b0: int) -> None:
+        sl = slice(b0, min(n, b0 + BATCH))
+        r = _Rays(o[sl], d[sl], t0[sl], t1[sl], edge[sl])
+        tb_, sb_ = _traverse(surface, r, prog)
+        # entering the extent through its side, under the surface: the ray met the ground (if
+        # at all) outside the DSM
+        side = (sb_ == HIT) & (tb_ <= r.t0) & (r.t0 > 0)
+        sb_[side] = MISS
+        t[sl], st[sl] = tb_, sb_
+
+    starts = list(range(0, n, BATCH))
+    if len(starts) == 1:
+        batch(0)
+    else:                      # numpy releases the GIL in its loops: one thread per core
+        with ThreadPoolExecutor(min(len(starts), os.cpu_count() or 2)) as pool:
+            list(pool.map(batch, starts))
+    return o, d, t, st, t0, t1
+
+
+def first_hits(surface: DSMSurface, frame, origins, directions, *, max_distance=None,
+               progress=None, is_cancelled=None,
+               tolerance: float = LINEARISATION_TOLERANCE) -> RayHits:
+    """First hit of each ray on the DSM surface.
+
+    ``frame``: the reconstruction's :class:`~core.reconstruction.geodesy.ModelFrame`
+    (``recon.frame``); ``origins`` (3,) or (n, 3) and unit ``directions`` (n, 3) in that frame
+    (as ``Reconstruction.pixel_to_ray`` returns). ``max_distance`` (scalar or (n,)) ends the
+    rays, in model units. The DSM's CRS must be one the frame can convert to (a DSM without a
+    CRS is taken to be in the project's CRS).
+    """
+    prog = as_progress(progress, is_cancelled)
+    d = np.atleast_2d(np.asarray(directions, np.float64))
+    if d.ndim != 2 or d.shape[1] != 3:
+        raise EasyIDPError(f"directions must be an (n, 3) array, not {d.shape}")
+    n = len(d)
+    o = np.broadcast_to(np.asarray(origins, np.float64), (n, 3)).copy()
+    if not (np.isfinite(o).all() and np.isfinite(d).all()):
+        raise EasyIDPError("ray origins and directions must be finite numbers")
+    norm = np.linalg.norm(d, axis=1)
+    if np.any(norm == 0):
+        raise EasyIDPError("a ray direction is the zero vector")
+    d = d / norm[:, None]
+    tmax = np.full(n, FAR) if max_distance is None else \
+        np.minimum(np.broadcast_to(np.asarray(max_distance, np.float64), (n,)), FAR)
+    if n == 0:
+        return RayHits(np.zeros(0), np.zeros((0, 3)), np.zeros(0, np.uint8))
+    tif = surface.tif
+    # pass 1: one linearisation at the rays' side of the DSM
+    cx, cy = tif.pixel_to_map(surface.W / 2, surface.H / 2)
+    probe = _Affine(frame, surface, (cx, cy, 0.0))
+    op = o @ probe.M.T + probe.m
+    u = np.clip(np.median(op[:, 0]), 0.5, surface.W + 0.5)
+    v = np.clip(np.median(op[:, 1]), 0.5, surface.H + 0.5)
+    ax, ay = surface.uv_to_map(u, v)
+    z_guess = surface.zmax if np.isfinite(surface.zmax) else 0.0
+    aff = _Affine(frame, surface, (float(ax), float(ay), z_guess))
+    po, pd, t, status, t0, _ = _run(surface, aff, o, d, tmax, prog)
+    err, regrouped = 0.0, False
+    if np.isfinite(surface.zmin):
+        box = _band_box(surface, po, pd, t, status, t0)
+        if box is not None:
+            err = aff.error(*box)
+            if err > tolerance:
+                err = _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog)
+                regrouped = True
+    xyz = np.full((n, 3), np.nan)
+    hit = status == HIT
+    if hit.any():
+        p = o[hit] + t[hit, None] * d[hit]
+        if regrouped:                       # each group had its own map: convert exactly
+            xyz[hit] = frame.from_model(p, surface.crs)
+        else:
+            q = p @ aff.M.T + aff.m
+            x, y = surface.uv_to_map(q[:, 0], q[:, 1])
+            xyz[hit] = np.column_stack([x, y, q[:, 2]])
+    return RayHits(np.where(hit, t, np.nan), xyz, status, float(err))
+
+
+def _band_box(surface, po, pd, t, status, t0, sel=None):
+    """DSM-CRS box (x0, x1, y0, y1, z0, z1) over which rays cross the height band read."""
+    idx = np.flatnonzero((status == HIT) | (status == LEFT) | (status == NODATA))
+    if sel is not None:
+        idx = np.intersect1d(idx, sel)
+    if not idx.size:
+        return None
+    zt = surface.zmax
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t_top = np.where(pd[idx, 2] < 0, (zt - po[idx, 2]) / pd[idx, 2], t0[idx])
+    t_top = np.maximum(np.nan_to_num(t_top, nan=0.0), t0[idx])
+    t_end = np.where(np.isfinite(t[idx]), t[idx], t_top)
+    pts = np.vstack([po[idx] + t_top[:, None] * pd[idx], po[idx] + t_end[:, None] * pd[idx]])
+    u = np.clip(pts[:, 0], 0.5, surface.W + 0.5)
+    v = np.clip(pts[:, 1], 0.5, surface.H + 0.5)
+    x, y = surface.uv_to_map(u, v)
+    return (float(x.min()), float(x.max()), float(y.min()), float(y.max()),
+            surface.zmin, surface.zmax)
+
+
+def _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog) -> float:
+    """Re-run the rays in groups by where they meet the surface, each with its own
+    linearisation, until each group's measured error is within ``tolerance``. Updates ``t``
+    and ``status`` in place; returns the largest measured error."""
+    t_end = np.where(np.isfinite(t), t, t0)
+    p = po + t_end[:, None] * pd
+    x, y = surface.uv_to_map(p[:, 0], p[:, 1])
+    todo = [np.flatnonzero(status != MISS)]
+    worst = 0.0
+    zmid = 0.5 * (surface.zmin + surface.zmax)
+    for _ in range(12):
+        nxt = []
+        for g in todo:
+            if not g.size:
+                continue
+            gx, gy = x[g], y[g]
+            aff = _Affine(frame, surface, (0.5 * (gx.min() + gx.max()), 0.5 * (gy.min() + gy.max()), zmid))
+            go, gd, gt, gs, gt0, _ = _run(surface, aff, o[g], d[g], tmax[g], prog)
+            box = _band_box(surface, go, gd, gt, gs, gt0)
+            e = aff.error(*box) if box is not None else 0.0
+            if e <= tolerance or len(g) == 1:
+                t[g], status[g] = gt, gs
+                worst = max(worst, e)
+                continue
+            # split the group in four about its middle
+            mx, my = np.median(gx), np.median(gy)
+            for qx in (gx <= mx, gx > mx):
+                for qy in (gy <= my, gy > my):
+                    nxt.append(g[qx & qy])
+        todo = nxt
+        if not todo:
+            break
+    else:
+        raise EasyIDPError("The model frame could not be linearised to within "
+                           f"{tolerance * 1000:.1f} mm over the DSM; report this case.")
+    return worst

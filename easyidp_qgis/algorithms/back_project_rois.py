@@ -1,0 +1,332 @@
+"""Processing tool: Back-project ROIs to raw photos (easyidp:backprojectrois)."""
+import math
+
+from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
+                       QgsFields, QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPolygon,
+                       QgsProcessing, QgsProcessingException, QgsProcessingParameterBoolean,
+                       QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
+                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
+                       QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
+                       QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
+                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
+                       QgsProcessingUtils, QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
+
+from ..layers import crs_string, geotiff_source, optional_number, rois_from_source
+from .base import EasyIDPAlgorithm
+
+HEIGHT_Z, HEIGHT_DSM, HEIGHT_FIELD_, HEIGHT_CONSTANT = range(4)
+
+
+class BackProjectROIs(EasyIDPAlgorithm):
+    ROIS = "ROIS"
+    NAME_FIELD = "NAME_FIELD"
+    PROJECT = "PROJECT"
+    CHUNK = "CHUNK"
+    PROJECT_CRS = "PROJECT_CRS"
+    HEIGHT_SOURCE = "HEIGHT_SOURCE"
+    DSM = "DSM"
+    HEIGHT_FIELD = "HEIGHT_FIELD"
+    GROUND_HEIGHT = "GROUND_HEIGHT"
+    PHOTOS = "PHOTOS"
+    DISTORTION = "DISTORTION"
+    CLIP = "CLIP"
+    OCCLUSION = "OCCLUSION"
+    MIN_VISIBLE = "MIN_VISIBLE"
+    MAX_IMAGES = "MAX_IMAGES"
+    MARGIN = "MARGIN"
+    OUTPUT = "OUTPUT"
+    OUTPUT_SUMMARY = "OUTPUT_SUMMARY"
+    OUTPUT_JSON = "OUTPUT_JSON"
+    CROPS_FOLDER = "CROPS_FOLDER"
+    PREVIEW_FOLDER = "PREVIEW_FOLDER"
+
+    NAME = "backprojectrois"
+    DISPLAY = "Back-project ROIs to raw photos"
+    GROUP = "Projection"
+    GROUP_ID = "projection"
+    HELP = (
+        "Finds every ROI (plot, tree, plant polygon) in every raw photo of a Metashape or Pix4D "
+        "project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw "
+        "photos are sharper than the orthomosaic and free of its seamlines.\n\n"
+        "Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or "
+        "any file of its 1_initial/params folder); the height of the ROI vertices, from the "
+        "geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a "
+        "numeric attribute, or one ground height (heights in the project's vertical reference; "
+        "for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos "
+        "are when they moved (matched by file name).\n\n"
+        "Each ROI is densified, projected with the lens distortion, and clipped to the photo "
+        "frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With "
+        "a DSM, lines of sight to points on the surface inside the ROI are tested for "
+        "occlusion. Photos showing less than the minimum visible, unoccluded share are "
+        "dropped; the others are ranked by a score (view angle, ground resolution, distance from "
+        "the photo centre, visible share).\n\n"
+        "Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo "
+        "opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo "
+        "with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with "
+        "their photo count and best photo; optionally EasyIDP's JSON "
+        "{roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, "
+        "TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG "
+        "per ROI showing its best photos.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+        self.addParameter(QgsProcessingParameterField(
+            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
+            parentLayerParameterName=self.ROIS, optional=True))
+        self.addParameter(QgsProcessingParameterFile(
+            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)"),
+            behavior=QgsProcessingParameterFile.File,
+            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt);;All files (*.*)"))
+        self.addParameter(QgsProcessingParameterString(
+            self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
+            optional=True))
+        p = QgsProcessingParameterCrs(
+            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
+            optional=True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterEnum(
+            self.HEIGHT_SOURCE, self.tr("Heights of the ROI vertices"),
+            [self.tr("Geometry Z (3-D polygons)"), self.tr("DSM, sampled at every vertex"),
+             self.tr("Attribute (one height per ROI)"), self.tr("Constant ground height")],
+            defaultValue=HEIGHT_DSM))
+        self.addParameter(QgsProcessingParameterRasterLayer(
+            self.DSM, self.tr("DSM (GeoTIFF): vertex heights and occlusion test"), optional=True))
+        self.addParameter(QgsProcessingParameterField(
+            self.HEIGHT_FIELD, self.tr("Height attribute"), parentLayerParameterName=self.ROIS,
+            type=QgsProcessingParameterField.Numeric, optional=True))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.GROUND_HEIGHT, self.tr("Constant ground height (project vertical reference)"),
+            QgsProcessingParameterNumber.Double, optional=True))
+        self.addParameter(QgsProcessingParameterFile(
+            self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
+            behavior=QgsProcessingParameterFile.Folder, optional=True))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.CLIP, self.tr("ROIs partly outside a photo"),
+            [self.tr("Clip them to the photo frame"), self.tr("Drop the photo (whole ROIs only)")],
+            defaultValue=0))
+        self.addParameter(QgsProcessingParameterBoolean(
+            self.OCCLUSION, self.tr("Test occlusion against the DSM (when a DSM is given)"), True))
+        p = QgsProcessingParameterNumber(
+            self.MIN_VISIBLE, self.tr("Minimum visible, unoccluded share of a ROI in a photo"),
+            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterNumber(
+            self.MAX_IMAGES, self.tr("Best photos to keep per ROI (0 = all)"),
+            QgsProcessingParameterNumber.Integer, 0, minValue=0))
+        p = QgsProcessingParameterBoolean(
+            self.DISTORTION, self.tr("Apply the lens distortion (off for undistorted photos)"), True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        p = QgsProcessingParameterNumber(
+            self.MARGIN, self.tr("Margin around the crops (pixels)"),
+            QgsProcessingParameterNumber.Integer, 0, minValue=0, maxValue=10000)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT, self.tr("ROIs in photo pixels (x = column, y = −row)"),
+            QgsProcessing.TypeVectorPolygon))
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT_SUMMARY, self.tr("ROIs with their photo count and best photo"),
+            QgsProcessing.TypeVectorPolygon))
+        self.addParameter(QgsProcessingParameterFileDestination(
+            self.OUTPUT_JSON, self.tr("EasyIDP back2raw JSON"), fileFilter="JSON files (*.json)",
+            optional=True, createByDefault=False))
+        self.addParameter(QgsProcessingParameterFolderDestination(
+            self.CROPS_FOLDER, self.tr("Crops of the raw photos"), optional=True,
+            createByDefault=False))
+        self.addParameter(QgsProcessingParameterFolderDestination(
+            self.PREVIEW_FOLDER, self.tr("Preview per ROI (its best photos)"), optional=True,
+            createByDefault=False))
+
+    # --- running ----------------------------------------------------------------------------
+    def run_tool(self, parameters, context, feedback):
+        from ...core.projection import (ConstantHeight, DSMHeights, GeometryZ, PerROIHeights,
+                                        back_project, crop_photos, resolve_photos)
+        from ...core.reconstruction import open_reconstruction
+
+        recon = self._project(parameters, context, feedback, open_reconstruction)
+        source = self.parameterAsSource(parameters, self.ROIS, context)
+        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
+        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+
+        dsm_layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
+        dsm = None
+        if dsm_layer is not None:
+            dsm = DSMHeights(geotiff_source(dsm_layer, self.tr("DSM")), crs_string(dsm_layer.crs()))
+        kind = self.parameterAsEnum(parameters, self.HEIGHT_SOURCE, context)
+        if kind == HEIGHT_Z:
+            heights = GeometryZ()
+        elif kind == HEIGHT_DSM:
+            if dsm is None:
+                raise QgsProcessingException(self.tr(
+                    "Heights from the DSM: choose the DSM raster, or another height source."))
+            heights = dsm
+        elif kind == HEIGHT_FIELD_:
+            field = self.parameterAsString(parameters, self.HEIGHT_FIELD, context)
+            if not field:
+                raise QgsProcessingException(self.tr(
+                    "Heights from an attribute: choose the height attribute of the ROI layer."))
+            heights = PerROIHeights([f[field] for f in features])
+        else:
+            h = optional_number(self, parameters, self.GROUND_HEIGHT, context)
+            if h is None:
+                raise QgsProcessingException(self.tr(
+                    "Constant ground height: give the height, or choose another height source."))
+            heights = ConstantHeight(h)
+
+        occlusion = self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is not None
+        if self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is None:
+            feedback.pushInfo(self.tr("No DSM given: occlusion is not tested."))
+        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
+        crops = _optional_destination(self, parameters, self.CROPS_FOLDER, context)
+        previews = _optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
+        json_path = _optional_destination(self, parameters, self.OUTPUT_JSON, context)
+        span = 60.0 if (crops or previews) else 95.0
+
+        feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
+            n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
+        result = back_project(
+            rois, recon, heights=heights,
+            distortion=self.parameterAsBool(parameters, self.DISTORTION, context),
+            clip=self.parameterAsEnum(parameters, self.CLIP, context) == 0,
+            occlusion_dsm=dsm if occlusion else None,
+            min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
+            max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
+            progress=lambda p: feedback.setProgress(5 + span * p / 100.0),
+            is_cancelled=feedback.isCanceled)
+        for note in result.notes:
+            feedback.pushWarning(note)
+        for name, why in list(result.unseen.items())[:50]:
+            feedback.pushWarning(self.tr("ROI '{name}': {why}").format(name=name, why=why))
+        if len(result.unseen) > 50:
+            feedback.pushWarning(self.tr("… and {n} more ROIs without a photo").format(
+                n=len(result.unseen) - 50))
+
+        found, missing = resolve_photos(result.photo_labels, result.photo_paths, photos) \
+            if photos else ({}, {})
+        paths = [found.get(lab, p) for lab, p in zip(result.photo_labels, result.photo_paths)]
+        out = self._write_pixels(parameters, context, result, paths)
+        summary = self._write_summary(parameters, context, source, features, result)
+        outputs = {self.OUTPUT: out, self.OUTPUT_SUMMARY: summary}
+        if json_path:
+            outputs[self.OUTPUT_JSON] = result.write_easyidp_json(json_path)
+        if crops or previews:
+            feedback.pushInfo(self.tr("Cutting the ROIs out of the photos…"))
+            written = crop_photos(
+                result, crops, photos, previews_folder=previews,
+                margin=self.parameterAsInt(parameters, self.MARGIN, context),
+                progress=lambda p: feedback.setProgress(5 + span + (95 - span) * p / 100.0),
+                is_cancelled=feedback.isCanceled)
+            for label, why in written.skipped_photos.items():
+                feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
+            feedback.pushInfo(self.tr("{n} crops and {p} previews written.").format(
+                n=len(written.files), p=len(written.previews)))
+            if crops:
+                outputs[self.CROPS_FOLDER] = crops
+            if previews:
+                outputs[self.PREVIEW_FOLDER] = previews
+        feedback.setProgress(100)
+        seen = int((result.photos_per_roi() > 0).sum())
+        feedback.pushInfo(self.tr("{k} ROI × photo pairs for {seen} of {n} ROIs; {u} ROIs in no photo.").format(
+            k=len(result), seen=seen, n=len(rois), u=len(result.unseen)))
+        return outputs
+
+    def _project(self, parameters, context, feedback, open_reconstruction):
+        path = self.parameterAsFile(parameters, self.PROJECT, context)
+        if not path:
+            raise QgsProcessingException(self.tr("Photogrammetry project: no file given."))
+        chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
+        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
+        recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() and
+                                    not path.lower().endswith((".psx", ".psz", ".xml")) else None)
+        feedback.pushInfo(recon.summary())
+        if recon.crs is None and not recon.is_local:
+            raise QgsProcessingException(self.tr(
+                "{path}: the project has no CRS (no *_wkt.prj): set 'Project CRS'.").format(path=path))
+        return recon
+
+    def _write_pixels(self, parameters, context, result, paths):
+        fields = QgsFields()
+        for name, kind in (("roi", QVariant.String), ("photo", QVariant.String),
+                           ("photo_path", QVariant.String), ("rank", QVariant.Int),
+                           ("score", QVariant.Double), ("view_angle", QVariant.Double),
+                           ("gsd", QVariant.Double), ("visible_fraction", QVariant.Double),
+                           ("occluded_fraction", QVariant.Double),
+                           ("centre_distance", QVariant.Double), ("clipped", QVariant.Bool),
+                           ("photo_width", QVariant.Int), ("photo_height", QVariant.Int)):
+            fields.append(QgsField(name, kind))
+        sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
+                                          QgsWkbTypes.MultiPolygon, QgsCoordinateReferenceSystem())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        for i in range(len(result)):
+            j = int(result.photo_index[i])
+            f = QgsFeature(fields)
+            f.setAttributes([result.roi_names[int(result.roi[i])], str(result.photo[i]),
+                             paths[j] or "", int(result.rank[i]), _num(result.score[i]),
+                             _num(result.view_angle[i]), _num(result.gsd[i]),
+                             _num(result.visible_fraction[i]), _num(result.occluded_fraction[i]),
+                             _num(result.centre_distance[i]), bool(result.clipped[i]),
+                             int(result.image_sizes[j][0]), int(result.image_sizes[j][1])])
+            f.setGeometry(pixel_geometry(result.polygons_of(i)))
+            sink.addFeature(f, QgsFeatureSink.FastInsert)
+        # a photo opened without georeference has no CRS; QGIS gives memory layers EPSG:4326
+        # by default, which would reproject the pixels: make the layer CRS-less like the photo
+        layer = QgsProcessingUtils.mapLayerFromString(dest, context)
+        if layer is not None and layer.crs().isValid():
+            layer.setCrs(QgsCoordinateReferenceSystem())
+        return dest
+
+    def _write_summary(self, parameters, context, source, features, result):
+        extra = QgsFields()
+        extra.append(QgsField("photos", QVariant.Int))
+        extra.append(QgsField("best_photo", QVariant.String))
+        extra.append(QgsField("best_score", QVariant.Double))
+        fields = QgsProcessingUtils.combineFields(source.fields(), extra)
+        sink, dest = self.parameterAsSink(parameters, self.OUTPUT_SUMMARY, context, fields,
+                                          source.wkbType(), source.sourceCrs())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_SUMMARY))
+        counts = result.photos_per_roi()
+        best = result.best()
+        for k, feat in enumerate(features):
+            i = best.get(result.roi_names[k])
+            f = QgsFeature(fields)
+            f.setGeometry(feat.geometry())
+            f.setAttributes(list(feat.attributes()) + [
+                int(counts[k]), None if i is None else str(result.photo[i]),
+                None if i is None else _num(result.score[i])])
+            sink.addFeature(f, QgsFeatureSink.FastInsert)
+        return dest
+
+
+def pixel_geometry(polys) -> QgsGeometry:
+    """Photo-pixel polygons → a MultiPolygon with x = column, y = −row (how QGIS places a
+    photo opened without georeference)."""
+    mp = QgsMultiPolygon()
+    for p in polys:
+        poly = QgsPolygon()
+        rings = [QgsLineString(list(map(float, r[:, 0])) + [float(r[0, 0])],
+                               list(map(float, -r[:, 1])) + [float(-r[0, 1])]) for r in p]
+        poly.setExteriorRing(rings[0])
+        for h in rings[1:]:
+            poly.addInteriorRing(h)
+        mp.addGeometry(poly)
+    return QgsGeometry(mp)
+
+
+def _optional_destination(alg, parameters, name, context):
+    value = parameters.get(name)
+    if value in (None, ""):
+        return None
+    out = alg.parameterAsFileOutput(parameters, name, context)
+    return out or None
+
+
+def _num(v):
+    v = float(v)
+    return None if math.isnan(v) or math.isinf(v) else v

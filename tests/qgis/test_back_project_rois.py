@@ -1,0 +1,133 @@
+"""Back-project ROIs to raw photos in real QGIS (offscreen) and through qgis_process.
+
+The photo-pixel layer's convention (x = column, y = −row) is checked against how QGIS itself
+places a raw photo opened without georeference: that is the truth here, not our code.
+"""
+import json
+import os
+
+import numpy as np
+import pytest
+from qgis.core import (QgsCoordinateReferenceSystem, QgsMapSettings, QgsPointXY, QgsProcessingContext, QgsProcessingException,
+                       QgsProcessingFeedback, QgsProject, QgsRaster, QgsRasterLayer,
+                       QgsRectangle, QgsVectorLayer)
+
+ALG = "easyidp:backprojectrois"
+
+
+@pytest.fixture(scope="module")
+def survey(tmp_path_factory):
+    from easyidp_toolbox.core.demo import make_demo_survey
+    return make_demo_survey(str(tmp_path_factory.mktemp("bp_qgis")), seed=0, size="small")
+
+
+def _run(params, context=None):
+    import processing
+    base = {"OUTPUT": "memory:", "OUTPUT_SUMMARY": "memory:"}
+    return processing.run(ALG, dict(base, **params), context=context or QgsProcessingContext(),
+                          feedback=QgsProcessingFeedback())
+
+
+def test_qgis_places_a_raw_photo_at_x_column_y_minus_row(survey):
+    """Truth kind: QGIS/GDAL. A JPEG without georeference spans x 0..w, y −h..0, and the
+    pixel in row r, column c is found at (c + 0.5, −(r + 0.5))."""
+    from easyidp_toolbox.core.projection import read_photo
+    path = survey.photos[0]
+    layer = QgsRasterLayer(path, "photo")
+    assert layer.isValid()
+    assert layer.extent() == QgsRectangle(0, -600, 800, 0) and not layer.crs().isValid()
+    img = read_photo(path)
+    prov = layer.dataProvider()
+    for r, c in ((0, 0), (10, 700), (599, 799), (321, 123)):
+        res = prov.identify(QgsPointXY(c + 0.5, -(r + 0.5)), QgsRaster.IdentifyFormatValue)
+        vals = [res.results()[b] for b in (1, 2, 3)]
+        assert vals == img[r, c].tolist()
+
+
+def test_backproject_demo_plots(provider, survey, tmp_path):
+    context = QgsProcessingContext()
+    context.setProject(QgsProject.instance())
+    res = _run({"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+                "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 1, "DSM": survey.dsm,
+                "MAX_IMAGES": 4, "OUTPUT_JSON": str(tmp_path / "back2raw.json"),
+                "CROPS_FOLDER": str(tmp_path / "crops"),
+                "PREVIEW_FOLDER": str(tmp_path / "previews")}, context)
+    pix, summary = res["OUTPUT"], res["OUTPUT_SUMMARY"]
+    assert not pix.crs().isValid()          # photo pixels: no CRS, like the photo in QGIS
+    feats = list(pix.getFeatures())
+    assert 40 < len(feats) <= 160
+    for f in feats:
+        assert f["rank"] <= 4 and 0 < f["score"] <= 1 and f["photo_path"].endswith(".JPG")
+        assert 0 <= f["occluded_fraction"] <= 0.5         # tested against the DSM (default on)
+        box = f.geometry().boundingBox()
+        assert box.xMinimum() >= -1e-6 and box.xMaximum() <= 800 + 1e-6
+        assert box.yMaximum() <= 1e-6 and box.yMinimum() >= -600 - 1e-6
+    assert summary.featureCount() == 40 and summary.crs().authid() == "EPSG:32654"
+    for f in summary.getFeatures():
+        assert f["photos"] >= 1 and f["best_photo"].startswith("DJI_") and f["best_score"] > 0
+    # the polygons agree with the core result and with the JSON (x = column, y = -row)
+    with open(res["OUTPUT_JSON"]) as fh:
+        d = json.load(fh)
+    f = feats[0]
+    ring = np.array(d[f["roi"]][f["photo"]])
+    verts = np.array([[p.x(), p.y()] for p in f.geometry().vertices()])
+    assert np.allclose(verts, ring * [1, -1], atol=1e-9)
+    # crops and previews
+    crops = sorted((tmp_path / "crops").rglob("*.png"))
+    assert len(crops) == len(feats) and len(list((tmp_path / "previews").glob("*.png"))) == 40
+    side = json.loads(crops[0].with_suffix(".json").read_text())
+    assert side["roi"] == crops[0].parent.name and "pixels" in side
+    # overlay in QGIS's own placement: the polygon's centroid lies over the photo, and in a
+    # map of any CRS neither CRS-less layer is transformed, so they stay on top of each other
+    photo = QgsRasterLayer(f["photo_path"], "p")
+    c = f.geometry().centroid().asPoint()
+    assert photo.extent().contains(c)
+    ms = QgsMapSettings()
+    ms.setDestinationCrs(QgsCoordinateReferenceSystem("EPSG:32654"))
+    for layer in (photo, pix):
+        assert ms.layerToMapCoordinates(layer, QgsPointXY(c)) == QgsPointXY(c)
+
+
+def test_whole_only_and_constant_height(provider, survey):
+    res = _run({"ROIS": survey.plots_gpkg, "PROJECT": survey.pix4d_project, "HEIGHT_SOURCE": 3,
+                "GROUND_HEIGHT": 95.5, "CLIP": 1, "MIN_VISIBLE": 0})
+    feats = list(res["OUTPUT"].getFeatures())
+    assert feats and all(not f["clipped"] and f["visible_fraction"] == 1 for f in feats)
+
+
+@pytest.mark.parametrize("params, message", [
+    ({"HEIGHT_SOURCE": 1}, "choose the DSM"),
+    ({"HEIGHT_SOURCE": 2}, "choose the height attribute"),
+    ({"HEIGHT_SOURCE": 3}, "give the height"),
+    ({"HEIGHT_SOURCE": 0}, "have no Z"),
+])
+def test_missing_height_source(provider, survey, params, message):
+    with pytest.raises(QgsProcessingException, match=message):
+        _run(dict({"ROIS": survey.plots_gpkg, "PROJECT": survey.metashape_project}, **params))
+
+
+def test_photos_folder_of_other_photos(provider, survey, tmp_path):
+    other = tmp_path / "other"
+    other.mkdir()
+    (other / "IMG_9999.JPG").write_bytes(b"not a photo")
+    with pytest.raises(QgsProcessingException, match="holds none of the project's"):
+        _run({"ROIS": survey.plots_gpkg, "PROJECT": survey.metashape_project,
+              "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.5, "PHOTOS": str(other),
+              "CROPS_FOLDER": str(tmp_path / "crops")})
+
+
+def test_through_qgis_process(qp_env, survey, tmp_path):
+    from easyidp_toolbox.scripts.qgis_process import run_algorithm
+    res = run_algorithm(ALG, {"ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id",
+                              "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 1,
+                              "DSM": survey.dsm, "MAX_IMAGES": 2,
+                              "OUTPUT": tmp_path / "pixels.gpkg",
+                              "OUTPUT_SUMMARY": tmp_path / "summary.gpkg",
+                              "OUTPUT_JSON": tmp_path / "b.json",
+                              "CROPS_FOLDER": tmp_path / "crops"}, qp_env)
+    layer = QgsVectorLayer(res["OUTPUT"], "pixels", "ogr")
+    assert layer.isValid() and layer.featureCount() == 80
+    # GeoPackage has no "no CRS": GDAL stores its undefined SRS (QGIS shows "Undefined ...")
+    assert not layer.crs().isValid() or layer.crs().description().startswith("Undefined")
+    assert QgsVectorLayer(res["OUTPUT_SUMMARY"], "s", "ogr").featureCount() == 40
+    assert os.path.isfile(res["OUTPUT_JSON"]) and len(list((tmp_path / "crops").rglob("*.png"))) == 80
