@@ -3,8 +3,10 @@ from .camera_footprints import CameraFootprints
 from .create_demo_survey import CreateDemoSurvey
 from .crop_point_cloud_by_rois import CropPointCloudByROIs
 from .crop_raster_by_rois import CropRasterByROIs
+from .forward_project_polygons import ForwardProjectPolygons
 from .point_cloud_roi_statistics import PointCloudROIStatistics
 from .roi_heights_from_dsm import ROIHeightsFromDSM
 
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
               PointCloudROIStatistics, CreateDemoSurvey]
+ALGORITHMS += [ForwardProjectPolygons]
