@@ -72,6 +72,7 @@ def main(out: str) -> int:
     stats = steps.run("point cloud statistics per plot", "easyidp:pointcloudroistatistics",
                       {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "PERCENTILES": "50,95,99",
                        "OUTPUT": os.path.join(out, "plots_pointcloud_stats.gpkg")})
+    forward = _forward_projection(steps, s, truth, out)
 
     # ---- checks against the truth ----------------------------------------------------------
     crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}
@@ -101,11 +102,49 @@ def main(out: str) -> int:
         print(f"  truth points → photo pixels, {name}: max {err:.1e} px over "
               f"{len(truth['observations']['point'])} observations")
     print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
+    for line in forward:
+        print(line)
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
           f"from orthomosaic, DSM and point cloud; projections agree with the truth to "
           f"{max(proj.values()):.0e} px; plot heights within {100 * np.mean(np.abs(dsm_err)):.0f} cm.")
     return 0
+
+
+def _forward_projection(steps, s, truth, out) -> list:
+    """Forward projection of the survey's LabelMe polygons through both projects (vertices
+    only, so they compare with the truth's), a merged layer, and easyidp 2.0.4's homography
+    side by side; returns the lines to print."""
+    from .homography_comparison import compare, report
+    labelme = os.path.join(s["OUTPUT_FOLDER"], "labelme")
+    lines = []
+    for name, project in (("Metashape", s["METASHAPE_PROJECT"]), ("Pix4D", s["PIX4D_PROJECT"])):
+        res = steps.run(f"forward-project LabelMe polygons to the map, {name} project",
+                        "easyidp:forwardprojectpolygons",
+                        {"INPUT_FOLDER": labelme, "PROJECT": project, "DSM": s["DSM"], "DENSIFY": 0,
+                         "OUTPUT": os.path.join(out, f"labelme_on_map_{name.lower()}.gpkg")})
+        errors, area = [], []
+        for f in _features(res["OUTPUT"]):
+            key = f"labelme/{os.path.splitext(f['photo'])[0]}.json"
+            shape = next(t for t in truth["labelme"][key]["shapes"] if t["label"] == f["label"])
+            ring = f["_geom"].GetGeometryRef(0).GetGeometryRef(0)
+            got = np.array(ring.GetPoints())[:-1]
+            true = np.array(shape["map"])
+            errors.append(np.linalg.norm(got - true, axis=1))
+            x, y = true[:, 0] - true[0, 0], true[:, 1] - true[0, 1]
+            true_area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+            area.append(abs(f["area_m2"] - true_area) / true_area)
+        e = np.concatenate(errors)
+        lines.append(f"  LabelMe vertices on the map, {name}: median {np.median(e) * 1000:.3f} mm, "
+                     f"max {e.max() * 1000:.3f} mm over {len(e)} vertices (DSM cell 20 mm); "
+                     f"areas within {100 * max(area):.3f} %")
+    steps.run("forward-project LabelMe polygons, merged across photos (union)",
+              "easyidp:forwardprojectpolygons",
+              {"INPUT_FOLDER": labelme, "PROJECT": s["METASHAPE_PROJECT"], "DSM": s["DSM"],
+               "MERGE": 1, "OUTPUT": os.path.join(out, "labelme_on_map_merged.gpkg")})
+    lines.append("  raw → map, ray–DSM vs easyidp 2.0.4 homography, truth points in plots:")
+    lines.append(report(compare(s["OUTPUT_FOLDER"])))
+    return lines
 
 
 def _overview(png: str, raster: str, vectors) -> str:

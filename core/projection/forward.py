@@ -155,41 +155,65 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
             xyz = xyz.copy()
             xyz[ok] = np.column_stack([x, y, z])
     model = origin + np.where(hits.hit, hits.distance, np.nan)[:, None] * d
+    # rings are consecutive runs of vertices: ring k is [start[k], start[k] + count[k])
+    counts = np.array([len(p) for p in parts])
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    ring_shape = np.array([i for i, _, _ in index])
+    ring_first = np.array([j == 0 for _, j, _ in index])
+    vert_ring = np.repeat(np.arange(len(parts)), counts)
+    vert_shape = ring_shape[vert_ring]
+    hit = hits.status == HIT
+    # per shape: centre of its hits, the vertical there, the view angle
+    n_hit = np.bincount(vert_shape[hit], minlength=len(shapes))
+    centre = np.column_stack([np.bincount(vert_shape[hit], model[hit, k], len(shapes))
+                              for k in range(3)]) / np.maximum(n_hit, 1)[:, None]
+    seen = n_hit > 0
+    up = np.zeros((len(shapes), 3))
+    if seen.any():
+        up[seen] = recon.frame.up(centre[seen])
+    ray = centre - origin
+    with np.errstate(invalid="ignore"):
+        cosang = -(ray * up).sum(axis=1) / np.linalg.norm(ray, axis=1)
+    angle = np.where(seen, np.degrees(np.arccos(np.clip(cosang, -1, 1))), np.nan)
+    # planimetric rings: hit vertices in the plane normal to the shape's vertical
+    e1 = np.where(np.abs(up[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    e1 = e1 - (e1 * up).sum(axis=1, keepdims=True) * up
+    e1 /= np.maximum(np.linalg.norm(e1, axis=1, keepdims=True), 1e-300)
+    e2 = np.cross(up, e1)
+    hv = np.flatnonzero(hit)
+    hr = vert_ring[hv]
+    rel = model[hv] - centre[vert_shape[hv]]
+    x = (rel * e1[vert_shape[hv]]).sum(axis=1)
+    y = (rel * e2[vert_shape[hv]]).sum(axis=1)
+    # next hit vertex within the same ring (wrapping)
+    nxt = np.arange(len(hv)) + 1
+    if len(hv):
+        last = np.r_[hr[1:] != hr[:-1], True]
+        first_of = np.flatnonzero(np.r_[True, hr[1:] != hr[:-1]])
+        nxt[last] = first_of
+    ring_hits = np.bincount(hr, minlength=len(parts))
+    twice = np.bincount(hr, x * y[nxt] - y * x[nxt], len(parts)) if len(hv) else np.zeros(len(parts))
+    edge = np.bincount(hr, np.hypot(x[nxt] - x, y[nxt] - y), len(parts)) if len(hv) else np.zeros(len(parts))
+    ok_ring = ring_hits >= 3
+    ring_area = np.where(ok_ring, 0.5 * np.abs(twice), 0.0)
+    signed = np.where(ring_first, ring_area, -ring_area)
+    area = np.bincount(ring_shape, signed, len(shapes))
+    perim = np.bincount(ring_shape, np.where(ok_ring, edge, 0.0), len(shapes))
+    outer_ok = np.zeros(len(shapes), bool)
+    outer_ok[ring_shape[ring_first]] = ok_ring[ring_first]
     result: List[ForwardShape] = []
-    k = 0
-    per_shape = [[] for _ in shapes]
-    for (i, j, orig), pts in zip(index, parts):
-        n = len(pts)
-        per_shape[i].append((slice(k, k + n), orig))
-        k += n
+    by_shape = [[] for _ in shapes]
+    for k, (i, _, orig) in enumerate(index):
+        by_shape[i].append((slice(starts[k], starts[k] + counts[k]), orig))
     for i, s in enumerate(shapes):
-        sl = [a for a, _ in per_shape[i]]
-        f = ForwardShape(cam.label, s.label, s.kind, [xyz[a] for a in sl],
-                         [hits.status[a] for a in sl], [o for _, o in per_shape[i]],
-                         s.score, s.group_id, dict(s.attributes))
-        m = np.vstack([model[a] for a in sl])
-        good = np.isfinite(m[:, 0])
-        if good.any():
-            centre = m[good].mean(axis=0)
-            up = recon.frame.up(centre[None])[0]
-            ray = centre - origin
-            f.view_angle = float(np.degrees(np.arccos(np.clip(-(ray @ up) / np.linalg.norm(ray),
-                                                              -1, 1))))
-            if s.kind == POLYGON:
-                basis = _horizontal_basis(up)
-                area, perim = 0.0, 0.0
-                rings = [model[a][hits.status[a] == HIT] for a in sl]
-                if len(rings[0]) >= 3:
-                    for r_, ring in enumerate(rings):
-                        if len(ring) < 3:
-                            continue
-                        xy = ring @ basis
-                        a_ = abs(_shoelace(xy))
-                        area += a_ if r_ == 0 else -a_
-                        perim += float(np.linalg.norm(np.diff(np.vstack([xy, xy[:1]]), axis=0),
-                                                      axis=1).sum())
-                    f.area_m2, f.perimeter_m = area, perim
-                f.pixel_area = abs(_shoelace(np.asarray(s.rings[0], np.float64)))
+        sl = by_shape[i]
+        f = ForwardShape(cam.label, s.label, s.kind, [xyz[a] for a, _ in sl],
+                         [hits.status[a] for a, _ in sl], [o for _, o in sl],
+                         s.score, s.group_id, dict(s.attributes), view_angle=float(angle[i]))
+        if s.kind == POLYGON:
+            if outer_ok[i]:
+                f.area_m2, f.perimeter_m = float(area[i]), float(perim[i])
+            f.pixel_area = abs(_shoelace(np.asarray(s.rings[0], np.float64)))
         result.append(f)
     prog.set(100)
     return result
