@@ -1,14 +1,25 @@
-"""Projection between raw photos and the map.
+"""Projection between the map and the raw photos of a photogrammetry project.
 
-* :mod:`.ray_surface`: the exact first hit of rays on a DSM, shared by forward projection,
-  occlusion and orthorectification.
-* :mod:`.forward`: shapes on a raw photo → the map (``forward_project``).
-* :mod:`.merge`: the same object seen in several photos → one map polygon.
+Backward (map → photos, EasyIDP's ``back2raw``): :func:`back_project` finds every ROI in every
+photo that sees it (clipped to the frame, tested for occlusion, ranked); :func:`crop_photos`
+cuts the ROIs out of the photos, each photo decoded once. Pixels: origin at the top-left
+corner of the photo, x = column right, y = row down, centre of the top-left pixel (0.5, 0.5).
+
+Forward (photos → map): :func:`forward_project` brings shapes drawn or detected on a photo to
+the map by their rays' first hits on the DSM (:mod:`.ray_surface`: :func:`first_hits`, shared
+with occlusion and orthorectification); :func:`merge_views` merges the same object seen in
+several photos.
 """
+from .backward import back_project, score
 from .forward import ForwardShape, densify_ring, forward_project
+from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
 from .merge import MERGE_MODES, MapPolygon, merge_views
 from .ray_surface import HIT, LEFT, MISS, NODATA, DSMSurface, RayHits, first_hits
+from .result import PIXEL_CONVENTION, BackProjection, FlatPolygons, read_easyidp_json
 
-__all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA",
+__all__ = ["back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION",
+           "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
+           "height_source",
+           "DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA",
            "ForwardShape", "forward_project", "densify_ring", "MapPolygon", "merge_views",
            "MERGE_MODES"]
