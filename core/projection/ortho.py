@@ -40,11 +40,13 @@ EXTRASAMPLE_ALPHA = 2          # TIFF ExtraSamples: unassociated alpha
 class OrthoResult:
     """``files``/``rois``/``photos``/``visible``: one entry per image written (``visible`` =
     share of the ROI's output pixels that the photo shows); ``skipped``: ROI (or ROI × photo)
-    → why no image was written; ``gsd``: output pixel size per image (DSM CRS units)."""
+    → why no image was written; ``occluded``: share of the ROI's pixels inside the frame that
+    the DSM hides from the photo; ``gsd``: output pixel size per image (DSM CRS units)."""
     files: List[str] = field(default_factory=list)
     rois: List[str] = field(default_factory=list)
     photos: List[str] = field(default_factory=list)
     visible: List[float] = field(default_factory=list)
+    occluded: List[float] = field(default_factory=list)
     gsd: List[float] = field(default_factory=list)
     skipped: Dict[str, str] = field(default_factory=dict)
 
@@ -214,6 +216,7 @@ def _one(roi, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, out, 
     idx, z = idx[ok], z[ok]
     alpha[:] = False
     uv = np.zeros((0, 2))
+    occluded = 0.0
     if idx.size:
         xyz = np.column_stack([x[idx], y[idx], z])
         proj = recon.project_points(xyz, crs, cameras=[cam])
@@ -226,6 +229,7 @@ def _one(roi, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, out, 
             hits = first_hits(surface, recon.frame, cam.C, d / dist[:, None],
                               max_distance=dist + tol)
             seen = ((hits.status == HIT) & (hits.distance >= dist - tol)) | (hits.status == MISS)
+            occluded = 1.0 - seen.mean()
             idx, uv = idx[seen], uv[seen]
         alpha[idx] = True
     roi_px = int(points_in_rings(x, y, [np.asarray(r)[:, :2] for r in roi.rings]).sum())
@@ -248,5 +252,6 @@ def _one(roi, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, out, 
                   else (0,) * (bands - 1) + (EXTRASAMPLE_ALPHA,))
     result.files.append(out)
     result.visible.append(idx.size / max(roi_px, 1))
+    result.occluded.append(float(occluded))
     result.gsd.append(g)
     return None
