@@ -144,7 +144,50 @@ def _forward_projection(steps, s, truth, out) -> list:
                "MERGE": 1, "OUTPUT": os.path.join(out, "labelme_on_map_merged.gpkg")})
     lines.append("  raw → map, ray–DSM vs easyidp 2.0.4 homography, truth points in plots:")
     lines.append(report(compare(s["OUTPUT_FOLDER"])))
+    best = steps.run("orthorectify plots from their best raw photo (native resolution)",
+                     "easyidp:orthorectifyrois",
+                     {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["METASHAPE_PROJECT"],
+                      "DSM": s["DSM"], "OUTPUT_FOLDER": os.path.join(out, "ortho_best")})
+    check = steps.run("orthorectify plots at 2 cm (for the check against the orthomosaic)",
+                      "easyidp:orthorectifyrois",
+                      {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["PIX4D_PROJECT"],
+                       "DSM": s["DSM"], "GSD": 0.02, "OUTPUT_FOLDER": os.path.join(out, "ortho_2cm")})
+    off = np.array([_ncc_offset(f, s["ORTHOMOSAIC"]) for f in check["OUTPUT_FILES"]])
+    lines.append(f"  orthorectified plots: {best['WRITTEN']} images from the best photos; against "
+                 f"the orthomosaic (NCC peak, 2 cm images): offset mean "
+                 f"{np.hypot(*off.T).mean():.2f}, max {np.hypot(*off.T).max():.2f} DSM cells")
     return lines
+
+
+def _ncc_offset(path: str, ortho: str):
+    """Sub-cell (rows, cols) offset of the normalised cross-correlation peak between an
+    orthorectified image (alpha > 0 pixels) and the orthomosaic averaged onto its grid."""
+    import tifffile
+    from ..core.raster import open_geotiff
+    img = tifffile.imread(path)
+    info = open_geotiff(path)
+    c, a, _, f, _, e = info.geotransform
+    X, Y = np.meshgrid(c + a * (np.arange(info.width) + 0.5), f + e * (np.arange(info.height) + 0.5))
+    o = tifffile.imread(ortho).astype(np.float64).mean(axis=2)
+    oi = open_geotiff(ortho)
+    k = max(int(round(a / oi.geotransform[1])), 1)          # orthomosaic pixels per image pixel
+    col, row = oi.map_to_pixel(X, Y)
+    c0 = np.clip(np.floor(col - k / 2).astype(int), 0, o.shape[1] - k)
+    r0 = np.clip(np.floor(row - k / 2).astype(int), 0, o.shape[0] - k)
+    ref = sum(o[r0 + i, c0 + j] for i in range(k) for j in range(k)) / (k * k)
+    ours = img[..., :3].astype(np.float64).mean(axis=2)
+    ok = img[..., -1] > 0
+    m = 3
+    sc = np.zeros((3, 3))
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            aa = ours[m:-m, m:-m][ok[m:-m, m:-m]]
+            bb = ref[m + dy:ref.shape[0] - m + dy, m + dx:ref.shape[1] - m + dx][ok[m:-m, m:-m]]
+            aa, bb = aa - aa.mean(), bb - bb.mean()
+            sc[dy + 1, dx + 1] = (aa * bb).sum() / np.sqrt((aa * aa).sum() * (bb * bb).sum())
+    dy = 0.5 * (sc[0, 1] - sc[2, 1]) / (sc[0, 1] - 2 * sc[1, 1] + sc[2, 1])
+    dx = 0.5 * (sc[1, 0] - sc[1, 2]) / (sc[1, 0] - 2 * sc[1, 1] + sc[1, 2])
+    return dy, dx
 
 
 def _overview(png: str, raster: str, vectors) -> str:

@@ -24,7 +24,6 @@ from ..errors import EasyIDPError, InputError
 from ..geometry import points_in_rings
 from ..naming import unique_names
 from ..progress import as_progress
-from ..raster.dsm_heights import sample_points
 from ..raster.geotiff import TAG_GDAL_METADATA
 from ..raster.geotiff_write import write_geotiff
 from ..raster.roi_pixels import rois_in_raster_crs
@@ -160,6 +159,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         by_photo.setdefault(cam.label, []).append(k)
     done = 0
     for label, ks in by_photo.items():
+        prog.check()
         cam = recon._select([label])[0]
         image = _read_photo(_photo_path(cam, photos_folder))
         s = recon.sensors[cam.sensor_id]
@@ -167,91 +167,110 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
             raise InputError(f"Photo {label!r} is {image.shape[1]}×{image.shape[0]} px but its "
                              f"camera is {s.width}×{s.height}: not the photo the project was "
                              "built from.")
-        for k in ks:
-            prog.check()
+        jobs = [(local[pairs[k][0]], os.path.join(output_folder, stems[k] + ".tif"))
+                for k in ks]
+        whys = _render(jobs, recon, cam, image, surface, gsd, occlusion, tol, result)
+        for k, why in zip(ks, whys):
             r = pairs[k][0]
-            out = os.path.join(output_folder, stems[k] + ".tif")
-            why = _one(local[r], recon, cam, image, surface, gsd, occlusion, tol, out, result)
             if why:
                 result.skipped[f"{names[r]} / {label}"] = why
             else:
                 result.rois.append(names[r])
                 result.photos.append(label)
-            done += 1
-            prog.set(10 + 90.0 * done / max(len(pairs), 1))
+        done += len(ks)
+        prog.set(10 + 90.0 * done / max(len(pairs), 1))
     return result
 
 
-def _one(roi, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, out, result):
-    """Write one ROI image; returns why not, or None."""
+def _render(jobs, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, result):
+    """Write the images of ``jobs`` [(ROI in the DSM CRS, output path)] from one photo (all
+    their pixels projected and ray-tested at once); returns why not, per job (None: written)."""
     from scipy.ndimage import map_coordinates
-    tif = surface.tif
-    x0, y0, x1, y1 = roi.bounds
-    crs = surface.crs
-    cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-    zc = float(sample_points(tif, np.array([cx]), np.array([cy]))[0])
-    if gsd is None:
-        if not np.isfinite(zc):
-            zc = float(np.nanmedian(sample_points(tif, *np.array(roi.rings[0][:, :2]).T)))
-        g = _native_gsd(recon, cam, cx, cy, zc, crs)
-        if not np.isfinite(g):
-            return "the photo does not see the ROI's centre (no native resolution there)"
-    else:
-        g = float(gsd)
-    ox, oy = np.floor(x0 / g) * g, np.ceil(y1 / g) * g
-    ncol, nrow = int(np.ceil((x1 - ox) / g)), int(np.ceil((oy - y0) / g))
-    if ncol * nrow > MAX_PIXELS:
-        raise InputError(f"ROI {roi.name!r} at a pixel size of {g:g} would be {ncol}×{nrow} px; "
-                         "give a larger GSD.")
-    gx = ox + (np.arange(ncol) + 0.5) * g
-    gy = oy - (np.arange(nrow) + 0.5) * g
-    X, Y = np.meshgrid(gx, gy)
-    x, y = X.ravel(), Y.ravel()
-    alpha = points_in_rings(x, y, [np.asarray(r)[:, :2] for r in roi.rings])
-    if not alpha.any():
-        return "the ROI is smaller than one output pixel"
-    idx = np.flatnonzero(alpha)
-    z = sample_points(tif, x[idx], y[idx])
-    ok = np.isfinite(z)
-    idx, z = idx[ok], z[ok]
-    alpha[:] = False
-    uv = np.zeros((0, 2))
-    occluded = 0.0
-    if idx.size:
-        xyz = np.column_stack([x[idx], y[idx], z])
-        proj = recon.project_points(xyz, crs, cameras=[cam])
-        inside = proj.status[0] == 0
-        idx, xyz, uv = idx[inside], xyz[inside], proj.pixels[0][inside]
-        if occlusion and idx.size:
-            p = recon.to_model(xyz, crs)
-            d = p - cam.C
-            dist = np.linalg.norm(d, axis=1)
-            hits = first_hits(surface, recon.frame, cam.C, d / dist[:, None],
-                              max_distance=dist + tol)
-            seen = ((hits.status == HIT) & (hits.distance >= dist - tol)) | (hits.status == MISS)
-            occluded = 1.0 - seen.mean()
-            idx, uv = idx[seen], uv[seen]
-        alpha[idx] = True
-    roi_px = int(points_in_rings(x, y, [np.asarray(r)[:, :2] for r in roi.rings]).sum())
-    if not idx.size:
-        return "the photo shows none of the ROI (outside its frame, occluded or on DSM nodata)"
+    tif, crs = surface.tif, surface.crs
+    whys: List[Optional[str]] = [None] * len(jobs)
+    grids, xs, ys, owner, cell = [], [], [], [], []
+    for j, (roi, out) in enumerate(jobs):
+        x0, y0, x1, y1 = roi.bounds
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        if gsd is None:
+            zc = float(surface.heights(np.array([cx]), np.array([cy]))[0])
+            if not np.isfinite(zc):
+                ring = np.asarray(roi.rings[0])
+                zc = float(np.nanmedian(surface.heights(ring[:, 0], ring[:, 1])))
+            g = _native_gsd(recon, cam, cx, cy, zc, crs) if np.isfinite(zc) else float("nan")
+            if not np.isfinite(g):
+                whys[j] = "the photo does not see the ROI's centre (no native resolution there)"
+                grids.append(None)
+                continue
+        else:
+            g = float(gsd)
+        ox, oy = np.floor(x0 / g) * g, np.ceil(y1 / g) * g
+        ncol, nrow = int(np.ceil((x1 - ox) / g)), int(np.ceil((oy - y0) / g))
+        if ncol * nrow > MAX_PIXELS:
+            raise InputError(f"ROI {roi.name!r} at a pixel size of {g:g} would be {ncol}×{nrow} "
+                             "px; give a larger GSD.")
+        X, Y = np.meshgrid(ox + (np.arange(ncol) + 0.5) * g, oy - (np.arange(nrow) + 0.5) * g)
+        inside = np.flatnonzero(points_in_rings(X.ravel(), Y.ravel(),
+                                                [np.asarray(r)[:, :2] for r in roi.rings]))
+        if not inside.size:
+            whys[j] = "the ROI is smaller than one output pixel"
+            grids.append(None)
+            continue
+        grids.append((ox, oy, g, ncol, nrow, inside.size))
+        xs.append(X.ravel()[inside])
+        ys.append(Y.ravel()[inside])
+        owner.append(np.full(inside.size, j))
+        cell.append(inside)
+    if not xs:
+        return whys
+    x, y, owner, cell = (np.concatenate(a) for a in (xs, ys, owner, cell))
+    z = surface.heights(x, y)
+    keep = np.flatnonzero(np.isfinite(z))
+    xyz = np.column_stack([x[keep], y[keep], z[keep]])
+    proj = recon.project_points(xyz, crs, cameras=[cam])
+    inside = proj.status[0] == 0
+    keep, xyz, uv = keep[inside], xyz[inside], proj.pixels[0][inside]
+    occluded = np.zeros(len(jobs))
+    if occlusion and keep.size:
+        p = recon.to_model(xyz, crs)
+        d = p - cam.C
+        dist = np.linalg.norm(d, axis=1)
+        hits = first_hits(surface, recon.frame, cam.C, d / dist[:, None], max_distance=dist + tol)
+        seen = ((hits.status == HIT) & (hits.distance >= dist - tol)) | (hits.status == MISS)
+        n_in = np.bincount(owner[keep], minlength=len(jobs))
+        n_hidden = np.bincount(owner[keep][~seen], minlength=len(jobs))
+        occluded = n_hidden / np.maximum(n_in, 1)
+        keep, uv = keep[seen], uv[seen]
     bands = image.shape[2]
-    data = np.zeros((nrow * ncol, bands + 1), dtype=image.dtype)
+    values = np.empty((len(keep), bands), image.dtype)
     coords = np.vstack([uv[:, 1] - 0.5, uv[:, 0] - 0.5])      # (row, col) of pixel centres
     for b in range(bands):
         v = map_coordinates(image[..., b], coords, order=1, mode="nearest")
         if image.dtype.kind in "ui":
             v = np.clip(np.rint(v), np.iinfo(image.dtype).min, np.iinfo(image.dtype).max)
-        data[idx, b] = v.astype(image.dtype)
+        values[:, b] = v.astype(image.dtype)
     top = np.iinfo(image.dtype).max if image.dtype.kind in "ui" else 1.0
-    data[idx, bands] = top
     rgb = bands == 3 and image.dtype == np.uint8
     geokeys = {k: v for k, v in tif.geo_tags.items() if k != TAG_GDAL_METADATA}
-    write_geotiff(out, data.reshape(nrow, ncol, bands + 1), (ox, g, 0.0, oy, 0.0, -g), geokeys,
-                  rgb=rgb, extrasamples=(EXTRASAMPLE_ALPHA,) if rgb
-                  else (0,) * (bands - 1) + (EXTRASAMPLE_ALPHA,))
-    result.files.append(out)
-    result.visible.append(idx.size / max(roi_px, 1))
-    result.occluded.append(float(occluded))
-    result.gsd.append(g)
-    return None
+    order = np.argsort(owner[keep], kind="stable")
+    bounds = np.searchsorted(owner[keep][order], np.arange(len(jobs) + 1))
+    for j, (roi, out) in enumerate(jobs):
+        if grids[j] is None:
+            continue
+        sel = order[bounds[j]:bounds[j + 1]]
+        if not sel.size:
+            whys[j] = "the photo shows none of the ROI (outside its frame, occluded or on DSM nodata)"
+            continue
+        ox, oy, g, ncol, nrow, n_roi = grids[j]
+        data = np.zeros((nrow * ncol, bands + 1), dtype=image.dtype)
+        at = cell[keep[sel]]
+        data[at, :bands] = values[sel]
+        data[at, bands] = top
+        write_geotiff(out, data.reshape(nrow, ncol, bands + 1), (ox, g, 0.0, oy, 0.0, -g),
+                      geokeys, rgb=rgb, extrasamples=(EXTRASAMPLE_ALPHA,) if rgb
+                      else (0,) * (bands - 1) + (EXTRASAMPLE_ALPHA,))
+        result.files.append(out)
+        result.visible.append(sel.size / n_roi)
+        result.occluded.append(float(occluded[j]))
+        result.gsd.append(g)
+    return whys

@@ -197,6 +197,29 @@ class DSMSurface:
             self.zmin = min(self.zmin, float(np.nanmin(real)))
             self.zmax = max(self.zmax, float(np.nanmax(real)))
 
+    def heights(self, x, y, progress=None) -> np.ndarray:
+        """Surface heights at map points (x, y) in the DSM's CRS: bilinear between pixel
+        centres, flat out to the raster edge; NaN outside the raster and on nodata cells (the
+        surface the rays meet). Reads the tiles it needs (kept for the rays)."""
+        u, v = self.map_to_uv(np.ravel(x), np.ravel(y))
+        u, v = np.asarray(u, np.float64), np.asarray(v, np.float64)
+        out = np.full(u.shape, np.nan)
+        inside = (u >= 0.5) & (u <= self.W + 0.5) & (v >= 0.5) & (v <= self.H + 0.5)
+        k = np.flatnonzero(inside)
+        if k.size:
+            iu = np.clip(np.floor(u[k]).astype(np.int64), 0, self.W)
+            iv = np.clip(np.floor(v[k]).astype(np.int64), 0, self.H)
+            T, T1 = self.T, self.T + 1
+            tiles = np.unique((iv // T) * self.ntu + iu // T)
+            self.load(zip((tiles // self.ntu).tolist(), (tiles % self.ntu).tolist()), progress)
+            f = self.slot[iv // T, iu // T] * (T1 * T1) + (iv % T) * T1 + iu % T
+            st = self.samples_flat()
+            a, b = u[k] - iu, v[k] - iv
+            h00, h10 = st[f].astype(np.float64), st[f + 1].astype(np.float64)
+            h01, h11 = st[f + T1].astype(np.float64), st[f + T1 + 1].astype(np.float64)
+            out[k] = (h00 * (1 - a) + h10 * a) * (1 - b) + (h01 * (1 - a) + h11 * a) * b
+        return out.reshape(np.shape(x))
+
     def samples_flat(self) -> np.ndarray:
         """The corner heights of the tiles read, flat: tile slot k, corner (v, u) at
         k·(T+1)² + v·(T+1) + u (NaN: nodata)."""
