@@ -12,7 +12,7 @@ shape (true metres, free of map-projection scale), over all rings (holes subtrac
 and add to the perimeter).
 """
 from dataclasses import dataclass, field
-from typing import List, Optional, Sequence
+from typing import List, Optional
 
 import numpy as np
 
@@ -126,7 +126,7 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     prog = as_progress(progress, is_cancelled)
     surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm)
     cam = recon._select([photo])[0]
-    sensor = recon._calibrated(cam)
+    recon._calibrated(cam)                 # a clear error for an uncalibrated sensor
     step = DENSIFY_PX if densify is True else float(densify or 0)
     shapes = _as_shapes(polygons_px)
     # all vertices of all shapes in one batch of rays

@@ -15,7 +15,7 @@ from ..errors import EasyIDPError
 from ..progress import as_progress
 from .model import Reconstruction
 
-Ground = Union[float, "DSMSurface"]  # noqa: F821 (core.projection.DSMSurface)
+Ground = Union[float, object]   # a height, or a core.projection.DSMSurface
 
 
 @dataclass
@@ -64,7 +64,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
     nodata continue on the plane at the DSM height under the camera (``complete`` is then
     False). Output coordinates are in ``crs`` (default: the project CRS).
     """
-    from ..projection import HIT, DSMSurface, first_hits
+    from ..projection import DSMSurface, first_hits
     prog = as_progress(progress, is_cancelled)
     cams = recon._select(cameras)
     if not cams:
