@@ -246,3 +246,16 @@ def test_coco_and_yolo_give_the_same_pixels_as_labelme(demo, project, tmp_path):
     for a, b in zip(ann.shapes, got.shapes):
         assert np.allclose(a.rings[0], b.rings[0], atol=1e-5) and b.score == 0.75
     assert np.allclose(got.shapes[-1].rings[0], [[x0, y0], [x1, y0], [x1, y1], [x0, y1]], atol=1e-5)
+
+
+def test_real_labelme_file(realdata, project):
+    """The real LabelMe 4.5.6 file (SOURCES.md 1c): read as is, recognised, and refused with
+    its image's name for a project it does not belong to."""
+    from easyidp_toolbox.core.annotations import detect_format, read_labelme
+    path = realdata / "easyidp" / "labelme" / "labelme_demo_img.json"
+    ann = read_labelme(path)
+    assert (ann.width, ann.height, ann.image) == (4608, 3456, "labelme_demo_img.JPG")
+    assert [(s.label, s.kind, len(s.rings[0])) for s in ann.shapes] == [("1", "polygon", 4)]
+    assert detect_format(path) == "labelme"
+    with pytest.raises(InputError, match="labelme_demo_img.JPG.*not a photo of the project"):
+        read_annotations(path, project)
