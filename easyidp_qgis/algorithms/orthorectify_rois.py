@@ -2,7 +2,8 @@
 import os
 
 from qgis.core import (QgsProcessing, QgsProcessingContext, QgsProcessingOutputMultipleLayers,
-                       QgsProcessingOutputNumber, QgsProcessingParameterDefinition,
+                       QgsProcessingOutputNumber, QgsProcessingParameterCrs,
+                       QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
@@ -20,6 +21,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     NAME_FIELD = "NAME_FIELD"
     PROJECT = "PROJECT"
     CHUNK = "CHUNK"
+    PROJECT_CRS = "PROJECT_CRS"
     DSM = "DSM"
     PHOTOS = "PHOTOS"
     SELECTION = "SELECTION"
@@ -62,6 +64,11 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterString(
             self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
             optional=True))
+        p = QgsProcessingParameterCrs(
+            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
+            optional=True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Folder of the raw photos (default: the paths in the project)"),
@@ -92,7 +99,9 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback, context=context)
         project = self.parameterAsFile(parameters, self.PROJECT, context)
         chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
-        recon = open_reconstruction(project, chunk)
+        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
+        recon = open_reconstruction(project, chunk, crs_string(pcrs) if pcrs.isValid() and
+                                    not project.lower().endswith((".psx", ".psz", ".xml")) else None)
         feedback.pushInfo(recon.summary())
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = geotiff_source(layer, self.tr("DSM"))
