@@ -158,7 +158,10 @@ class DSMSurface:
             slot = self._n + k
             s = self._store[slot]
             raw = arr[..., 0]
-            s[...] = raw[np.clip(rows, 0, w.rows - 1)][:, np.clip(cols, 0, w.cols - 1)]
+            if rows[0] == 0 and rows[-1] == T and cols[0] == 0 and cols[-1] == T:
+                s[...] = raw[:T + 1, :T + 1]                 # inside the raster: a plain copy
+            else:
+                s[...] = raw[np.clip(rows, 0, w.rows - 1)][:, np.clip(cols, 0, w.cols - 1)]
             if tif.nodata is not None:
                 s[s == np.asarray(tif.nodata, s.dtype)] = np.nan
             if s.dtype.kind == "f":
