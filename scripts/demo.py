@@ -93,6 +93,7 @@ def main(out: str) -> int:
     stats = steps.run("point cloud statistics per plot", "easyidp:pointcloudroistatistics",
                       {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "PERCENTILES": "50,95,99",
                        "OUTPUT": os.path.join(out, "plots_pointcloud_stats.gpkg")})
+    forward = _forward_projection(steps, s, truth, out)
 
     back = _backward_projection(steps, s, out)
 
@@ -134,6 +135,8 @@ def main(out: str) -> int:
           f"(DSM), {100 * season['cloud']:.1f} cm (cloud); cover max {100 * season['cover']:.1f} %")
     for line in _backward_errors(back, s, truth):
         print(f"  {line}")
+    for line in forward:
+        print(line)
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
           f"from orthomosaic, DSM and point cloud; projections agree with the truth to "
@@ -212,6 +215,84 @@ def _backward_errors(back, s, truth):
             f"best 4 photos per plot: {len(best)} pairs, occluded share of the plot surface median "
             f"{np.median(occ):.2f}, max {occ.max():.2f} (soil between crop rows); "
             f"{crops // 2} crops and their JSON written"]
+
+def _forward_projection(steps, s, truth, out) -> list:
+    """Forward projection of the survey's LabelMe polygons through both projects (vertices
+    only, so they compare with the truth's), a merged layer, and easyidp 2.0.4's homography
+    side by side; returns the lines to print."""
+    from .homography_comparison import compare, report
+    labelme = os.path.join(s["OUTPUT_FOLDER"], "labelme")
+    lines = []
+    for name, project in (("Metashape", s["METASHAPE_PROJECT"]), ("Pix4D", s["PIX4D_PROJECT"])):
+        res = steps.run(f"forward-project LabelMe polygons to the map, {name} project",
+                        "easyidp:forwardprojectpolygons",
+                        {"INPUT_FOLDER": labelme, "PROJECT": project, "DSM": s["DSM"], "DENSIFY": 0,
+                         "OUTPUT": os.path.join(out, f"labelme_on_map_{name.lower()}.gpkg")})
+        errors, area = [], []
+        for f in _features(res["OUTPUT"]):
+            key = f"labelme/{os.path.splitext(f['photo'])[0]}.json"
+            shape = next(t for t in truth["labelme"][key]["shapes"] if t["label"] == f["label"])
+            ring = f["_geom"].GetGeometryRef(0).GetGeometryRef(0)
+            got = np.array(ring.GetPoints())[:-1]
+            true = np.array(shape["map"])
+            errors.append(np.linalg.norm(got - true, axis=1))
+            x, y = true[:, 0] - true[0, 0], true[:, 1] - true[0, 1]
+            true_area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+            area.append(abs(f["area_m2"] - true_area) / true_area)
+        e = np.concatenate(errors)
+        lines.append(f"  LabelMe vertices on the map, {name}: median {np.median(e) * 1000:.3f} mm, "
+                     f"max {e.max() * 1000:.3f} mm over {len(e)} vertices (DSM cell 20 mm); "
+                     f"areas within {100 * max(area):.3f} %")
+    steps.run("forward-project LabelMe polygons, merged across photos (union)",
+              "easyidp:forwardprojectpolygons",
+              {"INPUT_FOLDER": labelme, "PROJECT": s["METASHAPE_PROJECT"], "DSM": s["DSM"],
+               "MERGE": 1, "OUTPUT": os.path.join(out, "labelme_on_map_merged.gpkg")})
+    lines.append("  raw → map, ray–DSM vs easyidp 2.0.4 homography, truth points in plots:")
+    lines.append(report(compare(s["OUTPUT_FOLDER"])))
+    best = steps.run("orthorectify plots from their best raw photo (native resolution)",
+                     "easyidp:orthorectifyrois",
+                     {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["METASHAPE_PROJECT"],
+                      "DSM": s["DSM"], "OUTPUT_FOLDER": os.path.join(out, "ortho_best")})
+    check = steps.run("orthorectify plots at 2 cm (for the check against the orthomosaic)",
+                      "easyidp:orthorectifyrois",
+                      {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["PIX4D_PROJECT"],
+                       "DSM": s["DSM"], "GSD": 0.02, "OUTPUT_FOLDER": os.path.join(out, "ortho_2cm")})
+    off = np.array([_ncc_offset(f, s["ORTHOMOSAIC"]) for f in check["OUTPUT_FILES"]])
+    lines.append(f"  orthorectified plots: {best['WRITTEN']} images from the best photos; against "
+                 f"the orthomosaic (NCC peak, 2 cm images): offset mean "
+                 f"{np.hypot(*off.T).mean():.2f}, max {np.hypot(*off.T).max():.2f} DSM cells")
+    return lines
+
+
+def _ncc_offset(path: str, ortho: str):
+    """Sub-cell (rows, cols) offset of the normalised cross-correlation peak between an
+    orthorectified image (alpha > 0 pixels) and the orthomosaic averaged onto its grid."""
+    import tifffile
+    from ..core.raster import open_geotiff
+    img = tifffile.imread(path)
+    info = open_geotiff(path)
+    c, a, _, f, _, e = info.geotransform
+    X, Y = np.meshgrid(c + a * (np.arange(info.width) + 0.5), f + e * (np.arange(info.height) + 0.5))
+    o = tifffile.imread(ortho).astype(np.float64).mean(axis=2)
+    oi = open_geotiff(ortho)
+    k = max(int(round(a / oi.geotransform[1])), 1)          # orthomosaic pixels per image pixel
+    col, row = oi.map_to_pixel(X, Y)
+    c0 = np.clip(np.floor(col - k / 2).astype(int), 0, o.shape[1] - k)
+    r0 = np.clip(np.floor(row - k / 2).astype(int), 0, o.shape[0] - k)
+    ref = sum(o[r0 + i, c0 + j] for i in range(k) for j in range(k)) / (k * k)
+    ours = img[..., :3].astype(np.float64).mean(axis=2)
+    ok = img[..., -1] > 0
+    m = 3
+    sc = np.zeros((3, 3))
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            aa = ours[m:-m, m:-m][ok[m:-m, m:-m]]
+            bb = ref[m + dy:ref.shape[0] - m + dy, m + dx:ref.shape[1] - m + dx][ok[m:-m, m:-m]]
+            aa, bb = aa - aa.mean(), bb - bb.mean()
+            sc[dy + 1, dx + 1] = (aa * bb).sum() / np.sqrt((aa * aa).sum() * (bb * bb).sum())
+    dy = 0.5 * (sc[0, 1] - sc[2, 1]) / (sc[0, 1] - 2 * sc[1, 1] + sc[2, 1])
+    dx = 0.5 * (sc[1, 0] - sc[1, 2]) / (sc[1, 0] - 2 * sc[1, 1] + sc[1, 2])
+    return dy, dx
 
 
 def _overview(png: str, raster: str, vectors) -> str:

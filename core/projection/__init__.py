@@ -1,17 +1,22 @@
 """Projection between the map and the raw photos of a photogrammetry project.
 
-* The exact first hit of rays on a DSM (:mod:`.ray_surface`), shared by forward projection,
-  occlusion and orthorectification.
+* The exact first hit of rays on a DSM (:mod:`.ray_surface`: :func:`first_hits`), shared by
+  forward projection, occlusion and orthorectification.
 * Backward (map → photos, EasyIDP's ``back2raw``): :func:`back_project` finds every ROI in every
   photo that sees it (clipped to the frame, tested for occlusion, ranked); :func:`crop_photos`
   cuts the ROIs out of the photos, each photo decoded once.
+* Forward (photos → map): :func:`forward_project` brings shapes drawn or detected on a photo to
+  the map by their rays' first hits on the DSM; :func:`merge_views` merges the same object seen
+  in several photos; :mod:`.ortho` orthorectifies ROIs from the raw photos.
 
 Pixels: origin at the top-left corner of the photo, x = column right, y = row down, centre of
 the top-left pixel (0.5, 0.5).
 """
 from .ray_surface import HIT, LEFT, MISS, NODATA, DSMSurface, RayHits, first_hits
 from .backward import back_project, score
+from .forward import ForwardShape, densify_ring, forward_project
 from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
+from .merge import MERGE_MODES, MapPolygon, merge_views
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photos import read_photo, resolve_photos
 from .result import PIXEL_CONVENTION, BackProjection, FlatPolygons, read_easyidp_json
@@ -20,4 +25,5 @@ __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA
            "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION",
            "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
-           "resolve_photos"]
+           "resolve_photos", "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
+           "merge_views", "MERGE_MODES"]

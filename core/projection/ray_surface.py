@@ -32,7 +32,6 @@ import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, replace
-from typing import Optional
 
 import numpy as np
 
@@ -108,6 +107,7 @@ class DSMSurface:
         self.zmin, self.zmax = np.inf, -np.inf               # valid heights read so far
         self.tiles_read = 0
         self._lock = threading.Lock()
+        self._range_lock = threading.Lock()
 
     # --- geometry ------------------------------------------------------------------------------
     def map_to_uv(self, x, y):
@@ -149,27 +149,27 @@ class DSMSurface:
             self._store = grown
         tif = self.tif
 
-        def consume(k: int, arr: np.ndarray) -> None:
+        def prepare(k: int, arr: np.ndarray) -> None:
             ti, tj = todo[k]
             w = wins[k]
-            a = arr[..., 0].astype(self.dtype)
-            if a.dtype.kind == "f":
-                bad = ~np.isfinite(a)
-            else:
-                bad = np.zeros(a.shape, bool)
-            if tif.nodata is not None:
-                bad |= arr[..., 0] == np.asarray(tif.nodata, arr.dtype)
-            a[bad] = np.nan
             # sample s (cell corner) ↔ pixel s − 1, clamped to the raster (flat beyond the edge)
             rows = np.clip(np.arange(ti * T, ti * T + T + 1) - 1, 0, H - 1) - w.row
             cols = np.clip(np.arange(tj * T, tj * T + T + 1) - 1, 0, W - 1) - w.col
             slot = self._n + k
             s = self._store[slot]
-            np.take(np.take(a, rows, axis=0), cols, axis=1, out=s)
+            raw = arr[..., 0]
+            if rows[0] == 0 and rows[-1] == T and cols[0] == 0 and cols[-1] == T:
+                s[...] = raw[:T + 1, :T + 1]                 # inside the raster: a plain copy
+            else:
+                s[...] = raw[np.clip(rows, 0, w.rows - 1)][:, np.clip(cols, 0, w.cols - 1)]
+            if tif.nodata is not None:
+                s[s == np.asarray(tif.nodata, s.dtype)] = np.nan
+            if s.dtype.kind == "f":
+                s[np.isinf(s)] = np.nan
             self._summarise(ti, tj, s, self._cmax[slot])
             self.slot[ti, tj] = slot
 
-        sweep_windows(tif, wins, consume, as_progress(progress))
+        sweep_windows(tif, wins, prepare, as_progress(progress))
         self._n = need
         self.tiles_read += len(todo)
 
@@ -178,24 +178,48 @@ class DSMSurface:
         T, nb = self.T, self.T // BLOCK
         nv = min(T, self.H + 1 - ti * T)                     # real cells of this tile
         nu = min(T, self.W + 1 - tj * T)
-        c = np.stack([s[:-1, :-1], s[1:, :-1], s[:-1, 1:], s[1:, 1:]])
-        nod = np.isnan(c).any(axis=0)
-        cmax = np.where(nod, -np.inf, np.nanmax(np.where(np.isnan(c), -np.inf, c), axis=0))
-        nod[nv:, :] = False
-        nod[:, nu:] = False
-        cmax[nv:, :] = -np.inf
-        cmax[:, nu:] = -np.inf
-        cell_max[...] = np.where(nod, np.nan, cmax)
-        bm = cmax.reshape(nb, BLOCK, nb, BLOCK).max(axis=(1, 3))
+        # NaN (nodata) propagates through maximum: a cell with a nodata corner gets NaN
+        np.maximum(np.maximum(s[:-1, :-1], s[1:, :-1]), np.maximum(s[:-1, 1:], s[1:, 1:]),
+                   out=cell_max)
+        cell_max[nv:, :] = -np.inf
+        cell_max[:, nu:] = -np.inf
+        nod = np.isnan(cell_max)
+        valid = np.where(nod, -np.inf, cell_max)
+        bm = valid.reshape(nb, BLOCK, nb, BLOCK).max(axis=(1, 3))
         bn = nod.reshape(nb, BLOCK, nb, BLOCK).any(axis=(1, 3))
         self.block_max[ti * nb:(ti + 1) * nb, tj * nb:(tj + 1) * nb] = bm
         self.block_nod[ti * nb:(ti + 1) * nb, tj * nb:(tj + 1) * nb] = bn
         self.tile_max[ti, tj] = bm.max()
         self.tile_nod[ti, tj] = bn.any()
-        real = s[:nv + 1, :nu + 1]
-        if np.isfinite(real).any():
-            self.zmin = min(self.zmin, float(np.nanmin(real)))
-            self.zmax = max(self.zmax, float(np.nanmax(real)))
+        lo = np.fmin.reduce(s[:nv + 1, :nu + 1], axis=None)
+        hi = float(bm.max())
+        if np.isfinite(hi):
+            with self._range_lock:
+                self.zmin = min(self.zmin, float(lo))
+                self.zmax = max(self.zmax, hi)
+
+    def heights(self, x, y, progress=None) -> np.ndarray:
+        """Surface heights at map points (x, y) in the DSM's CRS: bilinear between pixel
+        centres, flat out to the raster edge; NaN outside the raster and on nodata cells (the
+        surface the rays meet). Reads the tiles it needs (kept for the rays)."""
+        u, v = self.map_to_uv(np.ravel(x), np.ravel(y))
+        u, v = np.asarray(u, np.float64), np.asarray(v, np.float64)
+        out = np.full(u.shape, np.nan)
+        inside = (u >= 0.5) & (u <= self.W + 0.5) & (v >= 0.5) & (v <= self.H + 0.5)
+        k = np.flatnonzero(inside)
+        if k.size:
+            iu = np.clip(np.floor(u[k]).astype(np.int64), 0, self.W)
+            iv = np.clip(np.floor(v[k]).astype(np.int64), 0, self.H)
+            T, T1 = self.T, self.T + 1
+            tiles = np.unique((iv // T) * self.ntu + iu // T)
+            self.load(zip((tiles // self.ntu).tolist(), (tiles % self.ntu).tolist()), progress)
+            f = self.slot[iv // T, iu // T] * (T1 * T1) + (iv % T) * T1 + iu % T
+            st = self.samples_flat()
+            a, b = u[k] - iu, v[k] - iv
+            h00, h10 = st[f].astype(np.float64), st[f + 1].astype(np.float64)
+            h01, h11 = st[f + T1].astype(np.float64), st[f + T1 + 1].astype(np.float64)
+            out[k] = (h00 * (1 - a) + h10 * a) * (1 - b) + (h01 * (1 - a) + h11 * a) * b
+        return out.reshape(np.shape(x))
 
     def samples_flat(self) -> np.ndarray:
         """The corner heights of the tiles read, flat: tile slot k, corner (v, u) at
@@ -397,6 +421,16 @@ def _traverse(surface: DSMSurface, r: _Rays, prog):
             need = set(zip(tv[want].tolist(), tu[want].tolist()))
             if np.isfinite(surface.zmax):   # and the unread tiles next on the way down
                 need |= _tiles_ahead(surface, r, active[want], ta[want], PREFETCH)
+            if len(need) >= 4:              # a large job: fill the holes of the area read, so
+                a = np.array(sorted(need))  # that file blocks shared by tiles decode once
+                (v0, u0), (v1, u1) = a.min(axis=0), a.max(axis=0)
+                grown = set()
+                for tv_, tu_ in need:
+                    for dv_ in (-1, 0, 1):
+                        for du_ in (-1, 0, 1):
+                            if v0 <= tv_ + dv_ <= v1 and u0 <= tu_ + du_ <= u1:
+                                grown.add((tv_ + dv_, tu_ + du_))
+                need |= grown
             surface.load(need, prog)
         keep = ~ended
         cand = np.flatnonzero(code == 1)
@@ -580,14 +614,15 @@ def first_hits(surface: DSMSurface, frame, origins, directions, *, max_distance=
         if box is not None:
             err = aff.error(*box)
             if err > tolerance:
-                err = _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog)
+                err, xyz_groups = _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0,
+                                           tolerance, prog)
                 regrouped = True
     xyz = np.full((n, 3), np.nan)
     hit = status == HIT
     if hit.any():
         p = o[hit] + t[hit, None] * d[hit]
-        if regrouped:                       # each group had its own map: convert exactly
-            xyz[hit] = frame.from_model(p, surface.crs)
+        if regrouped:                       # each group through its own map
+            xyz[hit] = xyz_groups[hit]
         else:
             q = p @ aff.M.T + aff.m
             x, y = surface.uv_to_map(q[:, 0], q[:, 1])
@@ -615,39 +650,66 @@ def _band_box(surface, po, pd, t, status, t0, sel=None):
             surface.zmin, surface.zmax)
 
 
-def _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog) -> float:
+def _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog):
     """Re-run the rays in groups by where they meet the surface, each with its own
-    linearisation, until each group's measured error is within ``tolerance``. Updates ``t``
-    and ``status`` in place; returns the largest measured error."""
+    linearisation, until each group's measured error is within ``tolerance``. Groups are
+    planned on the first pass's geometry (splitting in four about the medians while the error
+    predicted over a group's box exceeds ``tolerance``), then each is traversed once and its
+    error measured again. Updates ``t`` and ``status`` in place; returns (largest measured
+    error, hit coordinates (n, 3) in the DSM's CRS from each group's own map)."""
     t_end = np.where(np.isfinite(t), t, t0)
     p = po + t_end[:, None] * pd
     x, y = surface.uv_to_map(p[:, 0], p[:, 1])
-    todo = [np.flatnonzero(status != MISS)]
-    worst = 0.0
     zmid = 0.5 * (surface.zmin + surface.zmax)
+    xyz = np.full((len(o), 3), np.nan)
+
+    def anchor(g):
+        gx, gy = x[g], y[g]
+        return _Affine(frame, surface, (0.5 * (gx.min() + gx.max()), 0.5 * (gy.min() + gy.max()),
+                                        zmid))
+
+    def split(g):
+        gx, gy = x[g], y[g]
+        mx, my = np.median(gx), np.median(gy)
+        return [g[qx & qy] for qx in (gx <= mx, gx > mx) for qy in (gy <= my, gy > my)
+                if (qx & qy).any()]
+
+    todo = [np.flatnonzero(status != MISS)]
+    planned = []
+    for _ in range(16):                          # plan on the first pass's geometry
+        nxt = []
+        for g in todo:
+            box = _band_box(surface, po[g], pd[g], t[g], status[g], t0[g])
+            if box is None or len(g) == 1 or anchor(g).error(*box) <= 0.8 * tolerance:
+                planned.append(g)
+            else:
+                nxt.extend(split(g))
+        todo = nxt
+        if not todo:
+            break
+    planned.extend(todo)
+    worst = 0.0
+    todo = planned
     for _ in range(12):
         nxt = []
         for g in todo:
-            if not g.size:
-                continue
-            gx, gy = x[g], y[g]
-            aff = _Affine(frame, surface, (0.5 * (gx.min() + gx.max()), 0.5 * (gy.min() + gy.max()), zmid))
+            aff = anchor(g)
             go, gd, gt, gs, gt0, _ = _run(surface, aff, o[g], d[g], tmax[g], prog)
             box = _band_box(surface, go, gd, gt, gs, gt0)
             e = aff.error(*box) if box is not None else 0.0
             if e <= tolerance or len(g) == 1:
                 t[g], status[g] = gt, gs
                 worst = max(worst, e)
+                h = gs == HIT
+                q = go[h] + gt[h, None] * gd[h]
+                hx, hy = surface.uv_to_map(q[:, 0], q[:, 1])
+                xyz[g[h]] = np.column_stack([hx, hy, q[:, 2]])
                 continue
-            # split the group in four about its middle
-            mx, my = np.median(gx), np.median(gy)
-            for qx in (gx <= mx, gx > mx):
-                for qy in (gy <= my, gy > my):
-                    nxt.append(g[qx & qy])
+            nxt.extend(split(g))
         todo = nxt
         if not todo:
             break
     else:
         raise EasyIDPError("The model frame could not be linearised to within "
                            f"{tolerance * 1000:.1f} mm over the DSM; report this case.")
-    return worst
+    return worst, xyz

@@ -1,13 +1,13 @@
 """Camera centres and ground footprints.
 
-The ground is either a constant height or a callable ``ground(x, y) -> z`` taking 1-D arrays
-of project-CRS coordinates and returning heights in the project CRS's vertical reference (NaN
-where there is no data), e.g. a DSM sampler. Each footprint is the image border (densified)
-cast as rays from the camera and intersected with the ground by ray marching, then refined by
-bisection to ``tol`` metres.
+The ground is a constant height (in the project CRS's vertical reference) or a DSM
+(:class:`core.projection.DSMSurface`). Each footprint is the image border (densified) cast as
+rays from the camera: on a DSM, their exact first hits (:func:`core.projection.first_hits`);
+on a constant height, the exact point of the ray at that height (Newton's method on the
+project CRS height, to 1e-6 m).
 """
 from dataclasses import dataclass
-from typing import Callable, List, Optional, Sequence, Union
+from typing import List, Optional, Sequence, Union
 
 import numpy as np
 
@@ -15,7 +15,7 @@ from ..errors import EasyIDPError
 from ..progress import as_progress
 from .model import Reconstruction
 
-Ground = Union[float, Callable[[np.ndarray, np.ndarray], np.ndarray]]
+Ground = Union[float, object]   # a height, or a core.projection.DSMSurface
 
 
 @dataclass
@@ -49,18 +49,6 @@ def border_pixels(width: int, height: int, per_edge: int = 16) -> np.ndarray:
     return np.vstack([top, right, bottom, left])
 
 
-def _ground_fn(ground: Ground) -> Callable:
-    if callable(ground):
-        def fn(x, y):
-            z = np.asarray(ground(x, y), dtype=np.float64)
-            if z.shape != np.shape(x):
-                raise EasyIDPError(f"ground(x, y) returned shape {z.shape}, expected {np.shape(x)}.")
-            return z
-        return fn
-    h = float(ground)
-    return lambda x, y: np.full(np.shape(x), h)
-
-
 def _shoelace(xy: np.ndarray) -> float:
     x, y = xy[:, 0], xy[:, 1]
     return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
@@ -68,24 +56,28 @@ def _shoelace(xy: np.ndarray) -> float:
 
 def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
                       cameras: Optional[Sequence] = None, per_edge: int = 16,
-                      samples: int = 128, max_range: float = 20.0, tol: float = 1e-3,
                       progress=None, is_cancelled=None) -> List[Footprint]:
     """Footprints of the aligned, enabled cameras (or ``cameras``) on ``ground``.
 
-    ``ground``: constant height or ``ground(x, y) -> z`` in the project CRS. Rays are marched
-    in ``samples`` steps out to ``max_range`` × the camera's height above the ground at its
-    nadir (for rays tilted by θ from the nadir: that / cos θ, capped at ``max_range``).
-    Output coordinates are in ``crs`` (default: the project CRS).
+    ``ground``: a constant height in the project CRS, or a :class:`core.projection.DSMSurface`
+    (any CRS the project can convert to). On a DSM, border rays that leave it, miss it or enter
+    nodata continue on the plane at the DSM height under the camera (``complete`` is then
+    False). Output coordinates are in ``crs`` (default: the project CRS).
     """
+    from ..projection import DSMSurface, first_hits
     prog = as_progress(progress, is_cancelled)
     cams = recon._select(cameras)
-    gfn = _ground_fn(ground)
     if not cams:
         return []
     C = np.array([c.C for c in cams])
-    cmap = recon.from_model(C)                                  # project CRS
     up = recon.frame.up(C)
-    hag = cmap[:, 2] - gfn(cmap[:, 0], cmap[:, 1])
+    on_dsm = isinstance(ground, DSMSurface)
+    if on_dsm:       # height above ground: the camera's vertical ray on the DSM
+        below = first_hits(ground, recon.frame, C, -up)
+        hag = np.where(below.hit, below.distance, np.nan)
+    else:
+        h0 = float(ground)
+        hag = recon.from_model(C)[:, 2] - h0
     ref_h = np.where(np.isfinite(hag) & (hag > 0), hag, np.nan)
     if np.all(np.isnan(ref_h)):
         raise EasyIDPError("No camera is above the given ground (or the ground has no data under "
@@ -97,49 +89,45 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         s = recon.sensors[cam.sensor_id]
         origin, d = recon.pixel_to_ray(cam, border_pixels(s.width, s.height, per_edge))
         origin = np.broadcast_to(origin, d.shape)          # one per ray (rolling shutter)
-        cos_t = np.clip(-(d @ up[i]), 1e-6, None)
-        tmax = np.minimum(ref_h[i] / cos_t * 1.5, max_range * ref_h[i])
-        t = tmax[:, None] * np.linspace(0.0, 1.0, samples + 1)[None, 1:]      # (k, samples)
-
-        g_fallback = cmap[i, 2] - ref_h[i]   # the ground under the camera
-
-        def ground_at(m):
-            """Ground heights at map points, the fallback plane where the ground has no data."""
-            z = gfn(m[:, 0], m[:, 1])
-            return np.where(np.isfinite(z), z, g_fallback), np.isfinite(z)
-
-        def above(tt):
-            p = origin[:, None, :] + tt[..., None] * d[:, None, :] if tt.ndim == 2 \
-                else origin + tt[:, None] * d
-            m = recon.from_model(p.reshape(-1, 3))
-            return (m[:, 2] - ground_at(m)[0]).reshape(tt.shape)
-
-        f = above(t)
-        below = f <= 0
-        below &= np.isfinite(f)
-        hit = below.any(axis=1)
-        j = np.argmax(below, axis=1)
-        lo = np.where(j > 0, t[np.arange(len(t)), np.maximum(j - 1, 0)], 0.0)
-        hi = t[np.arange(len(t)), j]
-        for _ in range(60):
-            if np.all((hi - lo)[hit] < tol):
-                break
-            mid = 0.5 * (lo + hi)
-            fm = above(mid)
-            go_hi = fm <= 0
-            hi = np.where(go_hi, mid, hi)
-            lo = np.where(go_hi, lo, mid)
-        pts_model = origin[hit] + hi[hit, None] * d[hit]
-        on_data = ground_at(recon.from_model(pts_model))[1] if hit.any() else np.array([False])
+        cos_t = -(d @ up[i])
+        t = np.full(len(d), np.nan)
+        complete = True
+        if on_dsm:
+            hits = first_hits(ground, recon.frame, origin, d)
+            t = np.where(hits.hit, hits.distance, np.nan)
+            complete = bool(hits.hit.all())
+            rest = ~hits.hit & (cos_t > 1e-6)            # on the plane under the camera
+            t[rest] = ref_h[i] / cos_t[rest]
+        else:
+            down = cos_t > 1e-6
+            t[down] = _at_height(recon, origin[down], d[down], h0, ref_h[i] / cos_t[down])
+            complete = bool(down.all())
+        hit = np.isfinite(t)
+        pts_model = origin[hit] + t[hit, None] * d[hit]
         ring = recon.from_model(pts_model, crs) if hit.sum() >= 3 else None
         area = _shoelace(pts_model @ _horizontal_basis(up[i])) if ring is not None else float("nan")
         axis = cam.R[2]                                            # optical axis in the model frame
         angle = float(np.degrees(np.arccos(np.clip(-(axis @ up[i]), -1.0, 1.0))))
         out.append(Footprint(cam.label, cam.photo_path, cam.enabled,
                              recon.from_model(C[i:i + 1], crs)[0], ring, float(hag[i]), angle,
-                             area, bool(hit.all() and on_data.all())))
+                             area, complete and bool(hit.all())))
         prog.set(100.0 * (i + 1) / len(cams))
     return out
+
+
+def _at_height(recon: Reconstruction, origin, d, h0: float, t) -> np.ndarray:
+    """Ray parameters where rays ``origin + t·d`` reach the project-CRS height ``h0``
+    (Newton's method from ``t``; the height is nearly linear along a ray)."""
+    t = np.array(t, np.float64)
+    for _ in range(20):
+        p = origin + t[:, None] * d
+        h = recon.from_model(p)[:, 2]
+        dh = recon.from_model(p + d)[:, 2] - h              # height change per unit of t
+        step = (h - h0) / dh
+        t -= step
+        if np.all(np.abs(step) < 1e-7):
+            break
+    return t
 
 
 def _horizontal_basis(up: np.ndarray) -> np.ndarray:

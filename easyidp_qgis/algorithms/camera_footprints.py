@@ -10,7 +10,7 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
-from ..layers import crs_string, dsm_ground
+from ..layers import crs_string, geotiff_source
 from .base import EasyIDPAlgorithm
 
 
@@ -100,7 +100,8 @@ class CameraFootprints(EasyIDPAlgorithm):
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         if layer is not None:
-            ground = dsm_ground(layer, self.tr("DSM"), None if recon.is_local else recon.crs)
+            from ...core.projection import DSMSurface
+            ground = DSMSurface(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
         elif parameters.get(self.GROUND_HEIGHT) not in (None, ""):
             ground = self.parameterAsDouble(parameters, self.GROUND_HEIGHT, context)
         else:

@@ -20,3 +20,14 @@ def realdata() -> Path:
     if not REALDATA.is_dir():
         pytest.fail(f"real test data not found at {REALDATA} (set EASYIDP_REALDATA)")
     return REALDATA
+
+
+@pytest.fixture(scope="session")
+def demo(tmp_path_factory):
+    """The small demo survey (seed 0) and its truth, for the projection tests."""
+    import json
+    from easyidp_toolbox.core.demo import make_demo_survey
+    s = make_demo_survey(str(tmp_path_factory.mktemp("projection_demo")), seed=0, size="small")
+    with open(s.truth) as fh:
+        s.truth_doc = json.load(fh)
+    return s

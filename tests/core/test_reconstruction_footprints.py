@@ -40,20 +40,38 @@ def test_footprints_on_constant_height_project_back_onto_the_border(wheat):
     assert fps[0].area == pytest.approx(shoelace, rel=3e-3)
 
 
-def test_footprints_on_a_surface_callable_with_nodata(pix4d):
-    """A sloped surface with a hole (NaN) under part of the scene."""
-    def ground(x, y):
-        z = 96.0 + 0.1 * (x - 368109.0)
-        return np.where((x > 368150.0), np.nan, z)
+def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
+    """A sloped DSM with a hole (nodata) under part of the scene: rings on the DSM where it
+    has data (checked against the DSM's own bilinear heights), the plane under the camera
+    elsewhere (``complete`` False)."""
+    from synthetic import write_tif
+    from easyidp_toolbox.core.projection import DSMSurface
+    _, c = pix4d.camera_centres()
+    x0, y1 = c[:, 0].min() - 150, c[:, 1].max() + 150
+    w, h = int((c[:, 0].max() + 150 - x0) / 0.5), int((y1 - c[:, 1].min() + 150) / 0.5)
+    x = x0 + (np.arange(w) + 0.5) * 0.5
+    z = np.broadcast_to(96.0 + 0.1 * (x - 368109.0), (h, w)).astype(np.float32).copy()
+    hole = 368112.0                       # under some footprints, beside others
+    z[:, x > hole] = -9999
+    dsm = DSMSurface(write_tif(str(tmp_path / "dsm.tif"), z, origin=(x0, y1), pixel=0.5,
+                               nodata=-9999, tile=256))
+
+    def ground(px, py):                   # the DSM's surface where it has data (a plane)
+        return 96.0 + 0.1 * (px - 368109.0)
 
     cams = pix4d.aligned_cameras[::40]
-    fps = camera_footprints(pix4d, ground, cameras=cams, per_edge=8)
+    fps = camera_footprints(pix4d, dsm, cameras=cams, per_edge=8)
+    assert {fp.complete for fp in fps} == {True, False}
     for fp in fps:
-        assert np.isfinite(fp.height_above_ground)
-        hit = fp.ring
-        assert np.allclose(hit[:, 2], ground(hit[:, 0], hit[:, 1]), atol=2e-3)
-        p = pix4d.project_points(hit, cameras=[fp.label])
+        assert np.isfinite(fp.height_above_ground) == (fp.centre[0] < hole)   # nodata: unknown
+        ring = fp.ring
+        on = ring[:, 0] < hole - 1.0
+        assert np.allclose(ring[on, 2], ground(ring[on, 0], ring[on, 1]), atol=1e-3)
+        p = pix4d.project_points(ring, cameras=[fp.label])
         assert (np.abs(p.pixels[0] - np.clip(p.pixels[0], 0, [5472, 3648])) < 0.05).all()
+        centre_ground = fp.centre[2] - fp.height_above_ground
+        if fp.centre[0] < hole - 1.0:
+            assert centre_ground == pytest.approx(ground(fp.centre[0], fp.centre[1]), abs=1e-5)  # float32
     # centre reported in the map CRS equals the calibrated centre + offset
     assert np.allclose(fps[0].centre, cams[0].C + pix4d.frame.offset)
 

@@ -1,0 +1,118 @@
+"""Benchmark: orthorectified images of 400 ROIs from their best raw photos.
+
+Run: ``python -m easyidp_toolbox.bench.bench_orthorectify [--quick]``.
+
+On the demo survey (small), each of the 40 plots is cut into 10 ROIs (400 in all, about
+0.8 m × 1.25 m). Ours: ``orthorectify_rois`` with ``selection="best"`` (backward projection
+and scoring included), native resolution, ray–DSM occlusion, GeoTIFFs written. easyidp 2.0.4
+(its own environment): for the same ROI and photo pairs, ``back2raw_crs`` for the ROI's
+pixels and ``one_raw_roi2geotiff`` (one homography per ROI, skimage warp; photos decoded once,
+images not saved), which ignores relief and occlusion.
+"""
+import argparse
+import json
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+
+from .common import reference_env, table
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+REF_PY = os.path.join(ROOT, ".venv-ref", "bin", "python")
+
+REF = r"""
+import json, sys, time, warnings
+warnings.filterwarnings("ignore")
+import numpy as np, pyproj
+import easyidp as idp
+from skimage.io import imread
+folder, cases_path = sys.argv[1:3]
+cases = json.load(open(cases_path))
+ms = idp.Metashape(folder + "/metashape/demo_survey.psx", chunk_id=0)
+ms.crs = pyproj.CRS.from_epsg(32654)
+crs = pyproj.CRS.from_epsg(32654)
+t0 = time.perf_counter()
+images, done = {}, 0
+for c in cases:
+    xyz = np.array(c["xyz"])
+    px = ms.back2raw_crs(xyz).get(c["photo"])
+    if px is None:
+        continue
+    if c["photo"] not in images:
+        images[c["photo"]] = imread(folder + "/photos/" + c["photo"] + ".JPG")
+    idp.geotiff.one_raw_roi2geotiff(crs, xyz, images[c["photo"]], np.asarray(px)[:, :2])
+    done += 1
+print(json.dumps({"seconds": time.perf_counter() - t0, "done": done}))
+"""
+
+
+def split_plots(plots, nx=5, ny=2):
+    """Each plot rectangle cut into nx × ny ROIs (plots are rectangles, 4 corners)."""
+    from easyidp_toolbox.core.roi import ROI, ROISet
+    out = []
+    for p in plots:
+        c = p.rings[0][:4, :2]
+        for i in range(nx):
+            for j in range(ny):
+                def at(u, v):
+                    return c[0] + u * (c[1] - c[0]) + v * (c[3] - c[0])
+                u0, u1, v0, v1 = i / nx, (i + 1) / nx, j / ny, (j + 1) / ny
+                ring = np.array([at(u0, v0), at(u1, v0), at(u1, v1), at(u0, v1)])   # open
+                out.append(ROI(f"{p.name}_{i}{j}", [[ring]]))
+    return ROISet(out, plots.crs)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--quick", action="store_true", help="100 ROIs")
+    args = ap.parse_args(argv)
+    from easyidp_toolbox.core import open_reconstruction, read_geojson
+    from easyidp_toolbox.core.demo import make_demo_survey
+    from easyidp_toolbox.core.projection.ortho import orthorectify_rois
+    from easyidp_toolbox.core.raster import sample_points
+    with tempfile.TemporaryDirectory() as tmp:
+        s = make_demo_survey(os.path.join(tmp, "survey"), seed=0, size="small")
+        rois = split_plots(read_geojson(s.plots_geojson, name_field="plot_id"))
+        if args.quick:
+            from easyidp_toolbox.core.roi import ROISet
+            rois = ROISet(list(rois)[:100], rois.crs)
+        recon = open_reconstruction(s.metashape_project)
+        t0, c0 = time.perf_counter(), time.process_time()
+        res = orthorectify_rois(rois, recon, s.dsm, os.path.join(tmp, "out"))
+        wall, cpu = time.perf_counter() - t0, time.process_time() - c0
+        rows = [["ours: best photo, native GSD, occlusion, GeoTIFF written", len(res.files) / wall,
+                 len(res.files) / cpu, wall, len(res.files)]]
+        by_name = {r.name: r for r in rois}
+        cases = []
+        for name, photo in zip(res.rois, res.photos):
+            ring = by_name[name].rings[0][:4, :2]
+            z = sample_points(s.dsm, ring[:, 0], ring[:, 1])
+            xyz = np.column_stack([ring, z])
+            cases.append({"photo": photo, "xyz": np.vstack([xyz, xyz[:1]]).tolist()})
+        if os.path.exists(REF_PY):
+            path = os.path.join(tmp, "cases.json")
+            with open(path, "w") as fh:
+                json.dump(cases, fh)
+            env = reference_env()
+            env.update(HOME=tmp, XDG_DATA_HOME=tmp)
+            proc = subprocess.run([REF_PY, "-c", REF, s.folder, path], capture_output=True,
+                                  text=True, env=env)
+            if proc.returncode == 0:
+                ref = json.loads(proc.stdout.strip().splitlines()[-1])
+                rows.append(["easyidp 2.0.4: back2raw + one homography per ROI (not saved)",
+                             ref["done"] / ref["seconds"], None, ref["seconds"], ref["done"]])
+            else:
+                print("easyidp run failed:", proc.stderr[-1500:], file=sys.stderr)
+        print(f"{len(rois)} ROIs; {os.cpu_count()} cores")
+        print(table(["run", "ROIs/s", "ROIs/CPU-s", "wall s", "images"], rows))
+        if len(rows) > 1:
+            print(f"\nratio ours/easyidp (ROIs per second): {rows[0][1] / rows[1][1]:.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

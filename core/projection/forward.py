@@ -1,0 +1,231 @@
+"""Forward projection: shapes drawn or detected on a raw photo → the map, on the DSM.
+
+Each vertex's pixel becomes a ray (``Reconstruction.pixel_to_ray``, lens distortion inverted)
+whose first hit on the DSM (:func:`.ray_surface.first_hits`) is the vertex on the map: exact
+on any terrain or canopy. Polygon and line edges are densified *in the photo* first, so that a
+long edge follows the surface instead of cutting across it. A vertex whose ray misses the DSM,
+leaves it or enters nodata is reported (``status``); its polygon is marked incomplete and keeps
+only the vertices that hit, never silently reshaped.
+
+Areas and perimeters are planimetric: measured in the model frame's horizontal plane at the
+shape (true metres, free of map-projection scale), over all rings (holes subtract from the area
+and add to the perimeter).
+"""
+from dataclasses import dataclass, field
+from typing import List, Optional
+
+import numpy as np
+
+from ..annotations.model import LINE, POINT, POLYGON, PhotoShape
+from ..crs import as_crs, same_crs, transformer
+from ..errors import EasyIDPError
+from ..progress import as_progress
+from .ray_surface import HIT, STATUS_NAMES, DSMSurface, first_hits
+
+DENSIFY_PX = 4.0     # default spacing of densified vertices along edges, photo pixels
+
+
+@dataclass
+class ForwardShape:
+    """One shape of a photo on the map.
+
+    ``points``: per ring, (k, 3) map coordinates of every (densified) vertex, NaN where its ray
+    did not hit; ``status``: per ring, (k,) uint8 ray status (``ray_surface.HIT`` …);
+    ``original``: per ring, (k,) bool, True for the vertices of the input shape (False for
+    those added by densification). ``rings``: per ring, the vertices that hit (the geometry).
+    ``area_m2``/``perimeter_m``: planimetric, NaN for lines and points or with < 3 vertices.
+    ``view_angle``: degrees between the ray to the shape's centre and the vertical.
+    """
+    photo: str
+    label: str
+    kind: str
+    points: List[np.ndarray]
+    status: List[np.ndarray]
+    original: List[np.ndarray]
+    score: Optional[float] = None
+    group_id: Optional[object] = None
+    attributes: dict = field(default_factory=dict)
+    area_m2: float = float("nan")
+    perimeter_m: float = float("nan")
+    view_angle: float = float("nan")
+    pixel_area: float = float("nan")
+
+    @property
+    def rings(self) -> List[np.ndarray]:
+        return [p[s == HIT] for p, s in zip(self.points, self.status)]
+
+    @property
+    def missing(self) -> int:
+        """Number of vertices (densified ones included) whose ray did not hit the DSM."""
+        return int(sum(int((s != HIT).sum()) for s in self.status))
+
+    @property
+    def complete(self) -> bool:
+        return self.missing == 0
+
+    def why_incomplete(self) -> str:
+        counts = {}
+        for s in self.status:
+            for v in s[s != HIT].tolist():
+                counts[STATUS_NAMES[v]] = counts.get(STATUS_NAMES[v], 0) + 1
+        return ", ".join(f"{n} {k}" for k, n in sorted(counts.items()))
+
+
+def densify_ring(ring: np.ndarray, step: float, closed: bool):
+    """(points (m, 2), original (m,) bool): ``ring`` with vertices inserted every ``step`` or
+    less along each edge (the closing edge too when ``closed``)."""
+    ring = np.asarray(ring, np.float64)
+    if len(ring) < 2 or not step or step <= 0:
+        return ring.copy(), np.ones(len(ring), bool)
+    ends = np.vstack([ring[1:], ring[:1]]) if closed else ring[1:]
+    starts = ring if closed else ring[:-1]
+    pts, orig = [], []
+    for a, b in zip(starts, ends):
+        n = max(int(np.ceil(np.hypot(*(b - a)) / step)), 1)
+        s = np.arange(n)[:, None] / n
+        pts.append(a + s * (b - a))
+        o = np.zeros(n, bool)
+        o[0] = True
+        orig.append(o)
+    if not closed:
+        pts.append(ring[-1:])
+        orig.append(np.ones(1, bool))
+    return np.vstack(pts), np.concatenate(orig)
+
+
+def _as_shapes(polygons_px) -> List[PhotoShape]:
+    out = []
+    for k, p in enumerate(polygons_px):
+        if isinstance(p, PhotoShape):
+            out.append(p)
+            continue
+        rings = [np.asarray(p, np.float64)] if np.ndim(p) == 2 else [np.asarray(r, np.float64) for r in p]
+        for r in rings:
+            if r.ndim != 2 or r.shape[1] != 2 or len(r) < 3:
+                raise EasyIDPError(f"polygon {k}: rings must be (n ≥ 3, 2) arrays of pixels.")
+        out.append(PhotoShape(str(k), POLYGON, rings))
+    return out
+
+
+def _shoelace(xy: np.ndarray) -> float:
+    x, y = xy[:, 0] - xy[0, 0], xy[:, 1] - xy[0, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
+
+
+def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
+                    progress=None, is_cancelled=None) -> List[ForwardShape]:
+    """Shapes in the pixels of one photo → the map, by their rays' first hits on the DSM.
+
+    ``polygons_px``: :class:`PhotoShape` objects (polygons, lines, points; from the annotation
+    readers) or plain polygons ((n, 2) pixel arrays, or lists of rings). ``photo``: the camera
+    label (or a ``Camera``); ``recon``: the :class:`Reconstruction`; ``dsm``: a
+    :class:`DSMSurface`, a GeoTIFF path or an opened GeoTiff. ``densify``: True (a vertex every
+    :data:`DENSIFY_PX` pixels along edges), a spacing in pixels, or False. ``crs``: output CRS
+    (default: the DSM's). Heights are in the output CRS's vertical reference (the DSM's).
+    """
+    prog = as_progress(progress, is_cancelled)
+    surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm)
+    cam = recon._select([photo])[0]
+    recon._calibrated(cam)                 # a clear error for an uncalibrated sensor
+    step = DENSIFY_PX if densify is True else float(densify or 0)
+    shapes = _as_shapes(polygons_px)
+    # all vertices of all shapes in one batch of rays
+    parts, index = [], []
+    for i, s in enumerate(shapes):
+        for j, ring in enumerate(s.rings):
+            if s.kind == POINT:
+                pts, orig = np.asarray(ring, np.float64)[:1], np.ones(1, bool)
+            else:
+                pts, orig = densify_ring(ring, step, closed=s.kind == POLYGON)
+            parts.append(pts)
+            index.append((i, j, orig))
+    if not parts:
+        return []
+    uv = np.vstack(parts)
+    if not np.all(np.isfinite(uv)):
+        raise EasyIDPError(f"photo {cam.label}: some shape vertices are not finite numbers.")
+    origin, d = recon.pixel_to_ray(cam, uv)
+    hits = first_hits(surface, recon.frame, origin, d, progress=prog.sub(0, 90))
+    xyz = hits.xyz
+    out_crs = as_crs(crs)
+    if out_crs is not None and surface.crs is not None and not same_crs(out_crs, surface.crs):
+        ok = hits.hit
+        if ok.any():
+            x, y, z = transformer(surface.crs, out_crs).transform(*xyz[ok].T)
+            xyz = xyz.copy()
+            xyz[ok] = np.column_stack([x, y, z])
+    model = origin + np.where(hits.hit, hits.distance, np.nan)[:, None] * d
+    # rings are consecutive runs of vertices: ring k is [start[k], start[k] + count[k])
+    counts = np.array([len(p) for p in parts])
+    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    ring_shape = np.array([i for i, _, _ in index])
+    ring_first = np.array([j == 0 for _, j, _ in index])
+    vert_ring = np.repeat(np.arange(len(parts)), counts)
+    vert_shape = ring_shape[vert_ring]
+    hit = hits.status == HIT
+    # per shape: centre of its hits, the vertical there, the view angle
+    n_hit = np.bincount(vert_shape[hit], minlength=len(shapes))
+    centre = np.column_stack([np.bincount(vert_shape[hit], model[hit, k], len(shapes))
+                              for k in range(3)]) / np.maximum(n_hit, 1)[:, None]
+    seen = n_hit > 0
+    up = np.zeros((len(shapes), 3))
+    if seen.any():
+        up[seen] = recon.frame.up(centre[seen])
+    ray = centre - origin
+    with np.errstate(invalid="ignore"):
+        cosang = -(ray * up).sum(axis=1) / np.linalg.norm(ray, axis=1)
+    angle = np.where(seen, np.degrees(np.arccos(np.clip(cosang, -1, 1))), np.nan)
+    # planimetric rings: hit vertices in the plane normal to the shape's vertical
+    e1 = np.where(np.abs(up[:, :1]) < 0.9, [[1.0, 0, 0]], [[0, 1.0, 0]])
+    e1 = e1 - (e1 * up).sum(axis=1, keepdims=True) * up
+    e1 /= np.maximum(np.linalg.norm(e1, axis=1, keepdims=True), 1e-300)
+    e2 = np.cross(up, e1)
+    hv = np.flatnonzero(hit)
+    hr = vert_ring[hv]
+    rel = model[hv] - centre[vert_shape[hv]]
+    x = (rel * e1[vert_shape[hv]]).sum(axis=1)
+    y = (rel * e2[vert_shape[hv]]).sum(axis=1)
+    # next hit vertex within the same ring (wrapping)
+    nxt = np.arange(len(hv)) + 1
+    if len(hv):
+        last = np.r_[hr[1:] != hr[:-1], True]
+        first_of = np.flatnonzero(np.r_[True, hr[1:] != hr[:-1]])
+        nxt[last] = first_of
+    ring_hits = np.bincount(hr, minlength=len(parts))
+    twice = np.bincount(hr, x * y[nxt] - y * x[nxt], len(parts)) if len(hv) else np.zeros(len(parts))
+    edge = np.bincount(hr, np.hypot(x[nxt] - x, y[nxt] - y), len(parts)) if len(hv) else np.zeros(len(parts))
+    ok_ring = ring_hits >= 3
+    ring_area = np.where(ok_ring, 0.5 * np.abs(twice), 0.0)
+    signed = np.where(ring_first, ring_area, -ring_area)
+    area = np.bincount(ring_shape, signed, len(shapes))
+    perim = np.bincount(ring_shape, np.where(ok_ring, edge, 0.0), len(shapes))
+    outer_ok = np.zeros(len(shapes), bool)
+    outer_ok[ring_shape[ring_first]] = ok_ring[ring_first]
+    result: List[ForwardShape] = []
+    by_shape = [[] for _ in shapes]
+    for k, (i, _, orig) in enumerate(index):
+        by_shape[i].append((slice(starts[k], starts[k] + counts[k]), orig))
+    for i, s in enumerate(shapes):
+        sl = by_shape[i]
+        f = ForwardShape(cam.label, s.label, s.kind, [xyz[a] for a, _ in sl],
+                         [hits.status[a] for a, _ in sl], [o for _, o in sl],
+                         s.score, s.group_id, dict(s.attributes), view_angle=float(angle[i]))
+        if s.kind == POLYGON:
+            if outer_ok[i]:
+                f.area_m2, f.perimeter_m = float(area[i]), float(perim[i])
+            f.pixel_area = abs(_shoelace(np.asarray(s.rings[0], np.float64)))
+        result.append(f)
+    prog.set(100)
+    return result
+
+
+def _horizontal_basis(up: np.ndarray) -> np.ndarray:
+    """(3, 2) orthonormal basis of the plane normal to ``up`` (right-handed with it)."""
+    a = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
+    e1 = a - (a @ up) * up
+    e1 /= np.linalg.norm(e1)
+    return np.column_stack([e1, np.cross(up, e1)])
+
+
+__all__ = ["ForwardShape", "forward_project", "densify_ring", "DENSIFY_PX", "LINE", "POINT",
+           "POLYGON"]

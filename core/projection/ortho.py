@@ -1,0 +1,276 @@
+"""Orthorectified ROI images from the raw photos: true geometry, the photo's own sharpness.
+
+For each ROI and photo: a north-up map grid over the ROI in the DSM's CRS (``gsd`` given, or
+the photo's native ground resolution at the ROI); each output pixel centre gets its height
+from the DSM (bilinear between pixel centres), is projected into the photo with the solved
+camera (``Reconstruction.project_points``, lens distortion included) and the photo is sampled
+there bilinearly (``scipy.ndimage.map_coordinates``, order 1). Output pixels outside the ROI,
+on DSM nodata, outside the photo's frame, or whose line of sight to the camera the DSM blocks
+(:func:`.ray_surface.first_hits`, the first hit more than ``occlusion_tolerance`` before the
+point) get alpha 0. GeoTIFF (the photo's bands and data type, plus an alpha band), written
+atomically with the DSM's georeferencing keys.
+
+Photos: ``best`` (the backward projection's best-scored photo per ROI,
+:func:`.backward.back_project`), ``all`` (every photo that sees the ROI) or ``photo`` (one
+named photo).
+"""
+import os
+from dataclasses import dataclass, field
+from typing import Dict, List, Optional
+
+import numpy as np
+
+from ..errors import EasyIDPError, InputError
+from ..geometry import points_in_rings
+from ..naming import unique_names
+from ..progress import as_progress
+from ..raster.geotiff import TAG_GDAL_METADATA
+from ..raster.geotiff_write import write_geotiff
+from ..raster.roi_pixels import rois_in_raster_crs
+from ..roi import ROISet
+from .ray_surface import HIT, MISS, DSMSurface, first_hits
+
+SELECTIONS = ("best", "all", "photo")
+MAX_PIXELS = 50_000_000        # output pixels per ROI image
+EXTRASAMPLE_ALPHA = 2          # TIFF ExtraSamples: unassociated alpha
+
+
+@dataclass
+class OrthoResult:
+    """``files``/``rois``/``photos``/``visible``: one entry per image written (``visible`` =
+    share of the ROI's output pixels that the photo shows); ``skipped``: ROI (or ROI × photo)
+    → why no image was written; ``occluded``: share of the ROI's pixels inside the frame that
+    the DSM hides from the photo; ``gsd``: output pixel size per image (DSM CRS units)."""
+    files: List[str] = field(default_factory=list)
+    rois: List[str] = field(default_factory=list)
+    photos: List[str] = field(default_factory=list)
+    visible: List[float] = field(default_factory=list)
+    occluded: List[float] = field(default_factory=list)
+    gsd: List[float] = field(default_factory=list)
+    skipped: Dict[str, str] = field(default_factory=dict)
+
+
+def _read_photo(path) -> np.ndarray:
+    """Decode a photo (TIFF with tifffile, others with imagecodecs) to (rows, cols, bands)."""
+    path = os.fspath(path)
+    try:
+        if path.lower().endswith((".tif", ".tiff")):
+            import tifffile
+            arr = tifffile.imread(path)
+        else:
+            import imagecodecs
+            arr = imagecodecs.imread(path)
+    except FileNotFoundError:
+        raise InputError(f"The photo {path} does not exist: give the folder of the raw photos.") from None
+    except Exception as exc:  # codec errors vary
+        raise InputError(f"The photo {path} cannot be decoded ({type(exc).__name__}: "
+                         f"{str(exc)[:120]}).") from None
+    arr = np.asarray(arr)
+    return arr[..., None] if arr.ndim == 2 else arr
+
+
+def _photo_path(cam, folder) -> str:
+    if folder is None:
+        if not cam.photo_path:
+            raise InputError(f"The project stores no path for photo {cam.label!r}: give the "
+                             "folder of the raw photos.")
+        return cam.photo_path
+    names = [os.path.basename(str(cam.photo_path or "").replace("\\", "/")), cam.label]
+    for entry in sorted(os.listdir(folder)):
+        stem = os.path.splitext(entry)[0].lower()
+        if entry.lower() in (n.lower() for n in names if n) or \
+                stem in (os.path.splitext(n)[0].lower() for n in names if n):
+            return os.path.join(folder, entry)
+    raise InputError(f"Photo {cam.label!r} is not in the photos folder {folder}.")
+
+
+def _metres_per_unit(surface: DSMSurface) -> float:
+    crs = surface.crs
+    if crs is not None and crs.is_geographic:
+        return 111_320.0
+    if crs is not None and crs.axis_info and crs.axis_info[0].unit_conversion_factor:
+        return float(crs.axis_info[0].unit_conversion_factor)
+    return 1.0
+
+
+def _native_gsd(recon, cam, x, y, z, crs) -> float:
+    """Ground size (DSM CRS units) of one photo pixel at (x, y, z): the square root of the
+    area of the map patch one pixel covers there."""
+    d = 1e-6 if crs is not None and crs.is_geographic else 0.05
+    pts = np.array([[x, y, z], [x + d, y, z], [x, y + d, z]])
+    uv = recon.project_points(pts, crs, cameras=[cam]).pixels[0]
+    J = np.column_stack([uv[1] - uv[0], uv[2] - uv[0]]) / d
+    det = abs(np.linalg.det(J))
+    if not np.isfinite(det) or det == 0:
+        return float("nan")
+    return float(1.0 / np.sqrt(det))
+
+
+def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str = "best",
+                      photo=None, photos_folder=None, gsd: Optional[float] = None,
+                      occlusion: bool = True, occlusion_tolerance: Optional[float] = None,
+                      dsm_crs=None, progress=None, is_cancelled=None) -> OrthoResult:
+    """Orthorectify every ROI from raw photos into ``output_folder`` (see the module docstring).
+
+    ``selection``: ``best``, ``all`` or ``photo`` (then ``photo`` is the camera label).
+    ``photos_folder``: where the raw photos are (default: the paths stored in the project).
+    ``gsd``: output pixel size in DSM CRS units (default: the photo's native one at the ROI).
+    ``occlusion_tolerance``: metres (default: one DSM pixel). Files are named ``<roi>.tif``
+    (``best``, ``photo``) or ``<roi>_<photo>.tif`` (``all``).
+    """
+    if selection not in SELECTIONS:
+        raise EasyIDPError(f"selection must be one of {SELECTIONS}, not {selection!r}.")
+    if selection == "photo" and not photo:
+        raise InputError("Orthorectify from a named photo: give the photo's label.")
+    if gsd is not None and not gsd > 0:
+        raise InputError(f"The output pixel size (GSD) must be positive, not {gsd}.")
+    if photos_folder is not None and not os.path.isdir(photos_folder):
+        raise InputError(f"The photos folder {photos_folder} does not exist.")
+    if not os.path.isdir(output_folder):
+        os.makedirs(output_folder, exist_ok=True)
+    prog = as_progress(progress, is_cancelled)
+    surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm, crs=dsm_crs)
+    tif = surface.tif
+    local = rois_in_raster_crs(rois, tif)
+    result = OrthoResult()
+    # which photos for which ROI
+    pairs: List[tuple] = []
+    if selection == "photo":
+        cam = recon._select([photo])[0]
+        pairs = [(r, cam) for r in range(len(rois))]
+    else:
+        from .backward import back_project
+        from .heights import DSMHeights
+        bp = back_project(rois, recon, heights=DSMHeights(tif), min_visible=0.0,
+                          max_images=1 if selection == "best" else 0,
+                          progress=prog.sub(0, 10))
+        cams = {c.label: c for c in recon.cameras}
+        for i in range(len(bp)):
+            pairs.append((int(bp.roi[i]), cams[str(bp.photo[i])]))
+        for name, why in bp.unseen.items():
+            result.skipped[name] = why
+    names = [r.name for r in rois]
+    stems = unique_names([names[r] if selection != "all" else f"{names[r]}_{os.path.splitext(c.label)[0]}"
+                          for r, c in pairs])
+    tol = occlusion_tolerance if occlusion_tolerance is not None else \
+        abs(tif.geotransform[1]) * _metres_per_unit(surface)
+    by_photo: Dict[str, list] = {}
+    for k, (r, cam) in enumerate(pairs):
+        by_photo.setdefault(cam.label, []).append(k)
+    done = 0
+    for label, ks in by_photo.items():
+        prog.check()
+        cam = recon._select([label])[0]
+        image = _read_photo(_photo_path(cam, photos_folder))
+        s = recon.sensors[cam.sensor_id]
+        if image.shape[1] != s.width or image.shape[0] != s.height:
+            raise InputError(f"Photo {label!r} is {image.shape[1]}×{image.shape[0]} px but its "
+                             f"camera is {s.width}×{s.height}: not the photo the project was "
+                             "built from.")
+        jobs = [(local[pairs[k][0]], os.path.join(output_folder, stems[k] + ".tif"))
+                for k in ks]
+        whys = _render(jobs, recon, cam, image, surface, gsd, occlusion, tol, result)
+        for k, why in zip(ks, whys):
+            r = pairs[k][0]
+            if why:
+                result.skipped[f"{names[r]} / {label}"] = why
+            else:
+                result.rois.append(names[r])
+                result.photos.append(label)
+        done += len(ks)
+        prog.set(10 + 90.0 * done / max(len(pairs), 1))
+    return result
+
+
+def _render(jobs, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, result):
+    """Write the images of ``jobs`` [(ROI in the DSM CRS, output path)] from one photo (all
+    their pixels projected and ray-tested at once); returns why not, per job (None: written)."""
+    from scipy.ndimage import map_coordinates
+    tif, crs = surface.tif, surface.crs
+    whys: List[Optional[str]] = [None] * len(jobs)
+    grids, xs, ys, owner, cell = [], [], [], [], []
+    for j, (roi, out) in enumerate(jobs):
+        x0, y0, x1, y1 = roi.bounds
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        if gsd is None:
+            zc = float(surface.heights(np.array([cx]), np.array([cy]))[0])
+            if not np.isfinite(zc):
+                ring = np.asarray(roi.rings[0])
+                zc = float(np.nanmedian(surface.heights(ring[:, 0], ring[:, 1])))
+            g = _native_gsd(recon, cam, cx, cy, zc, crs) if np.isfinite(zc) else float("nan")
+            if not np.isfinite(g):
+                whys[j] = "the photo does not see the ROI's centre (no native resolution there)"
+                grids.append(None)
+                continue
+        else:
+            g = float(gsd)
+        ox, oy = np.floor(x0 / g) * g, np.ceil(y1 / g) * g
+        ncol, nrow = int(np.ceil((x1 - ox) / g)), int(np.ceil((oy - y0) / g))
+        if ncol * nrow > MAX_PIXELS:
+            raise InputError(f"ROI {roi.name!r} at a pixel size of {g:g} would be {ncol}×{nrow} "
+                             "px; give a larger GSD.")
+        X, Y = np.meshgrid(ox + (np.arange(ncol) + 0.5) * g, oy - (np.arange(nrow) + 0.5) * g)
+        inside = np.flatnonzero(points_in_rings(X.ravel(), Y.ravel(),
+                                                [np.asarray(r)[:, :2] for r in roi.rings]))
+        if not inside.size:
+            whys[j] = "the ROI is smaller than one output pixel"
+            grids.append(None)
+            continue
+        grids.append((ox, oy, g, ncol, nrow, inside.size))
+        xs.append(X.ravel()[inside])
+        ys.append(Y.ravel()[inside])
+        owner.append(np.full(inside.size, j))
+        cell.append(inside)
+    if not xs:
+        return whys
+    x, y, owner, cell = (np.concatenate(a) for a in (xs, ys, owner, cell))
+    z = surface.heights(x, y)
+    keep = np.flatnonzero(np.isfinite(z))
+    xyz = np.column_stack([x[keep], y[keep], z[keep]])
+    proj = recon.project_points(xyz, crs, cameras=[cam])
+    inside = proj.status[0] == 0
+    keep, xyz, uv = keep[inside], xyz[inside], proj.pixels[0][inside]
+    occluded = np.zeros(len(jobs))
+    if occlusion and keep.size:
+        p = recon.to_model(xyz, crs)
+        d = p - cam.C
+        dist = np.linalg.norm(d, axis=1)
+        hits = first_hits(surface, recon.frame, cam.C, d / dist[:, None], max_distance=dist + tol)
+        seen = ((hits.status == HIT) & (hits.distance >= dist - tol)) | (hits.status == MISS)
+        n_in = np.bincount(owner[keep], minlength=len(jobs))
+        n_hidden = np.bincount(owner[keep][~seen], minlength=len(jobs))
+        occluded = n_hidden / np.maximum(n_in, 1)
+        keep, uv = keep[seen], uv[seen]
+    bands = image.shape[2]
+    values = np.empty((len(keep), bands), image.dtype)
+    coords = np.vstack([uv[:, 1] - 0.5, uv[:, 0] - 0.5])      # (row, col) of pixel centres
+    for b in range(bands):
+        v = map_coordinates(image[..., b], coords, order=1, mode="nearest")
+        if image.dtype.kind in "ui":
+            v = np.clip(np.rint(v), np.iinfo(image.dtype).min, np.iinfo(image.dtype).max)
+        values[:, b] = v.astype(image.dtype)
+    top = np.iinfo(image.dtype).max if image.dtype.kind in "ui" else 1.0
+    rgb = bands == 3 and image.dtype == np.uint8
+    geokeys = {k: v for k, v in tif.geo_tags.items() if k != TAG_GDAL_METADATA}
+    order = np.argsort(owner[keep], kind="stable")
+    bounds = np.searchsorted(owner[keep][order], np.arange(len(jobs) + 1))
+    for j, (roi, out) in enumerate(jobs):
+        if grids[j] is None:
+            continue
+        sel = order[bounds[j]:bounds[j + 1]]
+        if not sel.size:
+            whys[j] = "the photo shows none of the ROI (outside its frame, occluded or on DSM nodata)"
+            continue
+        ox, oy, g, ncol, nrow, n_roi = grids[j]
+        data = np.zeros((nrow * ncol, bands + 1), dtype=image.dtype)
+        at = cell[keep[sel]]
+        data[at, :bands] = values[sel]
+        data[at, bands] = top
+        write_geotiff(out, data.reshape(nrow, ncol, bands + 1), (ox, g, 0.0, oy, 0.0, -g),
+                      geokeys, rgb=rgb, extrasamples=(EXTRASAMPLE_ALPHA,) if rgb
+                      else (0,) * (bands - 1) + (EXTRASAMPLE_ALPHA,))
+        result.files.append(out)
+        result.visible.append(sel.size / n_roi)
+        result.occluded.append(float(occluded[j]))
+        result.gsd.append(g)
+    return whys

@@ -1,0 +1,217 @@
+"""Processing tool: Forward-project photo polygons to the map (easyidp:forwardprojectpolygons)."""
+from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry,
+                       QgsLineString, QgsMultiPolygon, QgsPolygon, QgsProcessing,
+                       QgsProcessingException, QgsProcessingParameterCrs,
+                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterFile, QgsProcessingParameterNumber,
+                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
+                       QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
+
+from ..layers import crs_string, geotiff_source
+from .base import EasyIDPAlgorithm
+
+MERGE_OPTIONS = ("none", "union", "best")
+
+
+def photo_layer_annotations(source, feedback=None):
+    """PhotoAnnotations per photo from a photo-pixel layer (x = column, y = −row), e.g. the one
+    *Back-project ROIs* writes: fields ``photo`` (required), ``roi`` or ``label``, ``score``."""
+    from ...core.annotations.model import POLYGON, PhotoAnnotations, PhotoShape
+    import numpy as np
+    names = source.fields().names()
+    if "photo" not in names:
+        raise QgsProcessingException(
+            f"Photo-pixel layer '{source.sourceName()}': it has no 'photo' field naming the photo "
+            "of each polygon (as Back-project ROIs writes).")
+    if QgsWkbTypes.geometryType(source.wkbType()) != QgsWkbTypes.PolygonGeometry:
+        raise QgsProcessingException(
+            f"Photo-pixel layer '{source.sourceName()}': polygons are needed.")
+    label_field = "roi" if "roi" in names else ("label" if "label" in names else None)
+    by_photo = {}
+    for feat in source.getFeatures():
+        if feedback is not None and feedback.isCanceled():
+            break
+        g = feat.geometry()
+        if g is None or g.isEmpty():
+            continue
+        geom = g.constGet()
+        polys = [geom.geometryN(i) for i in range(geom.numGeometries())] if g.isMultipart() else [geom]
+        label = str(feat[label_field]) if label_field else str(feat.id())
+        score = feat["score"] if "score" in names else None
+        try:
+            score = None if score is None or str(score) == "NULL" else float(score)
+        except (TypeError, ValueError):
+            score = None
+        for p in polys:
+            rings = [p.exteriorRing()] + [p.interiorRing(k) for k in range(p.numInteriorRings())]
+            px = [np.array([(q.x(), -q.y()) for q in r.points()])[:-1] for r in rings]
+            photo = str(feat["photo"])
+            ann = by_photo.setdefault(photo, PhotoAnnotations(source.sourceName(), photo, None,
+                                                              None, []))
+            ann.shapes.append(PhotoShape(label, POLYGON, px, "layer", score, feat.id()))
+    return list(by_photo.values())
+
+
+class ForwardProjectPolygons(EasyIDPAlgorithm):
+    INPUT = "INPUT"
+    INPUT_FOLDER = "INPUT_FOLDER"
+    INPUT_LAYER = "INPUT_LAYER"
+    PROJECT = "PROJECT"
+    CHUNK = "CHUNK"
+    PROJECT_CRS = "PROJECT_CRS"
+    DSM = "DSM"
+    MERGE = "MERGE"
+    DENSIFY = "DENSIFY"
+    OUTPUT = "OUTPUT"
+
+    NAME = "forwardprojectpolygons"
+    DISPLAY = "Forward-project photo polygons to the map"
+    GROUP = "Projection"
+    GROUP_ID = "projection"
+    HELP = (
+        "Brings polygons drawn or detected on the raw photos (LabelMe, COCO, YOLO, or the "
+        "photo-pixel layer written by Back-project ROIs) to the map, with their true position, "
+        "area and perimeter: every vertex's pixel becomes a ray through the solved camera "
+        "(lens distortion included) and its first hit on the DSM is the vertex on the map. "
+        "Exact on any terrain and canopy (not a flat-ground homography).\n\n"
+        "Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json "
+        "files or YOLO .txt files, with classes.txt or data.yaml for class names); or a "
+        "photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a "
+        "photo of the project by file name; an image that is not in the project, or whose size "
+        "differs from the camera's, is refused with its name.\n\n"
+        "Edges are densified in the photo (a vertex every few pixels) so that long edges follow "
+        "the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped "
+        "and its polygon marked complete = false (and reported), never silently reshaped.\n\n"
+        "Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons "
+        "of one label from several photos into one; 'best' keeps the best view (complete, "
+        "highest score, most nadir). Fields: photo, label, score, area_m2 and perimeter_m "
+        "(planimetric, metres), views, complete, missing (vertices without a hit). Output in "
+        "the DSM's CRS, heights from the DSM.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        self.addParameter(QgsProcessingParameterFile(
+            self.INPUT, self.tr("Annotation file (LabelMe .json, COCO .json or YOLO .txt)"),
+            behavior=QgsProcessingParameterFile.File, optional=True,
+            fileFilter="Annotations (*.json *.txt);;All files (*.*)"))
+        self.addParameter(QgsProcessingParameterFile(
+            self.INPUT_FOLDER, self.tr("…or a folder of LabelMe .json or YOLO .txt files"),
+            behavior=QgsProcessingParameterFile.Folder, optional=True))
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.INPUT_LAYER, self.tr("…or a photo-pixel polygon layer (x = column, y = −row)"),
+            [QgsProcessing.TypeVectorPolygon], optional=True))
+        self.addParameter(QgsProcessingParameterFile(
+            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)"),
+            behavior=QgsProcessingParameterFile.File,
+            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt);;All files (*.*)"))
+        self.addParameter(QgsProcessingParameterString(
+            self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
+            optional=True))
+        p = QgsProcessingParameterCrs(
+            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
+            optional=True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.MERGE, self.tr("Merge the same object seen in several photos"),
+            options=[self.tr("None (one polygon per photo)"), self.tr("Union of the views"),
+                     self.tr("Best view")], defaultValue=0))
+        p = QgsProcessingParameterNumber(
+            self.DENSIFY, self.tr("Densify edges: a vertex every … photo pixels (0: off)"),
+            QgsProcessingParameterNumber.Double, 4.0, minValue=0.0, maxValue=1000.0)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT, self.tr("Polygons on the map"), QgsProcessing.TypeVectorPolygon))
+
+    def run_tool(self, parameters, context, feedback):
+        from ...core.annotations import PhotoIndex, read_annotations
+        from ...core.projection import DSMSurface, forward_project, merge_views
+        from ...core.reconstruction import open_reconstruction
+
+        path = self.parameterAsFile(parameters, self.INPUT, context)
+        folder = self.parameterAsFile(parameters, self.INPUT_FOLDER, context)
+        layer = self.parameterAsSource(parameters, self.INPUT_LAYER, context) \
+            if parameters.get(self.INPUT_LAYER) not in (None, "") else None
+        given = [x for x in (path, folder, layer) if x]
+        if len(given) != 1:
+            raise QgsProcessingException(self.tr(
+                "Give exactly one input: an annotation file, a folder of annotation files, or a "
+                "photo-pixel layer."))
+        project = self.parameterAsFile(parameters, self.PROJECT, context)
+        chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
+        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
+        recon = open_reconstruction(project, chunk, crs_string(pcrs) if pcrs.isValid() and
+                                    not project.lower().endswith((".psx", ".psz", ".xml")) else None)
+        feedback.pushInfo(recon.summary())
+        dsm_layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
+        dsm = DSMSurface(geotiff_source(dsm_layer, self.tr("DSM")), crs=crs_string(dsm_layer.crs()))
+        if layer is not None:
+            index = PhotoIndex(recon)
+            items = [(a, index.find(a.image, a.source)) for a in photo_layer_annotations(layer, feedback)]
+        else:
+            items = read_annotations(path or folder, recon)
+        merge = MERGE_OPTIONS[self.parameterAsEnum(parameters, self.MERGE, context)]
+        densify = self.parameterAsDouble(parameters, self.DENSIFY, context)
+        shapes, skipped = [], 0
+        for k, (ann, cam) in enumerate(items):
+            if feedback.isCanceled():
+                break
+            polys = [s for s in ann.shapes if s.kind == "polygon"]
+            skipped += len(ann.shapes) - len(polys)
+            shapes += forward_project(polys, cam, recon, dsm, densify=densify or False,
+                                      is_cancelled=feedback.isCanceled)
+            feedback.setProgress(90.0 * (k + 1) / max(len(items), 1))
+        if skipped:
+            feedback.pushWarning(self.tr("{n} lines or points skipped: only polygons are "
+                                         "forward-projected by this tool.").format(n=skipped))
+        merged = merge_views(shapes, merge)
+
+        fields = QgsFields()
+        for name, kind in (("photo", QVariant.String), ("label", QVariant.String),
+                           ("score", QVariant.Double), ("area_m2", QVariant.Double),
+                           ("perimeter_m", QVariant.Double), ("views", QVariant.Int),
+                           ("complete", QVariant.Bool), ("missing", QVariant.Int)):
+            fields.append(QgsField(name, kind))
+        sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
+                                          QgsWkbTypes.MultiPolygonZ, dsm_layer.crs())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        written = incomplete = 0
+        for m in merged:
+            geom = QgsMultiPolygon()
+            for part in m.parts:
+                rings = [r for r in part if len(r) >= 3]
+                if not rings:
+                    continue
+                poly = QgsPolygon()
+                for j, r in enumerate(rings):
+                    closed = [list(map(float, r[:, k])) + [float(r[0, k])] for k in range(3)]
+                    line = QgsLineString(*closed)
+                    poly.setExteriorRing(line) if j == 0 else poly.addInteriorRing(line)
+                geom.addGeometry(poly)
+            missing = sum(f.missing for f in m.members)
+            if not m.complete:
+                incomplete += 1
+                reasons = "; ".join(f"{f.photo}: {f.why_incomplete()}" for f in m.members
+                                    if not f.complete)
+                feedback.pushWarning(self.tr("'{label}' is incomplete ({why}).").format(
+                    label=m.label, why=reasons))
+            if geom.numGeometries() == 0:
+                continue
+            f = QgsFeature(fields)
+            f.setAttributes([";".join(m.photos), m.label, m.score, _num(m.area_m2),
+                             _num(m.perimeter_m), m.views, bool(m.complete), missing])
+            f.setGeometry(QgsGeometry(geom))
+            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            written += 1
+        feedback.pushInfo(self.tr("{n} polygons from {p} photos written to the map "
+                                  "({i} incomplete).").format(n=written, p=len(items), i=incomplete))
+        return {self.OUTPUT: dest}
+
+
+def _num(v):
+    import math
+    return None if v is None or (isinstance(v, float) and math.isnan(v)) else float(v)

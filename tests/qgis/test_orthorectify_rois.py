@@ -1,0 +1,58 @@
+"""Orthorectify ROIs from raw photos, in real QGIS and through qgis_process, on the demo survey."""
+import os
+
+import numpy as np
+import pytest
+from qgis.core import QgsProcessingContext, QgsProcessingException, QgsProcessingFeedback
+
+ALG = "easyidp:orthorectifyrois"
+
+
+@pytest.fixture(scope="module")
+def survey(tmp_path_factory):
+    from easyidp_toolbox.core.demo import make_demo_survey
+    return make_demo_survey(str(tmp_path_factory.mktemp("ortho_survey")), seed=0, size="small")
+
+
+def _run(params):
+    import processing
+    return processing.run(ALG, params, context=QgsProcessingContext(),
+                          feedback=QgsProcessingFeedback())
+
+
+def test_best_photo_per_plot(provider, survey, tmp_path):
+    from osgeo import gdal
+    res = _run({"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+                "PROJECT": survey.metashape_project, "DSM": survey.dsm,
+                "OUTPUT_FOLDER": str(tmp_path / "best")})
+    assert res["WRITTEN"] == 40 and len(res["OUTPUT_FILES"]) == 40
+    ds = gdal.Open(os.path.join(str(tmp_path / "best"), "A1.tif"))
+    assert ds.RasterCount == 4 and "UTM zone 54N" in ds.GetProjection()
+    assert ds.GetRasterBand(4).GetColorInterpretation() == gdal.GCI_AlphaBand
+    alpha = ds.GetRasterBand(4).ReadAsArray()
+    assert 0.5 < (alpha == 255).mean() < 1.0            # the plot, not its bounding box
+    assert 0.03 < ds.GetGeoTransform()[1] < 0.045       # native resolution at 25 m
+
+
+def test_named_photo_and_bad_inputs(provider, survey, tmp_path):
+    res = _run({"ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id",
+                "PROJECT": survey.pix4d_project, "DSM": survey.dsm, "SELECTION": 2,
+                "PHOTO": "DJI_0005.JPG", "GSD": 0.05, "OUTPUT_FOLDER": str(tmp_path / "one")})
+    assert 0 < res["WRITTEN"] < 40                     # the plots that photo sees
+    with pytest.raises(QgsProcessingException, match="give the photo's label"):
+        _run({"ROIS": survey.plots_geojson, "PROJECT": survey.pix4d_project, "DSM": survey.dsm,
+              "SELECTION": 2, "OUTPUT_FOLDER": str(tmp_path / "x")})
+    with pytest.raises(QgsProcessingException, match="no camera labelled 'NOPE'"):
+        _run({"ROIS": survey.plots_geojson, "PROJECT": survey.pix4d_project, "DSM": survey.dsm,
+              "SELECTION": 2, "PHOTO": "NOPE", "OUTPUT_FOLDER": str(tmp_path / "x")})
+
+
+def test_headless(qp_env, survey, tmp_path):
+    from easyidp_toolbox.scripts.qgis_process import run_algorithm
+    res = run_algorithm(ALG, {"ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id",
+                              "PROJECT": survey.metashape_project, "DSM": survey.dsm,
+                              "SELECTION": 1, "GSD": 0.08, "OUTPUT_FOLDER": tmp_path / "all"},
+                        qp_env)
+    assert res["WRITTEN"] > 80
+    assert len(os.listdir(tmp_path / "all")) == res["WRITTEN"]
+    assert np.all([f.endswith(".tif") for f in res["OUTPUT_FILES"]])
