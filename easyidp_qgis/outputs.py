@@ -80,3 +80,37 @@ def check_outputs(alg, parameters, context, overwrite: bool) -> None:
                 "{output}: {path} already exists and nothing was written. Choose another file, "
                 "or tick 'Overwrite existing files' (advanced) to replace it.").format(
                     output=what, path=f))
+
+
+def check_values(alg, parameters, context):
+    """(ok, message) for numbers and choices, with the message QGIS's own check lacks: the
+    parameter, the value and the range or the options. NaN and infinities are refused."""
+    import math
+    from qgis.core import QgsProcessingParameterEnum, QgsProcessingParameterNumber
+    for p in alg.parameterDefinitions():
+        value = parameters.get(p.name())
+        if value is None or value == "" or p.isDestination():
+            continue
+        if isinstance(p, QgsProcessingParameterNumber):
+            try:
+                v = float(value)
+            except (TypeError, ValueError):
+                continue                       # an expression or a layer property: QGIS checks
+            if not math.isfinite(v):
+                return False, alg.tr("{name}: {value} is not a number; give a finite value.").format(
+                    name=p.description(), value=value)
+            if not p.minimum() <= v <= p.maximum():
+                lo = "" if p.minimum() < -1e300 else f"{p.minimum():g}"
+                hi = "" if p.maximum() > 1e300 else f"{p.maximum():g}"
+                return False, alg.tr("{name}: {value:g} is outside the range {lo}–{hi}.").format(
+                    name=p.description(), value=v, lo=lo or "−∞", hi=hi or "∞")
+        elif isinstance(p, QgsProcessingParameterEnum) and not p.allowMultiple():
+            try:
+                k = int(value)
+            except (TypeError, ValueError):
+                continue
+            if not 0 <= k < len(p.options()):
+                opts = "; ".join(f"{i} = {o}" for i, o in enumerate(p.options()))
+                return False, alg.tr("{name}: {value} is not one of the choices ({opts}).").format(
+                    name=p.description(), value=k, opts=opts)
+    return True, ""

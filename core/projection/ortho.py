@@ -21,6 +21,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..errors import EasyIDPError, InputError
+from ..files import OutputFolder
 from ..geometry import points_in_rings
 from ..naming import unique_names
 from ..progress import as_progress
@@ -28,6 +29,7 @@ from ..raster.geotiff import TAG_GDAL_METADATA
 from ..raster.geotiff_write import write_geotiff
 from ..raster.roi_pixels import rois_in_raster_crs
 from ..roi import ROISet
+from .photos import check_size, read_photo, resolve_photos
 from .ray_surface import HIT, MISS, DSMSurface, first_hits
 
 SELECTIONS = ("best", "all", "photo")
@@ -48,40 +50,6 @@ class OrthoResult:
     occluded: List[float] = field(default_factory=list)
     gsd: List[float] = field(default_factory=list)
     skipped: Dict[str, str] = field(default_factory=dict)
-
-
-def _read_photo(path) -> np.ndarray:
-    """Decode a photo (TIFF with tifffile, others with imagecodecs) to (rows, cols, bands)."""
-    path = os.fspath(path)
-    try:
-        if path.lower().endswith((".tif", ".tiff")):
-            import tifffile
-            arr = tifffile.imread(path)
-        else:
-            import imagecodecs
-            arr = imagecodecs.imread(path)
-    except FileNotFoundError:
-        raise InputError(f"The photo {path} does not exist: give the folder of the raw photos.") from None
-    except Exception as exc:  # codec errors vary
-        raise InputError(f"The photo {path} cannot be decoded ({type(exc).__name__}: "
-                         f"{str(exc)[:120]}).") from None
-    arr = np.asarray(arr)
-    return arr[..., None] if arr.ndim == 2 else arr
-
-
-def _photo_path(cam, folder) -> str:
-    if folder is None:
-        if not cam.photo_path:
-            raise InputError(f"The project stores no path for photo {cam.label!r}: give the "
-                             "folder of the raw photos.")
-        return cam.photo_path
-    names = [os.path.basename(str(cam.photo_path or "").replace("\\", "/")), cam.label]
-    for entry in sorted(os.listdir(folder)):
-        stem = os.path.splitext(entry)[0].lower()
-        if entry.lower() in (n.lower() for n in names if n) or \
-                stem in (os.path.splitext(n)[0].lower() for n in names if n):
-            return os.path.join(folder, entry)
-    raise InputError(f"Photo {cam.label!r} is not in the photos folder {folder}.")
 
 
 def _metres_per_unit(surface: DSMSurface) -> float:
@@ -109,14 +77,17 @@ def _native_gsd(recon, cam, x, y, z, crs) -> float:
 def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str = "best",
                       photo=None, photos_folder=None, gsd: Optional[float] = None,
                       occlusion: bool = True, occlusion_tolerance: Optional[float] = None,
-                      dsm_crs=None, progress=None, is_cancelled=None) -> OrthoResult:
+                      dsm_crs=None, overwrite: bool = False, progress=None,
+                      is_cancelled=None) -> OrthoResult:
     """Orthorectify every ROI from raw photos into ``output_folder`` (see the module docstring).
 
     ``selection``: ``best``, ``all`` or ``photo`` (then ``photo`` is the camera label).
     ``photos_folder``: where the raw photos are (default: the paths stored in the project).
     ``gsd``: output pixel size in DSM CRS units (default: the photo's native one at the ROI).
     ``occlusion_tolerance``: metres (default: one DSM pixel). Files are named ``<roi>.tif``
-    (``best``, ``photo``) or ``<roi>_<photo>.tif`` (``all``).
+    (``best``, ``photo``) or ``<roi>_<photo>.tif`` (``all``); the folder is guarded as every
+    output folder is (:class:`..files.OutputFolder`: nothing replaced unless ``overwrite``).
+    Photos missing or not of the camera's size are skipped, with the reason in ``skipped``.
     """
     if selection not in SELECTIONS:
         raise EasyIDPError(f"selection must be one of {SELECTIONS}, not {selection!r}.")
@@ -124,10 +95,6 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         raise InputError("Orthorectify from a named photo: give the photo's label.")
     if gsd is not None and not gsd > 0:
         raise InputError(f"The output pixel size (GSD) must be positive, not {gsd}.")
-    if photos_folder is not None and not os.path.isdir(photos_folder):
-        raise InputError(f"The photos folder {photos_folder} does not exist.")
-    if not os.path.isdir(output_folder):
-        os.makedirs(output_folder, exist_ok=True)
     prog = as_progress(progress, is_cancelled)
     surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm, crs=dsm_crs)
     tif = surface.tif
@@ -157,18 +124,38 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
     by_photo: Dict[str, list] = {}
     for k, (r, cam) in enumerate(pairs):
         by_photo.setdefault(cam.label, []).append(k)
+    cams = {cam.label: cam for _, cam in pairs}
+    found, missing = resolve_photos(list(by_photo), [cams[lab].photo_path for lab in by_photo],
+                                    photos_folder)
+    with OutputFolder(output_folder, overwrite=overwrite, inputs=[tif.path]) as out:
+        paths = [str(p) for p in out.claim(s + ".tif" for s in stems)]
+        _render_all(by_photo, found, missing, pairs, cams, paths, local, names, recon, surface,
+                    gsd, occlusion, tol, result, prog)
+    if not result.files and result.skipped:
+        what, why = next(iter(result.skipped.items()))
+        raise InputError(f"No ROI image was written: {what}: {why}"
+                         + (f" (and {len(result.skipped) - 1} more)" if len(result.skipped) > 1 else "")
+                         + ".")
+    return result
+
+
+def _render_all(by_photo, found, missing, pairs, cams, paths, local, names, recon, surface, gsd,
+                occlusion, tol, result, prog) -> None:
+    """Decode each photo once and write the images of the ROIs it was chosen for."""
     done = 0
     for label, ks in by_photo.items():
         prog.check()
-        cam = recon._select([label])[0]
-        image = _read_photo(_photo_path(cam, photos_folder))
+        cam = cams[label]
+        image = read_photo(found[label]) if label in found else None
         s = recon.sensors[cam.sensor_id]
-        if image.shape[1] != s.width or image.shape[0] != s.height:
-            raise InputError(f"Photo {label!r} is {image.shape[1]}×{image.shape[0]} px but its "
-                             f"camera is {s.width}×{s.height}: not the photo the project was "
-                             "built from.")
-        jobs = [(local[pairs[k][0]], os.path.join(output_folder, stems[k] + ".tif"))
-                for k in ks]
+        why = missing.get(label) or check_size(image, s.width, s.height, found[label])
+        if why:
+            for k in ks:
+                result.skipped[f"{names[pairs[k][0]]} / {label}"] = why
+            done += len(ks)
+            continue
+        image = image[..., None] if image.ndim == 2 else image
+        jobs = [(local[pairs[k][0]], paths[k]) for k in ks]
         whys = _render(jobs, recon, cam, image, surface, gsd, occlusion, tol, result)
         for k, why in zip(ks, whys):
             r = pairs[k][0]
@@ -179,7 +166,6 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
                 result.photos.append(label)
         done += len(ks)
         prog.set(10 + 90.0 * done / max(len(pairs), 1))
-    return result
 
 
 def _render(jobs, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, result):

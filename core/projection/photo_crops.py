@@ -24,13 +24,14 @@ import os
 import shutil
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional
 
 import numpy as np
 
 from ..errors import InputError
-from ..files import atomic_output, write_bytes, write_json
+from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import rasterize
 from ..naming import unique_names
 from ..progress import as_progress
@@ -68,11 +69,14 @@ class PhotoCropResult:
 
 def crop_photos(result: BackProjection, out_folder, photos=None, *, margin: int = 0,
                 previews_folder=None, preview_views: int = 4, workers: Optional[int] = None,
-                progress=None, is_cancelled=None) -> PhotoCropResult:
+                overwrite: bool = False, progress=None, is_cancelled=None) -> PhotoCropResult:
     """Cut every ROI × photo of ``result`` out of the raw photos into ``out_folder`` (None:
     previews only). ``photos``: folder of the photos when they moved (matched by file name).
     ``previews_folder``: also draw one preview sheet per ROI with its ``preview_views`` best
-    photos. Missing or undecodable photos are reported in ``skipped_photos`` and skipped.
+    photos. Missing or undecodable photos are reported in ``skipped_photos`` and skipped. Both
+    folders are guarded as every output folder is (:class:`..files.OutputFolder`): an ROI's
+    folder or preview that already exists stops the run before anything is written, unless
+    ``overwrite``.
     """
     if out_folder is None and previews_folder is None:
         raise InputError("Nothing to write: give a crops folder, a previews folder or both.")
@@ -89,10 +93,25 @@ def crop_photos(result: BackProjection, out_folder, photos=None, *, margin: int 
     if not found:
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
-    for folder in (out_folder, previews_folder):
-        if folder is not None:
-            os.makedirs(folder, exist_ok=True)
     roi_dirs = unique_names(result.roi_names)
+    with ExitStack() as stack:    # both folders checked, locked and claimed before any decode
+        if out_folder is not None:
+            stack.enter_context(OutputFolder(out_folder, overwrite=overwrite,
+                                             what="Crops folder")).claim(roi_dirs)
+        if previews_folder is not None:
+            stack.enter_context(OutputFolder(previews_folder, overwrite=overwrite,
+                                             what="Previews folder")).claim(d + ".png" for d in roi_dirs)
+        _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, preview_views,
+                  margin, workers, prog)
+    out.files.sort()
+    out.sidecars.sort()
+    out.previews.sort()
+    return out
+
+
+def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, preview_views,
+              margin, workers, prog) -> None:
+    """Decode each photo once (threads, ahead of the cutting) and write its crops and previews."""
     stems = dict(zip(result.photo_labels, photo_stems(result.photo_labels)))
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
@@ -183,17 +202,15 @@ def crop_photos(result: BackProjection, out_folder, photos=None, *, margin: int 
         finally:
             if sheets is not None:
                 sheets.cleanup()
-    out.files.sort()
-    out.sidecars.sort()
-    out.previews.sort()
-    return out
 
 
 def draw_previews(result: BackProjection, folder, photos=None, *, views: int = 4,
-                  workers: Optional[int] = None, progress=None, is_cancelled=None) -> PhotoCropResult:
+                  workers: Optional[int] = None, overwrite: bool = False, progress=None,
+                  is_cancelled=None) -> PhotoCropResult:
     """Only the preview sheets (see :func:`crop_photos`)."""
     return crop_photos(result, None, photos, previews_folder=folder, preview_views=views,
-                       workers=workers, progress=progress, is_cancelled=is_cancelled)
+                       workers=workers, overwrite=overwrite, progress=progress,
+                       is_cancelled=is_cancelled)
 
 
 # --- crops -------------------------------------------------------------------------------------------

@@ -26,7 +26,9 @@ class Footprint:
     nadir, degrees; ``area`` of the ring on the local horizontal plane (m², local units for a
     local CRS); ``complete`` False when some border rays miss the ground (ring partial) or
     land where the ground has no data (there the ring continues on a plane at the ground
-    height under the camera).
+    height under the camera). ``note``: what is unusual about this camera, in words (empty
+    when nothing is): below the ground (no footprint), or the ground height taken elsewhere
+    than under it.
     """
     label: str
     photo_path: Optional[str]
@@ -37,6 +39,18 @@ class Footprint:
     view_angle: float
     area: float
     complete: bool
+    note: str = ""
+
+    @property
+    def below_ground(self) -> bool:
+        return bool(self.height_above_ground <= 0)
+
+
+BELOW_GROUND = "the camera is at or below the ground: no footprint"
+GROUND_FROM_FOOTPRINT = ("no DSM under the camera: height above the DSM where its photo sees "
+                         "the ground")
+GROUND_FROM_OTHERS = ("no DSM under the camera nor in its view: height above the median ground "
+                      "under the other cameras")
 
 
 def border_pixels(width: int, height: int, per_edge: int = 16) -> np.ndarray:
@@ -82,22 +96,40 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
     if np.all(np.isnan(ref_h)):
         raise EasyIDPError("No camera is above the given ground (or the ground has no data under "
                            "any camera): check the ground height or DSM and its vertical reference.")
+    ground_z = recon.from_model(C)[:, 2] - ref_h             # ground under each camera, map CRS
     ref_h = np.where(np.isnan(ref_h), np.nanmedian(ref_h), ref_h)
     out = []
     for i, cam in enumerate(cams):
         prog.check()
+        centre = recon.from_model(C[i:i + 1], crs)[0]
+        axis = cam.R[2]                                            # optical axis in the model frame
+        angle = float(np.degrees(np.arccos(np.clip(-(axis @ up[i]), -1.0, 1.0))))
+        if np.isfinite(hag[i]) and hag[i] <= 0:
+            out.append(Footprint(cam.label, cam.photo_path, cam.enabled, centre, None,
+                                 float(hag[i]), angle, float("nan"), False, BELOW_GROUND))
+            continue
         s = recon.sensors[cam.sensor_id]
         origin, d = recon.pixel_to_ray(cam, border_pixels(s.width, s.height, per_edge))
         origin = np.broadcast_to(origin, d.shape)          # one per ray (rolling shutter)
         cos_t = -(d @ up[i])
         t = np.full(len(d), np.nan)
         complete = True
+        h_i, note = float(hag[i]), ""
         if on_dsm:
             hits = first_hits(ground, recon.frame, origin, d)
             t = np.where(hits.hit, hits.distance, np.nan)
             complete = bool(hits.hit.all())
             rest = ~hits.hit & (cos_t > 1e-6)            # on the plane under the camera
             t[rest] = ref_h[i] / cos_t[rest]
+            if not np.isfinite(h_i):                     # no DSM right under the camera
+                cz = recon.from_model(C[i:i + 1])[0, 2]
+                if hits.hit.any():
+                    h_i = float(cz - np.median(recon.from_model(
+                        origin[hits.hit] + hits.distance[hits.hit, None] * d[hits.hit])[:, 2]))
+                    note = GROUND_FROM_FOOTPRINT
+                else:
+                    h_i = float(cz - np.nanmedian(ground_z))
+                    note = GROUND_FROM_OTHERS
         else:
             down = cos_t > 1e-6
             t[down] = _at_height(recon, origin[down], d[down], h0, ref_h[i] / cos_t[down])
@@ -106,11 +138,8 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         pts_model = origin[hit] + t[hit, None] * d[hit]
         ring = recon.from_model(pts_model, crs) if hit.sum() >= 3 else None
         area = _shoelace(pts_model @ _horizontal_basis(up[i])) if ring is not None else float("nan")
-        axis = cam.R[2]                                            # optical axis in the model frame
-        angle = float(np.degrees(np.arccos(np.clip(-(axis @ up[i]), -1.0, 1.0))))
-        out.append(Footprint(cam.label, cam.photo_path, cam.enabled,
-                             recon.from_model(C[i:i + 1], crs)[0], ring, float(hag[i]), angle,
-                             area, complete and bool(hit.all())))
+        out.append(Footprint(cam.label, cam.photo_path, cam.enabled, centre, ring, h_i, angle,
+                             area, complete and bool(hit.all()), note))
         prog.set(100.0 * (i + 1) / len(cams))
     return out
 

@@ -51,6 +51,7 @@ class Job:
     ground_percentile: float = 2.0
     cover_threshold: Optional[float] = None
     crops: Optional[str] = None
+    overwrite: bool = False
     cancel_file: Optional[str] = None
     threads: Optional[int] = None
 
@@ -296,7 +297,7 @@ def _point_cloud(job: Job, res: JobResult, prog: Progress) -> None:
                                              "cloud_height"))
         res.values[i] = out
     if job.crops:
-        crop_point_cloud(cloud, job.rois, job.crops, progress=prog)
+        crop_point_cloud(cloud, job.rois, job.crops, overwrite=job.overwrite, progress=prog)
 
 
 def _crop_raster(job: Job, res: JobResult, prog: Progress) -> None:
@@ -304,5 +305,5 @@ def _crop_raster(job: Job, res: JobResult, prog: Progress) -> None:
     if not job.crops:
         return
     from ..raster.crop import crop_raster_by_rois
-    crop_raster_by_rois(job.path, job.rois, job.crops, raster_crs=job.crs, progress=prog,
-                        workers=job.threads)
+    crop_raster_by_rois(job.path, job.rois, job.crops, raster_crs=job.crs,
+                        overwrite=job.overwrite, progress=prog, workers=job.threads)

@@ -67,7 +67,8 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
                percentiles: Sequence[float] = tr.DEFAULT_PERCENTILES,
                ground: Optional[str] = None, ground_crs=None, ground_percentile: float = 2.0,
                cover_threshold: Optional[float] = None, crops: Optional[str] = None,
-               workers: Optional[int] = None, scheduler: Optional[str] = None,
+               overwrite: bool = False, workers: Optional[int] = None,
+               scheduler: Optional[str] = None,
                local_cluster: bool = False, progress=None, is_cancelled=None,
                log: Optional[Callable[[str], None]] = None) -> SeasonResult:
     """Traits of every ROI at every date of the season.
@@ -77,7 +78,8 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
     of the season, heights in the DSMs' and clouds' vertical reference; without it, each ROI's
     ground is the plane through its own ``ground_percentile``-th percentile heights (see
     :mod:`.ground`). ``cover_threshold``: the vegetation index above which a pixel is canopy
-    (default: Otsu per orthomosaic). ``crops``: a folder for the crops, ``<date>/<kind>/``.
+    (default: Otsu per orthomosaic). ``crops``: a folder for the crops, ``<date>/<kind>/``
+    (existing crops are replaced only with ``overwrite``).
 
     Execution: ``workers`` local processes (default: the cores), or Dask: a scheduler address
     ``tcp://host:port``, or ``local_cluster=True`` for a LocalCluster of ``workers`` processes.
@@ -113,7 +115,8 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
         notes.append("the 'project' column is read but no trait uses it yet (backward "
                      "projection of a season comes later)")
     base = dict(rois=rois, traits=traits, percentiles=percentiles,
-                ground_percentile=ground_percentile, cover_threshold=cover_threshold)
+                ground_percentile=ground_percentile, cover_threshold=cover_threshold,
+                overwrite=overwrite)
     first, later = _plan(table, traits, crops, ground, base)
     if not first and not later:
         detail = "; ".join(str(p) for p in problems[:5])

@@ -4,16 +4,17 @@ import math
 from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
                        QgsFields, QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPolygon,
                        QgsProcessing, QgsProcessingException, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
                        QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
+                       QgsProcessingParameterRasterLayer,
                        QgsProcessingUtils, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
-from ..layers import crs_string, geotiff_source, optional_number, rois_from_source
+from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
+                     optional_number, rois_from_source)
 from .base import EasyIDPAlgorithm
 
 HEIGHT_Z, HEIGHT_DSM, HEIGHT_FIELD_, HEIGHT_CONSTANT = range(4)
@@ -76,18 +77,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterField(
             self.NAME_FIELD, self.tr("Name field (default: feature id)"),
             parentLayerParameterName=self.ROIS, optional=True))
-        self.addParameter(QgsProcessingParameterFile(
-            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)"),
-            behavior=QgsProcessingParameterFile.File,
-            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt);;All files (*.*)"))
-        self.addParameter(QgsProcessingParameterString(
-            self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
-            optional=True))
-        p = QgsProcessingParameterCrs(
-            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
-            optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
-        self.addParameter(p)
+        add_project_parameters(self)
         self.addParameter(QgsProcessingParameterEnum(
             self.HEIGHT_SOURCE, self.tr("Heights of the ROI vertices"),
             [self.tr("Geometry Z (3-D polygons)"), self.tr("DSM, sampled at every vertex"),
@@ -141,14 +131,14 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.PREVIEW_FOLDER, self.tr("Preview per ROI (its best photos)"), optional=True,
             createByDefault=False))
+        self.add_overwrite_parameter()
 
     # --- running ----------------------------------------------------------------------------
     def run_tool(self, parameters, context, feedback):
         from ...core.projection import (ConstantHeight, DSMHeights, GeometryZ, PerROIHeights,
                                         back_project, crop_photos, resolve_photos)
-        from ...core.reconstruction import open_reconstruction
 
-        recon = self._project(parameters, context, feedback, open_reconstruction)
+        recon = open_project_parameter(self, parameters, context, feedback)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
         rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
@@ -219,6 +209,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
             written = crop_photos(
                 result, crops, photos, previews_folder=previews,
                 margin=self.parameterAsInt(parameters, self.MARGIN, context),
+                overwrite=self.overwrite(parameters, context),
                 progress=lambda p: feedback.setProgress(5 + span + (95 - span) * p / 100.0),
                 is_cancelled=feedback.isCanceled)
             for label, why in written.skipped_photos.items():
@@ -234,20 +225,6 @@ class BackProjectROIs(EasyIDPAlgorithm):
         feedback.pushInfo(self.tr("{k} ROI × photo pairs for {seen} of {n} ROIs; {u} ROIs in no photo.").format(
             k=len(result), seen=seen, n=len(rois), u=len(result.unseen)))
         return outputs
-
-    def _project(self, parameters, context, feedback, open_reconstruction):
-        path = self.parameterAsFile(parameters, self.PROJECT, context)
-        if not path:
-            raise QgsProcessingException(self.tr("Photogrammetry project: no file given."))
-        chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
-        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
-        recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() and
-                                    not path.lower().endswith((".psx", ".psz", ".xml")) else None)
-        feedback.pushInfo(recon.summary())
-        if recon.crs is None and not recon.is_local:
-            raise QgsProcessingException(self.tr(
-                "{path}: the project has no CRS (no *_wkt.prj): set 'Project CRS'.").format(path=path))
-        return recon
 
     def _write_pixels(self, parameters, context, result, paths):
         fields = QgsFields()

@@ -1,12 +1,14 @@
 """Base class of the EasyIDP algorithms: naming, help, icon, dependency check, and core error
 translation."""
+import os
+
 from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean,
                        QgsProcessingParameterDefinition)
 from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
-from ..outputs import check_outputs
+from ..outputs import check_outputs, check_values
 from ..resources import ICON
 
 
@@ -57,6 +59,24 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
             return False, dependencies.tool_message(self.displayName(), items)
         return True, ""
 
+    FILE_OR_FOLDER = ("PROJECT",)
+    """File parameters that also take a folder (a Pix4D or OpenDroneMap project folder)."""
+
+    def checkParameterValues(self, parameters, context):  # noqa: N802 (QGIS API)
+        """QGIS's check, with the ranges and choices named, and a folder accepted where
+        :attr:`FILE_OR_FOLDER` says so (QGIS's file parameter refuses folders)."""
+        ok, message = check_values(self, parameters, context)
+        if not ok:
+            return ok, message
+        for p in self.parameterDefinitions():
+            value = parameters.get(p.name())
+            if p.name() in self.FILE_OR_FOLDER and isinstance(value, str) and os.path.isdir(value):
+                continue
+            if not p.checkValueIsAcceptable(value, context):
+                return False, self.tr("Incorrect parameter value for {name} ({what}).").format(
+                    name=p.name(), what=p.description())
+        return True, ""
+
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802 (QGIS API)
         items = dependencies.missing(self.NAME)  # the packages the table says this tool needs
         if items:
@@ -66,6 +86,9 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
             from ...core.errors import EasyIDPError
         except ImportError as exc:
             raise QgsProcessingException(dependencies.import_error_message(exc)) from None
+        ok, message = check_values(self, parameters, context)   # also where QGIS did not ask
+        if not ok:
+            raise QgsProcessingException(message)
         check_outputs(self, parameters, context, self.overwrite(parameters, context))
         try:
             return self.run_tool(parameters, context, feedback)

@@ -6,11 +6,11 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsFields, QgsGeometry, QgsLineString, QgsPoint, QgsPolygon, QgsProcessing,
                        QgsProcessingException, QgsProcessingParameterCrs,
                        QgsProcessingParameterDefinition, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterFile, QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString, QgsWkbTypes)
+                       QgsProcessingParameterNumber,
+                       QgsProcessingParameterRasterLayer, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
-from ..layers import crs_string, geotiff_source
+from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from .base import EasyIDPAlgorithm
 
 
@@ -41,11 +41,15 @@ class CameraFootprints(EasyIDPAlgorithm):
         "The footprint is the photo border (densified, with the lens distortion) cast onto the "
         "DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo "
         "path, enabled, height above ground (m), view angle from nadir (degrees), and for "
-        "footprints the area (m²) and whether the whole border reached the ground.\n\n"
+        "footprints the area (m²) and whether the whole border reached the ground's data "
+        "(complete; where the DSM ends the footprint continues on a plane at the ground height "
+        "under the camera). A camera at or below the ground gets no footprint and is named in "
+        "the log.\n\n"
         "Metashape projects with rolling-shutter compensation: each photo has one pose per "
         "image row (the motion Metashape estimated during the readout); the footprints, like "
         "every projection, use it, and the log says when it is applied.\n\n"
-        "Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D params "
+        "Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in the "
+        "map's CRS, else in the photogrammetry project's (the log says which). A Pix4D params "
         "folder without *_wkt.prj needs the project CRS. ODM projects bring ODM's CRS (that of "
         "its orthophoto and DSM); an OpenSfM dataset without ODM uses the WGS 84 / UTM zone of "
         "its reference point unless a project CRS is set. Heights of the DSM or the ground "
@@ -53,23 +57,15 @@ class CameraFootprints(EasyIDPAlgorithm):
         "geographic CRS: ellipsoidal heights; for ODM: the heights of its DSM).")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
-        self.addParameter(QgsProcessingParameterFile(
-            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder; ODM opensfm/reconstruction.json)"),
-            behavior=QgsProcessingParameterFile.File,
-            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt *.json);;All files (*.*)"))
-        self.addParameter(QgsProcessingParameterString(
-            self.CHUNK, self.tr("Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index"),
-            optional=True))
-        self.addParameter(QgsProcessingParameterCrs(
-            self.PROJECT_CRS, self.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without ODM)"),
-            optional=True))
+        add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.DSM, self.tr("DSM (GeoTIFF) for the footprints"), optional=True))
         self.addParameter(QgsProcessingParameterNumber(
             self.GROUND_HEIGHT, self.tr("Ground height when no DSM is given (project vertical reference)"),
             QgsProcessingParameterNumber.Double, optional=True))
-        p = QgsProcessingParameterCrs(self.OUTPUT_CRS, self.tr("Output CRS (default: the project CRS)"),
-                                      optional=True)
+        p = QgsProcessingParameterCrs(
+            self.OUTPUT_CRS, self.tr("Output CRS (default: the DSM's, else the map's, else the "
+                                     "photogrammetry project's)"), optional=True)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
@@ -79,24 +75,9 @@ class CameraFootprints(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.reconstruction import camera_footprints, open_reconstruction
+        from ...core.reconstruction import camera_footprints
 
-        path = self.parameterAsFile(parameters, self.PROJECT, context)
-        chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
-        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
-        recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() and
-                                    not path.lower().endswith((".psx", ".psz", ".xml")) else None)
-        feedback.pushInfo(recon.summary())
-        for note in recon.notes:
-            feedback.pushWarning(note)
-        if recon.crs is None:
-            raise QgsProcessingException(
-                f"{path}: the project has no CRS (no *_wkt.prj): set 'Project CRS'.")
-        if recon.unaligned_cameras:
-            feedback.pushWarning(self.tr(
-                f"{len(recon.unaligned_cameras)} cameras are not aligned and have no position: "
-                + ", ".join(c.label for c in recon.unaligned_cameras[:20])
-                + (" …" if len(recon.unaligned_cameras) > 20 else "")))
+        recon = open_project_parameter(self, parameters, context, feedback)
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         if layer is not None:
@@ -108,18 +89,7 @@ class CameraFootprints(EasyIDPAlgorithm):
             raise QgsProcessingException(self.tr(
                 "Give a DSM or a ground height: the footprints are where the photos meet the ground."))
 
-        out_crs = self.parameterAsCrs(parameters, self.OUTPUT_CRS, context)
-        if recon.is_local:
-            qcrs = QgsCoordinateReferenceSystem.fromWkt(recon.crs.to_wkt())
-            feedback.pushWarning(self.tr("The project is in a local coordinate system ({name}): "
-                                         "the outputs will not line up with map layers.").format(
-                                     name=recon.crs.name))
-            target = None
-        elif out_crs.isValid():
-            qcrs, target = out_crs, crs_string(out_crs)
-        else:
-            qcrs = QgsCoordinateReferenceSystem.fromWkt(recon.crs.to_wkt())
-            target = None
+        qcrs, target = self._output_crs(parameters, context, feedback, recon, layer)
         cams = [c for c in recon.cameras if c.aligned]
         prints = camera_footprints(recon, ground, crs=target, cameras=cams,
                                    progress=lambda p: feedback.setProgress(0.95 * p),
@@ -139,7 +109,7 @@ class CameraFootprints(EasyIDPAlgorithm):
                                               QgsWkbTypes.PolygonZ, qcrs)
         if cam_sink is None or fp_sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_CAMERAS))
-        partial = 0
+        beyond, below = 0, []
         for fp in prints:
             attrs = [fp.label, fp.photo_path or "", bool(fp.enabled), _num(fp.height_above_ground),
                      _num(fp.view_angle)]
@@ -147,8 +117,9 @@ class CameraFootprints(EasyIDPAlgorithm):
             f.setAttributes(attrs)
             f.setGeometry(QgsGeometry(QgsPoint(*map(float, fp.centre))))
             cam_sink.addFeature(f, QgsFeatureSink.FastInsert)
+            if fp.below_ground:
+                below.append(fp.label)
             if fp.ring is None or len(fp.ring) < 3:
-                partial += 1
                 continue
             ring = np.vstack([fp.ring, fp.ring[:1]])
             g = QgsFeature(fp_fields)
@@ -156,13 +127,56 @@ class CameraFootprints(EasyIDPAlgorithm):
             g.setGeometry(QgsGeometry(QgsPolygon(QgsLineString(*[list(map(float, ring[:, k]))
                                                                  for k in range(3)]))))
             fp_sink.addFeature(g, QgsFeatureSink.FastInsert)
-            partial += not fp.complete
-        if partial:
-            feedback.pushWarning(self.tr("{partial} footprints are partial: some of the photo "
-                                         "border does not reach the ground (oblique views or the "
-                                         "DSM edge).").format(partial=partial))
-        feedback.pushInfo(self.tr("{n_prints} cameras written.").format(n_prints=len(prints)))
+            beyond += not fp.complete
+        self._report(prints, beyond, below, feedback)
         return {self.OUTPUT_CAMERAS: cam_id, self.OUTPUT_FOOTPRINTS: fp_id}
+
+    def _output_crs(self, parameters, context, feedback, recon, dsm_layer):
+        """(QGIS CRS, core CRS or None) of the outputs: the one chosen, else the DSM's, else the
+        map's, else the photogrammetry project's; the choice goes to the log."""
+        chosen = self.parameterAsCrs(parameters, self.OUTPUT_CRS, context)
+        project = context.project()
+        if recon.is_local:
+            feedback.pushWarning(self.tr("The project is in a local coordinate system ({name}): "
+                                         "the outputs will not line up with map layers.").format(
+                                     name=recon.crs.name))
+            return QgsCoordinateReferenceSystem.fromWkt(recon.crs.to_wkt()), None
+        for crs, why in ((chosen, self.tr("the output CRS chosen")),
+                         (dsm_layer.crs() if dsm_layer is not None else None, self.tr("the DSM's CRS")),
+                         (project.crs() if project is not None else None, self.tr("the map's CRS"))):
+            if crs is not None and crs.isValid():
+                feedback.pushInfo(self.tr("Outputs in {crs} ({why}).").format(
+                    crs=crs.authid() or crs.description(), why=why))
+                return crs, crs_string(crs)
+        qcrs = QgsCoordinateReferenceSystem.fromWkt(recon.crs.to_wkt())
+        feedback.pushInfo(self.tr("Outputs in {crs} (the photogrammetry project's CRS).").format(
+            crs=qcrs.authid() or recon.crs.name))
+        return qcrs, None
+
+    def _report(self, prints, beyond, below, feedback):
+        """Calm, true messages: what is information, what needs the user."""
+        from ...core.reconstruction.footprints import GROUND_FROM_FOOTPRINT, GROUND_FROM_OTHERS
+        if below:
+            feedback.pushWarning(self.tr(
+                "{n} camera(s) are at or below the ground, so they have no footprint: {names}. "
+                "Check the ground height or the DSM and its vertical reference.").format(
+                    n=len(below), names=", ".join(below[:20]) + (" …" if len(below) > 20 else "")))
+        for note, text in ((GROUND_FROM_FOOTPRINT, self.tr(
+                "{n} camera(s) have no DSM right under them: their height above ground is taken "
+                "from the DSM where their photo sees the ground.")),
+                (GROUND_FROM_OTHERS, self.tr(
+                    "{n} camera(s) see no DSM at all: their height above ground is taken from the "
+                    "median ground under the other cameras."))):
+            n = sum(fp.note == note for fp in prints)
+            if n:
+                feedback.pushInfo(text.format(n=n))
+        if beyond:
+            feedback.pushInfo(self.tr(
+                "{n} footprint(s) reach beyond the DSM's data: there they continue on a plane at "
+                "the ground height under the camera (attribute complete = false).").format(n=beyond))
+        drawn = sum(fp.ring is not None for fp in prints)
+        feedback.pushInfo(self.tr("{n} cameras and {f} footprints written.").format(
+            n=len(prints), f=drawn))
 
 
 def _num(v):

@@ -1,15 +1,15 @@
 """Processing tool: Forward-project photo polygons to the map (easyidp:forwardprojectpolygons)."""
 from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry,
                        QgsLineString, QgsMultiPolygon, QgsPolygon, QgsProcessing,
-                       QgsProcessingException, QgsProcessingParameterCrs,
+                       QgsProcessingException,
                        QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterFile, QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
+                       QgsProcessingParameterRasterLayer,
                        QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
-from ..layers import crs_string, geotiff_source
+from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from .base import EasyIDPAlgorithm
 
 MERGE_OPTIONS = ("none", "union", "best")
@@ -101,18 +101,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSource(
             self.INPUT_LAYER, self.tr("…or a photo-pixel polygon layer (x = column, y = −row)"),
             [QgsProcessing.TypeVectorPolygon], optional=True))
-        self.addParameter(QgsProcessingParameterFile(
-            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)"),
-            behavior=QgsProcessingParameterFile.File,
-            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt);;All files (*.*)"))
-        self.addParameter(QgsProcessingParameterString(
-            self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
-            optional=True))
-        p = QgsProcessingParameterCrs(
-            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
-            optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
-        self.addParameter(p)
+        add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterEnum(
             self.MERGE, self.tr("Merge the same object seen in several photos"),
@@ -125,11 +114,11 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("Polygons on the map"), QgsProcessing.TypeVectorPolygon))
+        self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
         from ...core.annotations import PhotoIndex, read_annotations
         from ...core.projection import DSMSurface, forward_project, merge_views
-        from ...core.reconstruction import open_reconstruction
 
         path = self.parameterAsFile(parameters, self.INPUT, context)
         folder = self.parameterAsFile(parameters, self.INPUT_FOLDER, context)
@@ -140,12 +129,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             raise QgsProcessingException(self.tr(
                 "Give exactly one input: an annotation file, a folder of annotation files, or a "
                 "photo-pixel layer."))
-        project = self.parameterAsFile(parameters, self.PROJECT, context)
-        chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
-        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
-        recon = open_reconstruction(project, chunk, crs_string(pcrs) if pcrs.isValid() and
-                                    not project.lower().endswith((".psx", ".psz", ".xml")) else None)
-        feedback.pushInfo(recon.summary())
+        recon = open_project_parameter(self, parameters, context, feedback)
         dsm_layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = DSMSurface(geotiff_source(dsm_layer, self.tr("DSM")), crs=crs_string(dsm_layer.crs()))
         if layer is not None:

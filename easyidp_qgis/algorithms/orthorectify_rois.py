@@ -2,14 +2,15 @@
 import os
 
 from qgis.core import (QgsProcessing, QgsProcessingContext, QgsProcessingOutputMultipleLayers,
-                       QgsProcessingOutputNumber, QgsProcessingParameterCrs,
+                       QgsProcessingOutputNumber,
                        QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
 
-from ..layers import crs_string, geotiff_source, rois_from_source
+from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
+                     rois_from_source)
 from .base import EasyIDPAlgorithm
 
 SELECTIONS = ("best", "all", "photo")
@@ -57,18 +58,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterField(
             self.NAME_FIELD, self.tr("Name field (default: feature id)"),
             parentLayerParameterName=self.ROIS, optional=True))
-        self.addParameter(QgsProcessingParameterFile(
-            self.PROJECT, self.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)"),
-            behavior=QgsProcessingParameterFile.File,
-            fileFilter="Photogrammetry projects (*.psx *.psz *.xml *.p4d *_pmatrix.txt);;All files (*.*)"))
-        self.addParameter(QgsProcessingParameterString(
-            self.CHUNK, self.tr("Metashape chunk (label or index; needed when there are several)"),
-            optional=True))
-        p = QgsProcessingParameterCrs(
-            self.PROJECT_CRS, self.tr("Project CRS (Pix4D projects without a *_wkt.prj file)"),
-            optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
-        self.addParameter(p)
+        add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Folder of the raw photos (default: the paths in the project)"),
@@ -86,23 +76,18 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
         self.addOutput(QgsProcessingOutputNumber(self.WRITTEN, self.tr("Number of images written")))
 
     def run_tool(self, parameters, context, feedback):
         from ...core.projection.ortho import orthorectify_rois
-        from ...core.reconstruction import open_reconstruction
 
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
         rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback, context=context)
-        project = self.parameterAsFile(parameters, self.PROJECT, context)
-        chunk = self.parameterAsString(parameters, self.CHUNK, context) or None
-        pcrs = self.parameterAsCrs(parameters, self.PROJECT_CRS, context)
-        recon = open_reconstruction(project, chunk, crs_string(pcrs) if pcrs.isValid() and
-                                    not project.lower().endswith((".psx", ".psz", ".xml")) else None)
-        feedback.pushInfo(recon.summary())
+        recon = open_project_parameter(self, parameters, context, feedback)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = geotiff_source(layer, self.tr("DSM"))
         selection = SELECTIONS[self.parameterAsEnum(parameters, self.SELECTION, context)]
@@ -112,6 +97,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         result = orthorectify_rois(rois, recon, dsm, folder, selection=selection, photo=photo,
                                    photos_folder=photos, gsd=gsd, dsm_crs=crs_string(layer.crs()),
+                                   overwrite=self.overwrite(parameters, context),
                                    progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
         for what, why in result.skipped.items():
             feedback.pushWarning(self.tr("{what}: no image ({why}).").format(what=what, why=why))

@@ -148,6 +148,7 @@ class SeasonTraits(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFileDestination(
             self.OUTPUT_CURVES, self.tr("Growth curves (PNG)"), self.tr("PNG files (*.png)"),
             optional=True, createByDefault=True))
+        self.add_overwrite_parameter()
 
     # ---- run --------------------------------------------------------------------------------
     def run_tool(self, parameters, context, feedback):
@@ -185,7 +186,8 @@ class SeasonTraits(EasyIDPAlgorithm):
                                                                  context)),
             ground=ground, ground_crs=crs_string(ground_layer.crs()) if ground_layer else None,
             ground_percentile=self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context),
-            cover_threshold=threshold, crops=crops, workers=workers,
+            cover_threshold=threshold, crops=crops, overwrite=self.overwrite(parameters, context),
+            workers=workers,
             scheduler=scheduler if scheduler and scheduler.lower() != "local" else None,
             local_cluster=scheduler.lower() == "local",
             progress=lambda p: feedback.setProgress(5 + 0.9 * p),

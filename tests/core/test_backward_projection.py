@@ -301,12 +301,9 @@ def test_wheat_tanashi_markers_as_tiny_rois(realdata):
 
 def test_real_pix4d_roi_shapefile(realdata):
     """The real roi.shp (3 plots, UTM 54N) on the real Pix4D project at the offset height."""
-    from easyidp_toolbox.core.roi import roi_from_coordinates
-    from easyidp_toolbox.core.roi.shapefile import read_polygons
+    from easyidp_toolbox.core.roi import open_rois
     base = realdata / "easyidp" / "pix4d_origin"
-    polys, wkt, attrs = read_polygons(base / "roi" / "roi.shp")
-    rois = ROISet([roi_from_coordinates(str(a["id"]), "Polygon", p) for p, a in zip(polys, attrs)],
-                  wkt)
+    rois = open_rois(base / "roi" / "roi.shp", name_field="id")
     recon = open_reconstruction(base, crs="EPSG:32654")
     res = back_project(rois, recon, heights=96.0, min_visible=0)
     counts = dict(zip(res.roi_names, res.photos_per_roi()))

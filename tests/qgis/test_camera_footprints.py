@@ -84,7 +84,7 @@ def test_goya_local_crs_and_unaligned_cameras(provider, realdata, tmp_path):
 def test_bad_inputs(provider, realdata, tmp_path):
     with pytest.raises(QgsProcessingException, match="Give a DSM or a ground height"):
         _run({"PROJECT": str(realdata / "easyidp/metashape/wheat_tanashi.psx")})
-    with pytest.raises(QgsProcessingException, match="no CRS.*Project CRS"):
+    with pytest.raises(QgsProcessingException, match="CRS is unknown.*Project CRS"):
         _run({"PROJECT": str(realdata / "easyidp/pix4d_origin/1_initial/params/pix4d.origin_pmatrix.txt"),
               "GROUND_HEIGHT": 96})
     lone = tmp_path / "lonely.psx"

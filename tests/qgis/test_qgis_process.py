@@ -129,3 +129,25 @@ def test_camera_footprints_of_an_odm_project_headless(qp_env, realdata, tmp_path
     assert layer.GetFeatureCount() == 3
     assert {f.GetField("photo_path") for f in layer} == {str(odm / "images" / n) for n in
                                                           ("01.jpg", "02.jpg", "03.jpg")}
+
+
+def test_numbers_and_choices_out_of_range_name_the_range(qp_env, realdata, tmp_path):
+    """qgis_process: a NaN ground height, a percentile of 150 and a mode of 5 are refused with
+    the parameter, the value and the range or the choices; a Pix4D params *folder* is accepted."""
+    rois, dsm = realdata / "data-to-science/zones_inside_test_tif.geojson", realdata / "data-to-science/test.tif"
+    cases = [({"STATISTIC": 4, "PERCENTILE": 150}, "150 is outside the range 0–100"),
+             ({"MODE": 5}, "5 is not one of the choices (0 = Per polygon")]
+    for extra, message in cases:
+        args = ["run", "easyidp:roiheightsfromdsm", "--", f"ROIS={rois}", f"DSM={dsm}",
+                f"OUTPUT={tmp_path / 'h.gpkg'}"] + [f"{k}={v}" for k, v in extra.items()]
+        proc = run(args, qp_env)
+        assert proc.returncode != 0 and message in proc.stdout + proc.stderr, proc.stderr[-800:]
+    params = realdata / "easyidp/pix4d_origin/1_initial/params"
+    proc = run(["run", "easyidp:camerafootprints", "--", f"PROJECT={params}",
+                "PROJECT_CRS=EPSG:32654", "GROUND_HEIGHT=nan",
+                f"OUTPUT_CAMERAS={tmp_path / 'c.gpkg'}", f"OUTPUT_FOOTPRINTS={tmp_path / 'f.gpkg'}"], qp_env)
+    assert proc.returncode != 0 and "nan is not a number" in proc.stdout + proc.stderr
+    res = run_algorithm("easyidp:camerafootprints", {
+        "PROJECT": params, "PROJECT_CRS": "EPSG:32654", "GROUND_HEIGHT": 96,
+        "OUTPUT_CAMERAS": tmp_path / "c.gpkg", "OUTPUT_FOOTPRINTS": tmp_path / "f.gpkg"}, qp_env)
+    assert os.path.exists(res["OUTPUT_FOOTPRINTS"])
