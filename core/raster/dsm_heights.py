@@ -142,7 +142,9 @@ def roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean
         if sel.any():
             result.values[p.index] = statistic_of(a[sel], statistic, percentile)
         elif not mask.any():
-            result.missing[p.index] = NO_PIXEL
+            result.missing[p.index] = NO_PIXEL if p.buffer >= 0 else (
+                f"the buffer of {p.buffer:g} (DSM map units) shrinks it to nothing: it is "
+                f"narrower than {-2 * p.buffer:g}; use a smaller negative buffer")
         else:
             result.missing[p.index] = "all DSM pixels inside it are nodata"
 

@@ -159,6 +159,12 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             out.setAttributes([attrs[i] for i in kept] + [_num(row[k]) for k in keys])
             out.setGeometry(feat.geometry())
             sink.addFeature(out, QgsFeatureSink.FastInsert)
+        no_ground = sum(1 for row in summary if row["count"] and math.isnan(row["ground"]))
+        if no_ground and layer is not None:
+            feedback.pushWarning(self.tr(
+                "The ground raster {name} has no data under the points of {n} of the {total} ROIs "
+                "(outside it or nodata): their heights above ground are empty. Check that it "
+                "covers the ROIs.").format(name=layer.name(), n=no_ground, total=len(rois)))
         if rois and len(empty) == len(rois):
             raise QgsProcessingException(self.tr("None of the {n_rois} ROIs contains a point of "
                                                  "the cloud: check that the ROIs and the cloud "

@@ -171,3 +171,13 @@ def test_dense_points_over_many_blocks_match_the_pixel_rule(tmp_path):
         bil.append(num / den if den > 0 else np.nan)
     np.testing.assert_allclose(sample_points(path, x, y, "nearest"), near, atol=1e-9)
     np.testing.assert_allclose(sample_points(path, x, y, "bilinear"), bil, atol=1e-9)
+
+
+def test_a_negative_buffer_larger_than_the_roi_blames_the_buffer(tmp_path):
+    z = np.full((100, 100), 5.0, np.float32)
+    path = write_tif(str(tmp_path / "b.tif"), z, origin=O, pixel=1.0)
+    ring = np.array([[O[0] + 40, O[1] - 40], [O[0] + 60, O[1] - 40], [O[0] + 60, O[1] - 60],
+                     [O[0] + 40, O[1] - 60]])
+    res = roi_heights(path, ROISet([ROI("p", [[ring]])], 32654), buffer=-1000)
+    assert np.isnan(res.values[0]) and "buffer of -1000" in res.missing[0]
+    assert "smaller negative buffer" in res.missing[0]

@@ -152,7 +152,7 @@ def test_selections_and_bad_input(demo, recon, plots, tmp_path):
     again = orthorectify_rois(ROISet([two[0]], plots.crs), recon, demo.dsm, str(tmp_path / "mv"),
                               photos_folder=str(moved))
     assert len(again.files) == 1
-    with pytest.raises(InputError, match="No ROI image was written: .* DJI_0036.JPG is not in"):
+    with pytest.raises(InputError, match="holds none of the project.s 1 photos .*DJI_0036.JPG"):
         orthorectify_rois(ROISet([two[1]], plots.crs), recon, demo.dsm, str(tmp_path / "mv2"),
                           selection="photo", photo="DJI_0036", photos_folder=str(moved))
     with pytest.raises(Exception, match="no camera labelled 'IMG_1'"):

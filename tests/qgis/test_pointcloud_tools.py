@@ -340,3 +340,14 @@ def test_unreadable_crs_record_is_a_warning_in_the_log(provider, realdata, tmp_p
     _run(CROP, {"INPUT": str(path), "INPUT_CRS": CRS, "ROIS": _rois([("s", SIMPLE_ROI)]),
                 "OUTPUT_FOLDER": str(tmp_path / "o")}, log)
     assert any("badcrs.las" in w and "CRS record cannot be read" in w for w in log.warnings)
+
+
+def test_all_nodata_ground_raster_is_a_warning(provider, realdata, tmp_path):
+    x0, y1 = 636000.0, 849600.0
+    dsm = write_tif(str(tmp_path / "ground.tif"), np.full((80, 80), -9999, np.float32),
+                    origin=(x0, y1), pixel=20.0, nodata=-9999, epsg=2994)
+    log = _Log()
+    _run(STATS, {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS), "GROUND_DSM": dsm,
+                 "OUTPUT": str(tmp_path / "s.gpkg")}, log)
+    assert any("has no data under the points of 3 of the 3 ROIs" in w for w in log.warnings), \
+        log.warnings
