@@ -248,3 +248,38 @@ def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = 
         feedback.pushWarning(alg.tr("{n} camera(s) are not aligned and have no pose: {names}").format(
             n=len(names), names=", ".join(names[:20]) + (" …" if len(names) > 20 else "")))
     return recon
+
+
+# ---- the index layer of a tool that writes one file per ROI ------------------------------------
+
+def add_index_parameter(alg, description: str):
+    """OUTPUT_INDEX (optional, made by default): the ROIs with the file written for each. Loading
+    it is the user's choice of loading the files too (see presentation.load_project)."""
+    from qgis.core import QgsProcessing, QgsProcessingParameterFeatureSink
+    alg.addParameter(QgsProcessingParameterFeatureSink(
+        alg.OUTPUT_INDEX, description, QgsProcessing.TypeVectorPolygon, optional=True,
+        createByDefault=True))
+
+
+def write_index(alg, parameters, context, source, rows, extra):
+    """Write OUTPUT_INDEX when it is asked for: one feature per row ``(ROI feature, values)``,
+    the ROI's geometry and attributes followed by the ``extra`` fields ``[(name, QVariant
+    type)]``. Returns the destination id, or None when the output is skipped."""
+    from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
+                           QgsProcessingUtils)
+    if parameters.get(alg.OUTPUT_INDEX) in (None, ""):
+        return None
+    more = QgsFields()
+    for name, kind in extra:
+        more.append(QgsField(name, kind))
+    fields = QgsProcessingUtils.combineFields(source.fields(), more)
+    sink, dest = alg.parameterAsSink(parameters, alg.OUTPUT_INDEX, context, fields,
+                                     source.wkbType(), source.sourceCrs())
+    if sink is None:
+        return None
+    for feat, values in rows:
+        f = QgsFeature(fields)
+        f.setGeometry(feat.geometry())
+        f.setAttributes(list(feat.attributes()) + list(values))
+        sink.addFeature(f, QgsFeatureSink.FastInsert)
+    return dest

@@ -1,5 +1,6 @@
 """Processing tool: Back-project ROIs to raw photos (easyidp:backprojectrois)."""
 import math
+import os
 
 from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
                        QgsFields, QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPolygon,
@@ -13,6 +14,7 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsProcessingUtils, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
+from .. import presentation
 from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
                      optional_number, rois_from_source)
 from .base import EasyIDPAlgorithm
@@ -88,9 +90,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterField(
             self.HEIGHT_FIELD, self.tr("Height attribute"), parentLayerParameterName=self.ROIS,
             type=QgsProcessingParameterField.Numeric, optional=True))
-        self.addParameter(QgsProcessingParameterNumber(
+        self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.GROUND_HEIGHT, self.tr("Constant ground height (project vertical reference)"),
-            QgsProcessingParameterNumber.Double, optional=True))
+            QgsProcessingParameterNumber.Double, optional=True), 3))
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
             behavior=QgsProcessingParameterFile.Folder, optional=True))
@@ -100,9 +102,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterBoolean(
             self.OCCLUSION, self.tr("Test occlusion against the DSM (when a DSM is given)"), True))
-        p = QgsProcessingParameterNumber(
+        p = self.decimals(QgsProcessingParameterNumber(
             self.MIN_VISIBLE, self.tr("Minimum visible, unoccluded share of a ROI in a photo"),
-            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0)
+            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0), 2)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterNumber(
             self.MAX_IMAGES, self.tr("Best photos to keep per ROI (0 = all)"),
@@ -220,6 +222,13 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 outputs[self.CROPS_FOLDER] = crops
             if previews:
                 outputs[self.PREVIEW_FOLDER] = previews
+        project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
+        presentation.present(self, context, out, self.OUTPUT, pixel_style(),
+                             self.tr("{rois} in the photos of {project} (photo pixels)").format(
+                                 rois=source.sourceName(), project=project))
+        presentation.present(self, context, summary, self.OUTPUT_SUMMARY, summary_style(),
+                             self.tr("{rois}: photos of {project} that see them").format(
+                                 rois=source.sourceName(), project=project))
         feedback.setProgress(100)
         seen = int((result.photos_per_roi() > 0).sum())
         feedback.pushInfo(self.tr("{k} ROI × photo pairs for {seen} of {n} ROIs; {u} ROIs in no photo.").format(
@@ -279,6 +288,17 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 None if i is None else _num(result.score[i])])
             sink.addFeature(f, QgsFeatureSink.FastInsert)
         return dest
+
+
+def pixel_style():
+    """ROIs in photo pixels: each ROI's best photo bold green, the other photos thin white,
+    labelled with the ROI name (filter by 'photo' to see one photo's ROIs)."""
+    return presentation.rank_style("#33dd33", "#f0f0f0", label='"roi"')
+
+
+def summary_style():
+    """ROIs on the map coloured by how many photos see them, with the count."""
+    return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu")
 
 
 def pixel_geometry(polys) -> QgsGeometry:

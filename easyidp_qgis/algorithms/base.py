@@ -9,7 +9,7 @@ from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
 from ..outputs import check_outputs, check_values
-from ..resources import ICON
+from ..resources import ICON, help_url
 
 
 def __getattr__(name):
@@ -50,8 +50,20 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
     def shortHelpString(self):  # noqa: N802 (QGIS API)
         return self.tr(self.HELP)
 
+    def helpUrl(self):  # noqa: N802 (QGIS API: the dialog's Help button)
+        return help_url(f"easyidp-{self.NAME}")
+
     def icon(self):
         return QIcon(ICON)
+
+    @staticmethod
+    def decimals(parameter, places: int):
+        """Show a number parameter with ``places`` decimals in every dialog (QGIS shows 6:
+        a percentile of 95 read 95.000000); returns the parameter."""
+        meta = dict(parameter.metadata())
+        meta["widget_wrapper"] = {**dict(meta.get("widget_wrapper") or {}), "decimals": places}
+        parameter.setMetadata(meta)
+        return parameter
 
     def canExecute(self):  # noqa: N802 (QGIS API; the desktop's dialogs ask it)
         items = dependencies.missing(self.NAME)
@@ -73,8 +85,9 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
             if p.name() in self.FILE_OR_FOLDER and isinstance(value, str) and os.path.isdir(value):
                 continue
             if not p.checkValueIsAcceptable(value, context):
-                return False, self.tr("Incorrect parameter value for {name} ({what}).").format(
-                    name=p.name(), what=p.description())
+                shown = value if isinstance(value, str) and value else ""
+                return False, self.tr("Incorrect parameter value for {name} ({what}){value}.").format(
+                    name=p.name(), what=p.description(), value=f": {shown}" if shown else "")
         return True, ""
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802 (QGIS API)
