@@ -29,12 +29,14 @@ adding the layer to the project; ``processAlgorithm`` (a worker thread) only rec
 import collections
 import os
 
-from qgis.core import (QgsClassificationQuantile, QgsFillSymbol, QgsGraduatedSymbolRenderer,
+from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, QgsFillSymbol,
+                       QgsGraduatedSymbolRenderer, QgsRendererCategory,
                        QgsLayerTreeLayer, QgsMarkerSymbol, QgsPalLayerSettings, QgsProcessingContext,
                        QgsProcessingLayerPostProcessorInterface, QgsProcessingOutputLayerDefinition,
                        QgsProcessingUtils, QgsProject, QgsRuleBasedRenderer, QgsSingleSymbolRenderer,
                        QgsStyle, QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
                        QgsVectorLayerSimpleLabeling, QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
 from qgis.PyQt.QtGui import QColor
 
 MAX_LAYERS_TO_LOAD = 100
@@ -176,20 +178,26 @@ def anchor_id(alg, parameters, name: str, context) -> str:
     except Exception:          # a parameter that is not a layer (a file, a table): no anchor
         return ""
     project = context.project()
-    if layer is None or project is None or project.mapLayer(layer.id()) is None:
+    if layer is None or project is None:
         return ""
-    return layer.id()
+    if project.mapLayer(layer.id()) is not None:
+        return layer.id()
+    # given by its source (batch mode passes layers so): the project's layer of that source
+    same = [v for v in project.mapLayers().values() if v.source() == layer.source()]
+    return same[0].id() if same else ""
 
 
 # ---- styles: callables that set a renderer (and labels) on a vector layer --------------------
 
 def _label(layer, expression: str, size: float = 8.0, max_scale_denominator: float = 0.0,
-           colour: str = "#111111", halo: str = "#ffffff") -> None:
+           colour: str = "#111111", halo: str = "#ffffff", priority: int = 5) -> None:
     """Labels from ``expression`` with a halo (readable over an orthomosaic); with
-    ``max_scale_denominator`` only when zoomed in beyond 1:that."""
+    ``max_scale_denominator`` only when zoomed in beyond 1:that; ``priority`` 0–10 decides
+    which label wins where labels of several layers collide (QGIS's default is 5)."""
     settings = QgsPalLayerSettings()
     settings.fieldName = expression
     settings.isExpression = True
+    settings.priority = priority
     fmt = QgsTextFormat()
     fmt.setSize(size)
     fmt.setColor(QColor(colour))
@@ -221,7 +229,7 @@ def _outline_symbol(colour: str, width: float, dashed: bool = False, fill_alpha:
 
 def outline_style(colour: str, width: float = 0.4, dashed_when: str = None, label: str = None,
                   label_scale: float = 0.0, fill_alpha: int = 0, tip: str = None,
-                  dashed_colour: str = None):
+                  dashed_colour: str = None, label_priority: int = 5):
     """Polygons as outlines of one colour (no fill, or a faint one with ``fill_alpha``),
     dashed (in ``dashed_colour``) where the expression ``dashed_when`` holds; optional labels
     (only when zoomed in beyond 1:``label_scale``) and map tip."""
@@ -241,7 +249,7 @@ def outline_style(colour: str, width: float = 0.4, dashed_when: str = None, labe
             layer.setRenderer(QgsSingleSymbolRenderer(_outline_symbol(colour, width, False,
                                                                       fill_alpha)))
         if label:
-            _label(layer, label, max_scale_denominator=label_scale)
+            _label(layer, label, max_scale_denominator=label_scale, priority=label_priority)
         if tip:
             layer.setMapTipTemplate(tip)
     return apply
@@ -265,33 +273,53 @@ def points_style(colour: str, size: float = 1.8, label: str = None, label_scale:
 
 
 def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str = "Viridis",
-                    fill_alpha: int = 150, label_scale: float = 0.0, unit: str = ""):
-    """Polygons coloured by ``field`` (quantile classes, a colour-blind-safe ramp), the fill
-    translucent so that the orthomosaic shows through, the outline in the class colour, and
-    the value as label. NULL values get no colour."""
+                    fill_alpha: int = 150, label: bool = True, unit: str = ""):
+    """Polygons coloured by ``field``, the fill translucent so that the orthomosaic shows
+    through, the outline in the class colour, and the value as label (above other layers'
+    labels). Quantile classes from a colour-blind-safe ramp; a field with no more distinct
+    values than ``classes`` (or an integer field with at most 12: counts) gets one colour per
+    value. NULL: no colour."""
     def apply(layer):
-        if not isinstance(layer, QgsVectorLayer) or layer.fields().indexFromName(field) < 0:
+        index = layer.fields().indexFromName(field) if isinstance(layer, QgsVectorLayer) else -1
+        if index < 0:
             return
-        renderer = QgsGraduatedSymbolRenderer(field)
-        renderer.setSourceSymbol(_outline_symbol("#000000", 0.5, False, fill_alpha))
         colours = QgsStyle.defaultStyle().colorRamp(ramp)
-        if colours is not None:
-            renderer.setSourceColorRamp(colours)
-        renderer.setClassificationMethod(QgsClassificationQuantile())
-        renderer.updateClasses(layer, classes)
-        for i, r in enumerate(renderer.ranges()):
-            symbol = r.symbol().clone()
-            colour = symbol.color()
-            fill = QColor(colour)
-            fill.setAlpha(fill_alpha)
-            symbol.symbolLayer(0).setFillColor(fill)
-            symbol.symbolLayer(0).setStrokeColor(colour)
-            renderer.updateRangeSymbol(i, symbol)
+        integers = layer.fields().at(index).type() in (QVariant.Int, QVariant.LongLong,
+                                                       QVariant.UInt, QVariant.ULongLong)
+        few = 12 if integers else classes       # counts: a colour per count up to 12
+        values = sorted(v for v in layer.uniqueValues(index, few + 1)
+                        if v is not None and str(v) != "NULL")
+        if not values:
+            return
+        if len(values) <= few:
+            renderer = QgsCategorizedSymbolRenderer(field, [
+                QgsRendererCategory(v, _translucent(colours.color(k / max(len(values) - 1, 1))
+                                                    if colours else QColor("#3182bd"), fill_alpha),
+                                    f"{v:.{decimals}f}" if isinstance(v, float) else str(v))
+                for k, v in enumerate(values)])
+        else:
+            renderer = QgsGraduatedSymbolRenderer(field)
+            renderer.setSourceSymbol(_outline_symbol("#000000", 0.5, False, fill_alpha))
+            if colours is not None:
+                renderer.setSourceColorRamp(colours)
+            method = QgsClassificationQuantile()
+            method.setLabelPrecision(decimals)
+            method.setLabelTrimTrailingZeroes(False)
+            renderer.setClassificationMethod(method)
+            renderer.updateClasses(layer, classes)
+            for i, r in enumerate(renderer.ranges()):
+                renderer.updateRangeSymbol(i, _translucent(r.symbol().color(), fill_alpha))
         layer.setRenderer(renderer)
-        suffix = f" || ' {unit}'" if unit else ""
-        _label(layer, f"if(\"{field}\" IS NULL, '', format_number(\"{field}\", {decimals}){suffix})",
-               max_scale_denominator=label_scale)
+        if label:
+            suffix = f" || ' {unit}'" if unit else ""
+            _label(layer, f"if(\"{field}\" IS NULL, '', format_number(\"{field}\", {decimals}){suffix})",
+                   priority=8)
     return apply
+
+
+def _translucent(colour: QColor, fill_alpha: int):
+    """A polygon symbol: ``colour`` as outline, and as fill with ``fill_alpha``."""
+    return _outline_symbol(colour.name(), 0.5, False, fill_alpha)
 
 
 def rank_style(colour_best: str, colour_other: str, field: str = "rank", label: str = None):

@@ -64,14 +64,14 @@ def build():
         c.setModelOutputs(kept)
         model.addChildAlgorithm(c)
 
-    child("heights", "easyidp:roiheightsfromdsm", "Canopy height of the plots (p95)",
+    child("heights", "easyidp:roiheightsfromdsm", "Plot heights (p95)",
           QPointF(420, 125), {
               "ROIS": Source.fromModelParameter("plots"), "DSM": Source.fromModelParameter("dsm"),
               "MODE": Source.fromStaticValue(0), "STATISTIC": Source.fromStaticValue(4),
               "PERCENTILE": Source.fromStaticValue(95.0), "BUFFER": Source.fromStaticValue(0.0),
               "SAMPLING": Source.fromStaticValue(0), "OVERWRITE": Source.fromStaticValue(False)},
           [("Plots with heights", "OUTPUT", "Plots with heights")])
-    child("crop", "easyidp:croprasterbyrois", "Crop the DSM by the plots", QPointF(420, 290), {
+    child("crop", "easyidp:croprasterbyrois", "Crop the DSM", QPointF(420, 290), {
         "INPUT": Source.fromModelParameter("dsm"),
         "ROIS": Source.fromChildOutput("heights", "OUTPUT"),
         "NAME_FIELD": Source.fromModelParameter("name_field"),

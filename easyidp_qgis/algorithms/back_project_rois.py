@@ -297,8 +297,8 @@ def pixel_style():
 
 
 def summary_style():
-    """ROIs on the map coloured by how many photos see them, with the count."""
-    return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu")
+    """ROIs on the map coloured by how many photos see them (the legend gives the counts)."""
+    return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu", label=False)
 
 
 def pixel_geometry(polys) -> QgsGeometry:

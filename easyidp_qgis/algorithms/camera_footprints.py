@@ -187,9 +187,9 @@ class CameraFootprints(EasyIDPAlgorithm):
 
 
 def footprint_style():
-    """Footprints as outlines of one colour, no fill (the orthomosaic and plots stay visible);
-    dashed where the footprint reaches beyond the DSM's data (complete = false)."""
-    return presentation.outline_style("#ff6a00", 0.35, dashed_when='NOT "complete"',
+    """Footprints as thin outlines of one colour, no fill: the orthomosaic and the plots stay
+    visible through the overlapping footprints of a whole flight."""
+    return presentation.outline_style("#ff6a00", 0.25,
                                       tip='<b>[% "label" %]</b><br>[% round("view_angle", 1) %]° '
                                           'from nadir, [% round("area", 0) %] m²')
 

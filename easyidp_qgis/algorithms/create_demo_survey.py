@@ -120,4 +120,5 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
 
 def plots_style():
     """Plot outlines in yellow, no fill, labelled with plot_id when zoomed in."""
-    return presentation.outline_style("#ffd400", 0.5, label='"plot_id"', label_scale=1000)
+    return presentation.outline_style("#ffd400", 0.5, label='"plot_id"', label_scale=1000,
+                                      label_priority=3)

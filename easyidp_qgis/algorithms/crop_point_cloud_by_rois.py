@@ -57,12 +57,16 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         "PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a "
         "CRS). ROIs in another CRS are reprojected to the cloud's.\n\n"
         "ROIs outside the cloud are named in the log and skipped; ROIs over the cloud without any "
-        "point are reported and get no file unless 'Write empty files' is checked.\n\n"
-        "Index of the crops (optional): the ROIs with the file ('crop_file'), the number of "
-        "points ('points') and the outcome ('crop_status') of each. When it is opened after "
-        "the run (or 'Load layers on completion' is ticked in batch mode), up to 100 LAS/LAZ "
-        "crops are loaded too, in one collapsed group below the ROI layer, where this QGIS can "
-        "display point clouds (PDAL provider).")
+        "point are reported and get no file unless 'Write empty files' is checked. Cropped LAS/LAZ "
+        "files load into the map when this QGIS can display point clouds (PDAL provider).")
+
+    def shortHelpString(self):  # noqa: N802 (QGIS API)
+        return super().shortHelpString() + "\n\n" + self.tr(
+            "Index of the crops (optional): the ROIs with the file ('crop_file'), the number of "
+            "points ('points') and the outcome ('crop_status') of each. When it is opened after "
+            "the run (or 'Load layers on completion' is ticked in batch mode, or it is a model "
+            "output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group "
+            "below the ROI layer, where this QGIS can display point clouds (PDAL provider).")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_point_cloud_parameters(self)
@@ -81,8 +85,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
-        add_index_parameter(self, self.tr("Index of the crops (opening it also loads up to 100 "
-                                          "LAS/LAZ crops where QGIS displays point clouds)"))
+        add_index_parameter(self, self.tr("Index of the crops (open it to see the crops)"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Cropped point clouds")))

@@ -37,11 +37,14 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         "type's extreme for integers when it has none). A pixel belongs to an ROI when its centre "
         "is inside (GDAL's rule); 'All touched' takes every pixel the ROI touches. Holes and "
         "multipart polygons are honoured. ROIs in another CRS are reprojected; ROIs outside the "
-        "raster are reported and skipped.\n\n"
-        "Index of the crops (optional): the ROIs with the file of each ('crop_file', empty "
-        "for a skipped ROI, and 'crop_status'). When it is opened after the run (or 'Load "
-        "layers on completion' is ticked in batch mode), up to 100 crops are loaded too, in one "
-        "collapsed group below the ROI layer.")
+        "raster are reported and skipped.")
+
+    def shortHelpString(self):  # noqa: N802 (QGIS API)
+        return super().shortHelpString() + "\n\n" + self.tr(
+            "Index of the crops (optional): the ROIs with the file of each ('crop_file', empty "
+            "for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load "
+            "layers on completion' is ticked in batch mode, or it is a model output set to "
+            "open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterRasterLayer(
@@ -57,8 +60,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
-        add_index_parameter(self, self.tr("Index of the crops (opening it also loads up to 100 "
-                                          "crops into the map)"))
+        add_index_parameter(self, self.tr("Index of the crops (open it to see the crops)"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES, self.tr("Cropped rasters")))
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))

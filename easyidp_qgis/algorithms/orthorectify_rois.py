@@ -51,11 +51,15 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         "camera by the DSM (occlusion) are transparent (alpha 0). One GeoTIFF per ROI (and "
         "photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus "
         "alpha. The photos are read from the paths stored in the project, or from the photos "
-        "folder when given (matched by file name).\n\n"
-        "Index of the images (optional): one feature per image, the ROI with its file "
-        "('image_file'), photo, visible share and pixel size. When it is opened after the run "
-        "(or 'Load layers on completion' is ticked in batch mode), up to 100 images are loaded "
-        "too, in one collapsed group below the ROI layer.")
+        "folder when given (matched by file name).")
+
+    def shortHelpString(self):  # noqa: N802 (QGIS API)
+        return super().shortHelpString() + "\n\n" + self.tr(
+            "Index of the images (optional): one feature per image, the ROI with its file "
+            "('image_file'), photo, visible share and pixel size. When it is opened after the run "
+            "(or 'Load layers on completion' is ticked in batch mode, or it is a model output set "
+            "to open), up to 100 images are loaded too, in one collapsed group below the ROI "
+            "layer.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFeatureSource(
@@ -81,8 +85,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
-        add_index_parameter(self, self.tr("Index of the images (opening it also loads up to 100 "
-                                          "images into the map)"))
+        add_index_parameter(self, self.tr("Index of the images (open it to see the images)"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
