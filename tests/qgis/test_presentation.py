@@ -120,7 +120,7 @@ def test_footprints_are_outlines_and_cameras_small_dots(provider, realdata, proj
     layers = {v.name(): v for v in proj.mapLayers().values()}
     assert set(layers) == {"Camera footprints of wheat_tanashi.psx", "Cameras of wheat_tanashi.psx"}
     fp = layers["Camera footprints of wheat_tanashi.psx"]
-    assert fp.renderer().type() == "RuleRenderer"
+    assert fp.renderer().type() == "singleSymbol"
     for symbol in fp.renderer().symbols(QgsRenderContext()):
         sl = symbol.symbolLayer(0)
         assert sl.brushStyle() == 0 or sl.fillColor().alpha() == 0     # no fill at all
