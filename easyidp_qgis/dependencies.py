@@ -29,8 +29,10 @@ from qgis.PyQt.QtCore import QCoreApplication
 
 ALL = "*"
 RASTER_TOOLS = ("croprasterbyrois", "roiheightsfromdsm", "camerafootprints",
-                "pointcloudroistatistics", "createdemosurvey")
-CLOUD_TOOLS = ("croppointcloudbyrois", "pointcloudroistatistics", "createdemosurvey")
+                "pointcloudroistatistics", "createdemosurvey", "seasontraits", "backprojectrois",
+                "forwardprojectpolygons", "orthorectifyrois")
+CLOUD_TOOLS = ("croppointcloudbyrois", "pointcloudroistatistics", "createdemosurvey",
+               "seasontraits")
 
 
 @dataclass(frozen=True)
@@ -63,6 +65,11 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("lazrs", "lazrs>=0.5.2", CLOUD_TOOLS),           # LAZ compression for laspy
     Dependency("plyfile", "plyfile>=1.0.3", CLOUD_TOOLS),       # PLY
     Dependency("shapefile", "pyshp>=3.1.6", ()),                # core.open_rois on shapefiles
+    Dependency("scipy", "scipy>=1.10", ("orthorectifyrois",)),  # map_coordinates resampling
+    Dependency("shapely", "shapely>=2.0", ("forwardprojectpolygons",)),  # merging the views
+    Dependency("skimage", "scikit-image>=0.22", ("seasontraits",)),      # Otsu's threshold
+    Dependency("matplotlib", "matplotlib>=3.6", ("seasontraits",)),      # growth curves
+    Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)
 )
 
 # QGIS's own packages: checked, never installed (a plugin must not replace QGIS's numpy or GDAL).

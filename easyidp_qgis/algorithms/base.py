@@ -80,15 +80,11 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         ok, message = check_values(self, parameters, context)
         if not ok:
             return ok, message
-        for p in self.parameterDefinitions():
-            value = parameters.get(p.name())
-            if p.name() in self.FILE_OR_FOLDER and isinstance(value, str) and os.path.isdir(value):
-                continue
-            if not p.checkValueIsAcceptable(value, context):
-                shown = value if isinstance(value, str) and value else ""
-                return False, self.tr("Incorrect parameter value for {name} ({what}){value}.").format(
-                    name=p.name(), what=p.description(), value=f": {shown}" if shown else "")
-        return True, ""
+        folders = {n: v for n, v in parameters.items() if n in self.FILE_OR_FOLDER and
+                   isinstance(v, str) and os.path.isdir(v)}
+        if folders:    # QGIS checks the rest; the folder itself is the reader's to judge
+            parameters = {**parameters, **{n: os.path.abspath(__file__) for n in folders}}
+        return super().checkParameterValues(parameters, context)
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802 (QGIS API)
         items = dependencies.missing(self.NAME)  # the packages the table says this tool needs
