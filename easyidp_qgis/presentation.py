@@ -30,10 +30,11 @@ import collections
 import os
 
 from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, QgsFillSymbol,
-                       QgsGraduatedSymbolRenderer, QgsRendererCategory,
-                       QgsLayerTreeLayer, QgsMarkerSymbol, QgsPalLayerSettings, QgsProcessingContext,
-                       QgsProcessingLayerPostProcessorInterface, QgsProcessingOutputLayerDefinition,
-                       QgsProcessingUtils, QgsProject, QgsRuleBasedRenderer, QgsSingleSymbolRenderer,
+                       QgsGraduatedSymbolRenderer, QgsLayerTreeLayer, QgsMarkerSymbol,
+                       QgsPalLayerSettings, QgsProcessingContext,
+                       QgsProcessingLayerPostProcessorInterface,
+                       QgsProcessingOutputLayerDefinition, QgsProcessingUtils, QgsProject,
+                       QgsRendererCategory, QgsRuleBasedRenderer, QgsSingleSymbolRenderer,
                        QgsStyle, QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
                        QgsVectorLayerSimpleLabeling, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
@@ -81,7 +82,8 @@ class MapGroup:
         index = 0
         if anchor is not None:
             index = 1 + next(i for i, ch in enumerate(parent.children())
-                             if isinstance(ch, QgsLayerTreeLayer) and ch.layerId() == self.anchor_layer_id)
+                             if isinstance(ch, QgsLayerTreeLayer)
+                             and ch.layerId() == self.anchor_layer_id)
         self.node = parent.insertGroup(index, self.name)
         self.node.setExpanded(self.expanded)
         return self.node
@@ -135,18 +137,20 @@ def present(alg, context, dest, output: str, style=None, name: str = None,
         return False
     details = context.layerToLoadOnCompletionDetails(dest)
     definition = alg.parameterDefinition(output)
-    if name and (not details.name or definition is None or details.name == definition.description()):
+    named_by_model = definition is not None and details.name not in ("", definition.description())
+    if name and not named_by_model:
         details.name = name
-    details.setPostProcessor(_presenter(style=style, group=group, rank=rank, project=details.project))
+    details.setPostProcessor(_presenter(style=style, group=group, rank=rank,
+                                        project=details.project))
     return True
 
 
 def load_files(alg, context, feedback, project, files, names, hint, group: MapGroup,
                output: str = "", style=None, limit: int = MAX_LAYERS_TO_LOAD,
                first_rank: int = 0) -> int:
-    """Queue ``files`` (named ``names``, e.g. :func:`stems`) for loading into ``project`` as layers of type ``hint``
-    (so QGIS opens a .tif as a raster at once, not first as a vector), into ``group`` in this
-    order (ranks from ``first_rank``). Nothing when ``project`` is None, or above ``limit``
+    """Queue ``files`` (named ``names``, e.g. :func:`stems`) for loading into ``project`` as
+    layers of type ``hint`` (so QGIS opens a .tif as a raster at once, not first as a vector),
+    into ``group`` in this order (ranks from ``first_rank``). Nothing when ``project`` is None, or above ``limit``
     files (said in the log). Returns how many were queued."""
     if project is None or not files:
         return 0
@@ -312,8 +316,8 @@ def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str =
         layer.setRenderer(renderer)
         if label:
             suffix = f" || ' {unit}'" if unit else ""
-            _label(layer, f"if(\"{field}\" IS NULL, '', format_number(\"{field}\", {decimals}){suffix})",
-                   priority=8)
+            value = f"format_number(\"{field}\", {decimals}){suffix}"
+            _label(layer, f"if(\"{field}\" IS NULL, '', {value})", priority=8)
     return apply
 
 
