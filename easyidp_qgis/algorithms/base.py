@@ -12,6 +12,12 @@ from ..outputs import check_outputs, check_values
 from ..resources import ICON, help_url
 
 
+def translatable(text: str) -> str:
+    """Mark a string kept in a table (a choice label) for the translation catalogues; it is
+    translated where it is shown, with ``tr``."""
+    return text
+
+
 def __getattr__(name):
     """``INSTALL_HINT``: how to install the plugin's packages, made from the dependency table
     when read (it names QGIS's interpreter and the profile's package folder)."""

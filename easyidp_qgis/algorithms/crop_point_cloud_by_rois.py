@@ -12,10 +12,10 @@ from qgis.PyQt.QtCore import QVariant
 from .. import presentation
 from ..layers import (add_index_parameter, add_point_cloud_parameters, add_z_range_parameters,
                       qgis_crs, read_point_cloud_parameter, rois_from_source, write_index, z_range)
-from .base import EasyIDPAlgorithm
+from .base import EasyIDPAlgorithm, translatable
 
-FORMATS = [("same", "Same as input"), ("las", "LAS"), ("laz", "LAZ (compressed LAS)"),
-           ("ply", "PLY")]
+FORMATS = [("same", translatable("Same as input")), ("las", "LAS"),
+           ("laz", translatable("LAZ (compressed LAS)")), ("ply", "PLY")]
 
 
 def point_cloud_provider_available() -> bool:

@@ -12,10 +12,10 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import crs_string, geotiff_source, rois_from_source
-from .base import EasyIDPAlgorithm
+from .base import EasyIDPAlgorithm, translatable
 
-MODES = [("polygon", "Per polygon: one statistic of the DSM pixels inside"),
-         ("vertex", "Per vertex: the DSM height at each vertex")]
+MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
+         ("vertex", translatable("Per vertex: the DSM height at each vertex"))]
 STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]  # core.heights
 SAMPLING = ["bilinear", "nearest"]
 
