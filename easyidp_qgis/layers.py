@@ -1,11 +1,14 @@
 """Adapters from QGIS layers and parameters to the core's plain data."""
+import math
 import os
+import re
 
 from qgis.core import (QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsCsException,
-                       QgsFeatureRequest, QgsGeometry, QgsProcessingException, QgsProject,
+                       QgsFeatureRequest, QgsGeometry, QgsProcessing, QgsProcessingException,
                        QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterNumber,
-                       QgsProcessingParameterString, QgsWkbTypes)
+                       QgsProcessingParameterString, QgsProject, QgsWkbTypes)
 
 from ..core.roi import ROISet, roi_from_coordinates
 
@@ -283,3 +286,35 @@ def write_index(alg, parameters, context, source, rows, extra):
         f.setAttributes(list(feat.attributes()) + list(values))
         sink.addFeature(f, QgsFeatureSink.FastInsert)
     return dest
+
+
+# ---- ROIs and percentiles: parameters several tools share
+
+def add_roi_parameters(alg, name_field: bool = True):
+    """ROIS (a polygon layer) and, with ``name_field``, NAME_FIELD (names files and records)."""
+    alg.addParameter(QgsProcessingParameterFeatureSource(
+        alg.ROIS, alg.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+    if name_field:
+        alg.addParameter(QgsProcessingParameterField(
+            alg.NAME_FIELD, alg.tr("Name field (default: feature id)"),
+            parentLayerParameterName=alg.ROIS, optional=True))
+
+
+def parse_percentiles(alg, text: str, default=()):
+    """'5, 50 95;99' → [5.0, 50.0, 95.0, 99.0] (order kept, repeats dropped); ``default`` when
+    empty; QgsProcessingException naming the token for anything that is not 0–100."""
+    out = []
+    for token in re.split(r"[,;\s]+", (text or "").strip()):
+        if not token:
+            continue
+        try:
+            q = float(token)
+        except ValueError:
+            q = math.nan
+        if not 0 <= q <= 100:
+            raise QgsProcessingException(alg.tr(
+                "Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
+                "separated by commas, e.g. 5,50,95,99.").format(token=token))
+        if q not in out:
+            out.append(q)
+    return out or list(default)

@@ -7,7 +7,7 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsProcessing, QgsProcessingException, QgsProcessingParameterBoolean,
                        QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
+                       QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer,
@@ -15,8 +15,8 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
 from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
-from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
-                     optional_number, rois_from_source)
+from ..layers import (add_project_parameters, add_roi_parameters, crs_string, geotiff_source,
+                     open_project_parameter, optional_number, rois_from_source)
 from .base import EasyIDPAlgorithm
 
 HEIGHT_Z, HEIGHT_DSM, HEIGHT_FIELD_, HEIGHT_CONSTANT = range(4)
@@ -74,11 +74,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
         "per ROI showing its best photos.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterEnum(
             self.HEIGHT_SOURCE, self.tr("Heights of the ROI vertices"),

@@ -1,17 +1,17 @@
 """Processing tool: Crop point cloud by ROIs (easyidp:croppointcloudbyrois)."""
 import os
 
-from qgis.core import (QgsProcessing, QgsProcessingException,
+from qgis.core import (QgsProcessingException,
                        QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
                        QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFolderDestination,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
                        QgsProviderRegistry)
 from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
-from ..layers import (add_index_parameter, add_point_cloud_parameters, add_z_range_parameters,
-                      qgis_crs, read_point_cloud_parameter, rois_from_source, write_index, z_range)
+from ..layers import (add_index_parameter, add_point_cloud_parameters, add_roi_parameters,
+                     add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_from_source,
+                     write_index, z_range)
 from .base import EasyIDPAlgorithm, translatable
 
 FORMATS = [("same", translatable("Same as input")), ("las", "LAS"),
@@ -70,11 +70,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_point_cloud_parameters(self)
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         add_z_range_parameters(self)
         p = QgsProcessingParameterBoolean(
             self.WRITE_EMPTY, self.tr("Write empty files for ROIs without any point"), False)

@@ -1,13 +1,13 @@
 """Processing tool: Crop raster by ROIs (easyidp:croprasterbyrois)."""
 from qgis.core import (QgsProcessingOutputMultipleLayers,
                        QgsProcessingOutputNumber, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFolderDestination,
-                       QgsProcessingParameterRasterLayer, QgsProcessing)
+                       QgsProcessingParameterDefinition, QgsProcessingParameterFolderDestination,
+                       QgsProcessingParameterRasterLayer)
 from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
-from ..layers import add_index_parameter, crs_string, geotiff_source, rois_from_source, write_index
+from ..layers import (add_index_parameter, add_roi_parameters, crs_string, geotiff_source,
+                     rois_from_source, write_index)
 from .base import EasyIDPAlgorithm
 
 
@@ -49,11 +49,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.INPUT, self.tr("Raster (GeoTIFF: orthomosaic, DSM or multispectral)")))
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         p = QgsProcessingParameterBoolean(
             self.ALL_TOUCHED, self.tr("All touched (include every pixel the ROI touches)"), False)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)

@@ -1,17 +1,16 @@
 """Processing tool: Orthorectify ROIs from raw photos (easyidp:orthorectifyrois)."""
-from qgis.core import (QgsProcessing, QgsProcessingOutputMultipleLayers,
+from qgis.core import (QgsProcessingOutputMultipleLayers,
                        QgsProcessingOutputNumber,
                        QgsProcessingParameterDefinition,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFile,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
 
 from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
-from ..layers import (add_index_parameter, add_project_parameters, crs_string, geotiff_source,
-                      open_project_parameter, rois_from_source, write_index)
+from ..layers import (add_index_parameter, add_project_parameters, add_roi_parameters, crs_string,
+                     geotiff_source, open_project_parameter, rois_from_source, write_index)
 from .base import EasyIDPAlgorithm
 
 SELECTIONS = ("best", "all", "photo")
@@ -62,11 +61,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             "layer.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterFile(

@@ -1,7 +1,6 @@
 """Processing tool: Point cloud statistics per ROI (easyidp:pointcloudroistatistics)."""
 import math
 import os
-import re
 
 from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProcessing,
                        QgsProcessingException, QgsProcessingParameterDefinition,
@@ -12,32 +11,13 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
-                      optional_number, qgis_crs, read_point_cloud_parameter, rois_from_source,
-                      z_range)
+                     optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
+                     rois_from_source, z_range)
 from .base import EasyIDPAlgorithm
 
 FIXED_FIELDS = [("count", QVariant.LongLong), ("density", QVariant.Double),
                 ("z_min", QVariant.Double), ("z_mean", QVariant.Double), ("z_max", QVariant.Double),
                 ("ground", QVariant.Double), ("h_mean", QVariant.Double), ("h_max", QVariant.Double)]
-
-
-def parse_percentiles(text: str):
-    """'5, 50 95;99' → [5.0, 50.0, 95.0, 99.0] (order kept, duplicates dropped)."""
-    out = []
-    for token in re.split(r"[,;\s]+", (text or "").strip()):
-        if not token:
-            continue
-        try:
-            q = float(token)
-        except ValueError:
-            q = math.nan
-        if not 0 <= q <= 100:
-            raise QgsProcessingException(
-                f"Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
-                "separated by commas, e.g. 5,50,95,99.")
-        if q not in out:
-            out.append(q)
-    return out
 
 
 def percentile_field(q: float) -> str:
@@ -106,7 +86,8 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
     def run_tool(self, parameters, context, feedback):
         from ...core.pointcloud import canopy_summary
 
-        percentiles = parse_percentiles(self.parameterAsString(parameters, self.PERCENTILES, context))
+        percentiles = parse_percentiles(self, self.parameterAsString(parameters, self.PERCENTILES,
+                                                                     context))
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback,

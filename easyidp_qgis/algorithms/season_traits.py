@@ -1,7 +1,5 @@
 """Processing tool: Plot traits over a season (easyidp:seasontraits)."""
-import math
 import os
-import re
 
 from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
                        QgsProcessing, QgsProcessingException,
@@ -14,29 +12,10 @@ from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
 from qgis.PyQt.QtCore import QDate, QDateTime, Qt, QVariant
 
 from .. import presentation
-from ..layers import crs_string, geotiff_source, rois_from_source
+from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_from_source)
 from .base import EasyIDPAlgorithm
 
 TRAITS = ["height", "cover", "bands", "index", "cloud"]
-
-
-def parse_percentiles(text: str):
-    """'50, 95;99' → [50.0, 95.0, 99.0]; QgsProcessingException for anything else."""
-    out = []
-    for token in re.split(r"[,;\s]+", (text or "").strip()):
-        if not token:
-            continue
-        try:
-            q = float(token)
-        except ValueError:
-            q = math.nan
-        if not 0 <= q <= 100:
-            raise QgsProcessingException(
-                f"Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
-                "separated by commas, e.g. 50,95,99.")
-        if q not in out:
-            out.append(q)
-    return out or [50.0, 95.0, 99.0]
 
 
 class SeasonTraits(EasyIDPAlgorithm):
@@ -181,8 +160,8 @@ class SeasonTraits(EasyIDPAlgorithm):
 
         result = run_season(
             table, rois, traits=traits,
-            percentiles=parse_percentiles(self.parameterAsString(parameters, self.PERCENTILES,
-                                                                 context)),
+            percentiles=parse_percentiles(self, self.parameterAsString(
+                parameters, self.PERCENTILES, context), default=(50.0, 95.0, 99.0)),
             ground=ground, ground_crs=crs_string(ground_layer.crs()) if ground_layer else None,
             ground_percentile=self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context),
             cover_threshold=threshold, crops=crops, overwrite=self.overwrite(parameters, context),
