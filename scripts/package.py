@@ -19,9 +19,10 @@ import os
 import re
 import subprocess
 import sys
-import tempfile
 import zipfile
 from typing import List, Optional, Tuple
+
+from ..core.files import atomic_output
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 PLUGIN_ID = "easyidp_toolbox"
@@ -160,9 +161,7 @@ def build(output_dir: str, root: str = ROOT, strict: bool = False) -> Tuple[str,
     path = os.path.join(output_dir, f"{PLUGIN_ID}-{meta['version'].strip()}.zip")
     stamp = _commit_time(root)
     folders = sorted({"/".join(n.split("/")[:i]) for n in names for i in range(1, n.count("/") + 1)})
-    fd, tmp = tempfile.mkstemp(prefix=".package-", suffix=".zip", dir=output_dir)
-    os.close(fd)
-    try:
+    with atomic_output(path) as tmp:       # the one atomic writer of the project
         with zipfile.ZipFile(tmp, "w", zipfile.ZIP_DEFLATED, compresslevel=9) as zf:
             for entry in [""] + folders:
                 info = zipfile.ZipInfo(f"{PLUGIN_ID}/{entry}/".replace("//", "/"), stamp)
@@ -174,13 +173,9 @@ def build(output_dir: str, root: str = ROOT, strict: bool = False) -> Tuple[str,
                 info.compress_type = zipfile.ZIP_DEFLATED
                 with open(os.path.join(root, name), "rb") as fh:
                     zf.writestr(info, fh.read())
-        problems = check_zip(tmp)
+        problems = check_zip(str(tmp))
         if problems:
             raise ValueError("the zip fails the repository's checks:\n  " + "\n  ".join(problems))
-        os.replace(tmp, path)
-    finally:
-        if os.path.exists(tmp):
-            os.remove(tmp)
     return path, warnings
 
 
