@@ -25,9 +25,11 @@ crops use: each photo decoded once, threads ahead), every record of the photo is
 the median of each statistic (``weighted``: the score-weighted median), its median absolute
 deviation (MAD, unscaled), minimum and maximum, and the number of views used. **Disagreement**:
 for each "mean" statistic and the cover, the field's typical spread ``σ`` is the median over the
-ROIs with three or more views of 1.4826·MAD; a view's ``deviation`` is its largest |value − its
-ROI's value| / σ, and a ROI's ``disagreement`` its largest 1.4826·MAD / σ. 1 is typical; 3 or
-more flags views that disagree (wind, shadows, a bad pose). NaN with fewer than two views.
+ROIs with three or more views of 1.4826·MAD; a view's ``deviation`` is the mean over those
+statistics of |value − its ROI's value| / σ, and a ROI's ``disagreement`` the largest deviation
+of its views. About 1 is typical for the field; several times that flags a view that disagrees
+(a shadow, wind, a bad pose, or tall canopy seen from a very different angle; the MAD itself
+ignores a single outlying view). NaN with fewer than two views.
 
 Photos are measured as stored: no vignetting or radiometric correction is applied (correct the
 photos first when the study needs reflectance).
@@ -640,18 +642,25 @@ def _aggregate(res: BackProjection, values: np.ndarray, used: np.ndarray, column
         np.full(len(key), np.nan)
     typical = np.where(typical > 0, typical, np.nan)
     with np.errstate(invalid="ignore", divide="ignore"):
-        ratio = spread / typical
-        dis = np.where(views >= 2, np.nanmax(np.where(np.isfinite(ratio), ratio, -np.inf), axis=1)
-                       if len(key) else np.nan, np.nan)
-        dis = np.where(np.isfinite(dis), dis, np.nan)
         dev = np.full(len(res.roi), np.nan)
         if len(key):
-            z = np.abs(values[:, key] - med[res.roi][:, key]) / typical
-            zmax = np.nanmax(np.where(np.isfinite(z), z, -np.inf), axis=1)
-            ok = used & (views[res.roi] >= 2) & np.isfinite(zmax)
-            dev[ok] = zmax[ok]
+            z = _mean_finite(np.abs(values[:, key] - med[res.roi][:, key]) / typical)
+            ok = used & (views[res.roi] >= 2) & np.isfinite(z)
+            dev[ok] = z[ok]
+    dis = np.full(n, np.nan)
+    ok = np.flatnonzero(np.isfinite(dev))
+    if len(ok):
+        np.fmax.at(dis, res.roi[ok], dev[ok])
     return {"median": med, "mad": mad, "min": lo, "max": hi, "views": views,
             "disagreement": dis, "deviation": dev}
+
+
+def _mean_finite(a: np.ndarray) -> np.ndarray:
+    """Row means over the finite values (NaN for a row without any)."""
+    fin = np.isfinite(a)
+    n = fin.sum(axis=1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(n > 0, np.where(fin, a, 0.0).sum(axis=1) / np.maximum(n, 1), np.nan)
 
 
 def _nanmedian(X: np.ndarray) -> np.ndarray:

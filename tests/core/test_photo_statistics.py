@@ -234,6 +234,32 @@ def test_each_photo_decoded_once_and_weighting_and_selection(flat):
         assert st2.used[k] or st2.why[k] == "below the minimum visible share"
 
 
+def test_a_shadow_in_one_view_is_flagged(tmp_path):
+    """A 3 × 3 grid of plots in three photos; in the third, a "cloud shadow" darkens the centre
+    plot: its views disagree (and that view deviates) far more than the field's typical, and the
+    median of the three views is that of the two unshaded ones' side."""
+    rng = np.random.default_rng(4)
+    images = [rng.integers(60, 200, (H, W, 3)).astype(np.uint8) for _ in range(3)]
+    f, cx, cy = 680.0, 403.2, 297.9
+    u0, u1 = int(cx + f * (-4.5) / 30), int(cx + f * (-1.5) / 30)     # plot at x = 3 m from x = 6
+    v0, v1 = int(cy - f * 1.5 / 30), int(cy + f * 1.5 / 30)
+    images[2][v0:v1, u0:u1] //= 2
+    recon = _project(tmp_path, [(NADIR, [3.0 * i, 0.0, 30.0]) for i in range(3)], images)
+    sq = np.array([[-1.0, -1.0], [1.0, -1.0], [1.0, 1.0], [-1.0, 1.0]])
+    rois = _rois(*[sq + [3 + dx, dy] for dy in (-4, 0, 4) for dx in (-4, 0, 4)])
+    res = back_project(rois, recon, heights=0.0, min_visible=0.0)
+    st = photo_statistics(res, statistics=("mean",), indices=["exg"])
+    centre = st.roi_names.index("r4")
+    assert np.all(st.views == 3)
+    others = np.delete(st.disagreement, centre)
+    assert st.disagreement[centre] > 10 * np.median(others) and np.median(others) < 3
+    k = int(np.nanargmax(st.deviation))
+    assert st.roi[k] == centre and st.photo[k] == "IMG_2"
+    q = st.columns.index("red_mean")
+    sel = np.flatnonzero(st.roi == centre)
+    assert st.median[centre, q] == np.median(st.values[sel, q]) > st.values[k, q] + 30
+
+
 def test_rebuilt_from_records_gives_the_same_values(flat):
     """The route of the QGIS tool's photo-pixel layer input."""
     recon, rois, res, images, tmp = flat
