@@ -21,7 +21,7 @@ from .forward import ForwardShape, densify_ring, forward_project
 from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
 from .merge import MERGE_MODES, MapPolygon, merge_views
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
-from .photo_statistics import PhotoStatistics, photo_statistics
+from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
 from .result import PIXEL_CONVENTION, BackProjection, FlatPolygons, read_easyidp_json
 

@@ -1,4 +1,4 @@
-"""Plot statistics from the raw photos (core/projection/photo_statistics.py, pixel_occlusion.py,
+"""Plot statistics from the raw photos (core/projection/photo_stats.py, pixel_occlusion.py,
 core/indices.py).
 
 Independent checks, each saying its kind of truth:
@@ -29,7 +29,8 @@ from easyidp_toolbox.core import indices as ix
 from easyidp_toolbox.core.errors import EasyIDPError, InputError
 from easyidp_toolbox.core.projection import (DSMHeights, back_project, photo_statistics)
 from easyidp_toolbox.core.projection import photos as photos_module
-from easyidp_toolbox.core.projection.photo_statistics import _order_stats_int, weighted_median
+from easyidp_toolbox.core.projection.photo_stats import (_order_stats_float, _order_stats_int,
+                                                         weighted_median)
 from easyidp_toolbox.core.projection.result import BackProjection
 from easyidp_toolbox.core.reconstruction import Calibration, Camera, Reconstruction, Sensor
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
@@ -127,6 +128,12 @@ def test_order_statistics_from_histograms_are_numpys():
             med, pct = _order_stats_int(v, True, qs)
             assert med == np.median(v)
             assert list(pct) == list(np.percentile(v, qs)), (n, top)
+    # floats (index values): few and many, with ties, one value, a wide spread
+    for n in (1, 7, 5000, 20001):
+        for v in (rng.normal(0.3, 0.2, n), np.round(rng.normal(0, 1, n), 2), np.full(n, 0.25),
+                  np.concatenate([rng.normal(0, 1, n - 1), [1e6]])):
+            med, pct = _order_stats_float(v, True, qs)
+            assert med == np.median(v) and list(pct) == list(np.percentile(v, qs)), n
 
 
 def test_weighted_median():

@@ -38,7 +38,6 @@ import csv
 import io
 import math
 import os
-from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence
 
@@ -278,8 +277,7 @@ class _Measure:
             if integer:
                 med, pct = _order_stats_int(v, bool(need), self.qs)
             else:
-                med = float(np.median(v)) if need else None
-                pct = np.percentile(v, self.qs) if self.qs else []
+                med, pct = _order_stats_float(v, bool(need), self.qs)
             if need:
                 out[self.stats.index("median")] = med
             for j, p in enumerate(pct):
@@ -331,10 +329,44 @@ def _order_stats_int(v: np.ndarray, median: bool, qs):
     as numpy's ``median`` and ``percentile`` (linear rule) compute them."""
     counts = np.bincount(v.astype(np.int64))
     cum = np.cumsum(counts)
-    n = len(v)
 
     def kth(k):                       # the k-th smallest value (0-based)
         return float(np.searchsorted(cum, k, side="right"))
+    return _interpolate(kth, len(v), median, qs)
+
+
+SELECT_BINS = 1024
+
+
+def _order_stats_float(v: np.ndarray, median: bool, qs):
+    """(median, percentiles) of finite float64 values, exactly as numpy's ``median`` and
+    ``percentile`` (linear rule): the order statistics needed are found by a histogram of
+    :data:`SELECT_BINS` bins (monotone in the value), then selected among the values of their
+    bin only (about twice as fast as ``np.percentile``'s partition of all values)."""
+    n = len(v)
+    lo, hi = float(v.min()), float(v.max())
+    if n < 4 * SELECT_BINS or not hi > lo:
+        s = np.sort(v) if n < 4 * SELECT_BINS else None
+        return _interpolate((lambda k: float(s[k])) if s is not None else (lambda k: lo), n,
+                            median, qs)
+    scale = (SELECT_BINS - 1) / (hi - lo)
+    b = ((v - lo) * scale).astype(np.int64)          # monotone in v: order is kept across bins
+    cum = np.cumsum(np.bincount(b, minlength=SELECT_BINS))
+    cache = {}
+
+    def kth(k):
+        if k not in cache:
+            j = int(np.searchsorted(cum, k, side="right"))
+            inside = np.sort(v[b == j])
+            cache[k] = float(inside[k - (cum[j - 1] if j else 0)])
+        return cache[k]
+    return _interpolate(kth, n, median, qs)
+
+
+def _interpolate(kth, n: int, median: bool, qs):
+    """(median, percentiles) from ``kth(k)``, the k-th smallest of ``n`` values, with numpy's
+    rules: the median of an even count is the mean of the middle two; percentiles are linear
+    between order statistics, with numpy's ``_lerp``."""
     med = None
     if median:
         med = kth(n // 2) if n % 2 else (kth(n // 2 - 1) + kth(n // 2)) / 2.0
@@ -409,9 +441,10 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
         if guard is not None:
             guard.__enter__()
             guard.claim(d + ".png" for d in sheets.names)
+        # the decoding runs ahead in threads; the measuring stays on this thread: its many
+        # small numpy calls hold the GIL (two measuring threads were 1.4× slower than one)
         with DecodedPhotos([found[result.photo_labels[j]] for j in todo],
-                           result.image_sizes[todo], workers) as decoded, \
-                ThreadPoolExecutor(workers, thread_name_prefix="easyidp-stats") as pool:
+                           result.image_sizes[todo], workers) as decoded:
             for n, img, why in decoded:
                 prog.check()
                 j = todo[n]
@@ -426,10 +459,8 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
                 occluded = [None] * len(recs)
                 if occ is not None:
                     occluded = occ.photo(j, recs, windows, prog)
-                futs = [pool.submit(state.measure, i, img, w, o) for i, w, o in
-                        zip(recs, windows, occluded)]
-                for f in futs:
-                    f.result()
+                for i, w, o in zip(recs, windows, occluded):
+                    state.measure(i, img, w, o)
                 if sheets is not None:
                     for i in recs:
                         sheets.add(i, img)
@@ -512,6 +543,7 @@ class _Pass:
         return True
 
     def measure(self, i: int, img: np.ndarray, wm, occluded) -> None:
+        """Measure record ``i`` in ``img``; ``wm``: its (r0, c0, mask)."""
         r0, c0, mask = wm
         h, w = mask.shape
         keep = mask if occluded is None else mask & ~occluded[0]
