@@ -29,5 +29,6 @@ __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA
            "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION",
            "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
-           "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics", "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
+           "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
+           "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
            "merge_views", "MERGE_MODES"]
