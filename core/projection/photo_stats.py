@@ -406,7 +406,8 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     ``rois``, the ROI set the back-projection was made from): leave out the pixels whose line of
     sight meets the DSM outside the ROI (:mod:`.pixel_occlusion`; ``occlusion_samples`` coarse
     rays per view). ``previews_folder``: one PNG per ROI with its used views (at most
-    ``preview_views``) side by side, each with its values.
+    ``preview_views``) side by side, each with its values. ``workers``: decoding threads (the
+    measuring runs on the calling thread).
     """
     stats, qs = _check_args(statistics, percentiles, min_visible, max_images, cover_threshold)
     wanted = ix.check_indices(indices)
