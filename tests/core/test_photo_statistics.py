@@ -259,6 +259,8 @@ def test_a_shadow_in_one_view_is_flagged(tmp_path):
     centre = st.roi_names.index("r4")
     assert np.all(st.views == 3)
     others = np.delete(st.disagreement, centre)
+    print(f"\nshadowed plot: disagreement {st.disagreement[centre]:.1f}, others median "
+          f"{np.median(others):.2f}")
     assert st.disagreement[centre] > 10 * np.median(others) and np.median(others) < 3
     k = int(np.nanargmax(st.deviation))
     assert st.roi[k] == centre and st.photo[k] == "IMG_2"
