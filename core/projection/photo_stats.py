@@ -38,6 +38,7 @@ import csv
 import io
 import math
 import os
+from contextlib import ExitStack
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence
 
@@ -436,12 +437,12 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
         by_photo.setdefault(j, []).append(i)
     todo = [j for j in used_photos if result.photo_labels[j] in found]
     workers = max(1, workers or min(4, os.cpu_count() or 1))
-    guard = OutputFolder(previews_folder, overwrite=overwrite, what="Previews folder") \
-        if previews_folder is not None else None
-    try:
-        if guard is not None:
-            guard.__enter__()
-            guard.claim(d + ".png" for d in sheets.names)
+    with ExitStack() as stack:
+        if sheets is not None:
+            stack.callback(sheets.cleanup)
+            stack.enter_context(OutputFolder(previews_folder, overwrite=overwrite,
+                                             what="Previews folder")).claim(
+                d + ".png" for d in sheets.names)
         # the decoding runs ahead in threads; the measuring stays on this thread: its many
         # small numpy calls hold the GIL (two measuring threads were 1.4× slower than one)
         with DecodedPhotos([found[result.photo_labels[j]] for j in todo],
@@ -472,11 +473,6 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
         out.rays = occ.rays if occ is not None else 0
         if sheets is not None:
             out.previews = sheets.write(out)
-    finally:
-        if sheets is not None:
-            sheets.cleanup()
-        if guard is not None:
-            guard.__exit__(None, None, None)
     prog.set(100)
     return out
 

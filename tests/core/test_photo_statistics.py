@@ -26,7 +26,7 @@ import tifffile
 from pyproj import CRS
 
 from easyidp_toolbox.core import indices as ix
-from easyidp_toolbox.core.errors import EasyIDPError, InputError
+from easyidp_toolbox.core.errors import Cancelled, EasyIDPError, InputError
 from easyidp_toolbox.core.projection import (DSMHeights, back_project, photo_statistics)
 from easyidp_toolbox.core.projection import photos as photos_module
 from easyidp_toolbox.core.projection.photo_stats import (_order_stats_float, _order_stats_int,
@@ -324,6 +324,17 @@ def test_bad_inputs_are_named(flat, tmp_path):
     assert set(st.skipped_photos) == {"IMG_1", "IMG_2"} and "300" in st.skipped_photos["IMG_1"]
     assert st.photos_decoded == 1 and st.used.sum() == int((res.photo == "IMG_0").sum())
     assert all(st.why[k] == "photo not available" for k in range(len(st.record)) if not st.used[k])
+    # a photo with other bands than the first (another camera of the project) is skipped
+    (moved / "IMG_2.png").write_bytes(imagecodecs.png_encode(np.ascontiguousarray(images[2][..., 0])))
+    (moved / "IMG_1.png").write_bytes(imagecodecs.png_encode(images[1]))
+    st = photo_statistics(res, moved)
+    assert list(st.skipped_photos) == ["IMG_2"] and "1 band(s)" in st.skipped_photos["IMG_2"]
+    # cancelling stops the run, and no preview is left behind
+    calls = []
+    with pytest.raises(Cancelled):
+        photo_statistics(res, moved, previews_folder=tmp_path / "pv",
+                         is_cancelled=lambda: calls.append(1) or len(calls) > 2)
+    assert not [p for p in (tmp_path / "pv").iterdir() if not p.name.startswith(".easyidp")]
 
 
 def test_16bit_multispectral_keeps_its_values(tmp_path):
