@@ -693,8 +693,10 @@ def _mean_finite(a: np.ndarray) -> np.ndarray:
 
 def _nanmedian(X: np.ndarray) -> np.ndarray:
     """Column medians ignoring NaN (NaN for an all-NaN column), without numpy's warning."""
-    out = np.full(X.shape[1], np.nan)
     fin = np.isfinite(X)
+    if fin.all():
+        return np.median(X, axis=0)
+    out = np.full(X.shape[1], np.nan)
     for q in range(X.shape[1]):
         v = X[fin[:, q], q]
         if len(v):
