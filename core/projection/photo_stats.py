@@ -418,7 +418,6 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     if occlusion_dsm is not None:
         occ = _Occlusion(result, recon, rois, occlusion_dsm, distortion, occlusion_samples)
     k = len(result)
-    n_rois = len(result.roi_names)
     used_photos = sorted(set(result.photo_index.tolist()), key=lambda j: result.photo_labels[j])
     labels = [result.photo_labels[j] for j in used_photos]
     found, missing = resolve_photos(labels, [result.photo_paths[j] for j in used_photos], photos)
