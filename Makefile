@@ -5,6 +5,8 @@
 #   make bench  benchmarks against easyidp 2.0.4 and GDAL (minutes; not part of test)
 #   make package  dist/easyidp_toolbox-<version>.zip for Install from ZIP and plugins.qgis.org
 #               (STRICT=1: refuse metadata placeholders, for a release upload)
+#   make screenshots  the README's pictures of the QGIS desktop (docs/desktop_*.png): a session
+#               with the tools on the demo survey, in the real desktop under Xvfb
 SHELL := /bin/bash
 ROOT := $(abspath $(dir $(lastword $(MAKEFILE_LIST))))
 PY_SYS := /usr/bin/python3
@@ -18,11 +20,12 @@ export PROJ_DATA := /usr/share/proj
 export PYTHONDONTWRITEBYTECODE := 1
 DEMO_DIR ?= $(ROOT)/demo_output
 
-.PHONY: env env-ref test test-core test-core-current test-qgis demo bench package clean
+.PHONY: env env-ref test test-core test-core-current test-qgis demo bench package screenshots clean
 
 env: apt $(VENV)/.done $(VENV_CORE)/.done
 
-# xvfb, xauth: the QGIS desktop in tests/qgis/test_install_from_zip.py (it refuses to start offscreen)
+# xvfb, xauth: the QGIS desktop in tests/qgis/test_install_from_zip.py, test_desktop.py and
+# make screenshots (it refuses to start offscreen)
 APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip xvfb xauth
 
 # Debian packages: installed when any is missing (checked on every run; takes a moment).
@@ -78,6 +81,9 @@ demo: env
 
 bench: env env-ref
 	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
+
+screenshots: env
+	$(VENV)/bin/python -m easyidp_toolbox.scripts.qgis_desktop --screenshots $(ROOT)/docs
 
 package:
 	$(PY_SYS) $(ROOT)/scripts/package.py --output $(ROOT)/dist $(if $(STRICT),--strict)

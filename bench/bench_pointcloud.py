@@ -157,7 +157,11 @@ def main(argv=None):
     ap.add_argument("--skip-read", action="store_true")
     ap.add_argument("--skip-easyidp", action="store_true")
     ap.add_argument("--cache", type=Path, default=CACHE)
+    ap.add_argument("--quick", action="store_true",
+                    help="a fast run: 2 M points, 40 plots for easyidp, 10 M points read")
     a = ap.parse_args(argv)
+    if a.quick:
+        a.points, a.read_points = min(a.points, 2e6), min(a.read_points, 10e6)
     cache = a.cache
     cache.mkdir(parents=True, exist_ok=True)
     rois, extent = plots()

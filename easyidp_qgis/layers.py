@@ -1,11 +1,14 @@
 """Adapters from QGIS layers and parameters to the core's plain data."""
+import math
 import os
+import re
 
 from qgis.core import (QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsCsException,
-                       QgsFeatureRequest, QgsGeometry, QgsProcessingException, QgsProject,
+                       QgsFeatureRequest, QgsGeometry, QgsProcessing, QgsProcessingException,
                        QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
+                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterNumber,
-                       QgsProcessingParameterString, QgsWkbTypes)
+                       QgsProcessingParameterString, QgsProject, QgsWkbTypes)
 
 from ..core.roi import ROISet, roi_from_coordinates
 
@@ -257,8 +260,7 @@ HEIGHT_Z, HEIGHT_DSM, HEIGHT_FIELD, HEIGHT_CONSTANT = range(4)
 
 def add_height_parameters(alg):
     """HEIGHT_SOURCE, DSM (vertex heights and the occlusion test), HEIGHT_FIELD, GROUND_HEIGHT."""
-    from qgis.core import QgsProcessingParameterEnum, QgsProcessingParameterField, \
-        QgsProcessingParameterRasterLayer
+    from qgis.core import QgsProcessingParameterEnum, QgsProcessingParameterRasterLayer
     alg.addParameter(QgsProcessingParameterEnum(
         alg.HEIGHT_SOURCE, alg.tr("Heights of the ROI vertices"),
         [alg.tr("Geometry Z (3-D polygons)"), alg.tr("DSM, sampled at every vertex"),
@@ -269,9 +271,9 @@ def add_height_parameters(alg):
     alg.addParameter(QgsProcessingParameterField(
         alg.HEIGHT_FIELD, alg.tr("Height attribute"), parentLayerParameterName=alg.ROIS,
         type=QgsProcessingParameterField.Numeric, optional=True))
-    alg.addParameter(QgsProcessingParameterNumber(
+    alg.addParameter(alg.decimals(QgsProcessingParameterNumber(
         alg.GROUND_HEIGHT, alg.tr("Constant ground height (project vertical reference)"),
-        QgsProcessingParameterNumber.Double, optional=True))
+        QgsProcessingParameterNumber.Double, optional=True), 3))
 
 
 def dsm_parameter(alg, parameters, context):
@@ -360,3 +362,70 @@ def backprojection_from_layer(layer, label: str, roi_names, recon, feedback=None
                 "height": int(rec.get("photo_height") or sensor.height),
                 "principal_point": (cal.cx, cal.cy) if cal is not None else None}
     return BackProjection.from_records(list(roi_names), records, photos)
+
+
+# ---- the index layer of a tool that writes one file per ROI ------------------------------------
+
+def add_index_parameter(alg, description: str):
+    """OUTPUT_INDEX (optional, made by default): the ROIs with the file written for each. Loading
+    it is the user's choice of loading the files too (see presentation.load_project)."""
+    from qgis.core import QgsProcessing, QgsProcessingParameterFeatureSink
+    alg.addParameter(QgsProcessingParameterFeatureSink(
+        alg.OUTPUT_INDEX, description, QgsProcessing.TypeVectorPolygon, optional=True,
+        createByDefault=True))
+
+
+def write_index(alg, parameters, context, source, rows, extra):
+    """Write OUTPUT_INDEX when it is asked for: one feature per row ``(ROI feature, values)``,
+    the ROI's geometry and attributes followed by the ``extra`` fields ``[(name, QVariant
+    type)]``. Returns the destination id, or None when the output is skipped."""
+    from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
+                           QgsProcessingUtils)
+    if parameters.get(alg.OUTPUT_INDEX) in (None, ""):
+        return None
+    more = QgsFields()
+    for name, kind in extra:
+        more.append(QgsField(name, kind))
+    fields = QgsProcessingUtils.combineFields(source.fields(), more)
+    sink, dest = alg.parameterAsSink(parameters, alg.OUTPUT_INDEX, context, fields,
+                                     source.wkbType(), source.sourceCrs())
+    if sink is None:
+        return None
+    for feat, values in rows:
+        f = QgsFeature(fields)
+        f.setGeometry(feat.geometry())
+        f.setAttributes(list(feat.attributes()) + list(values))
+        sink.addFeature(f, QgsFeatureSink.FastInsert)
+    return dest
+
+
+# ---- ROIs and percentiles: parameters several tools share
+
+def add_roi_parameters(alg, name_field: bool = True):
+    """ROIS (a polygon layer) and, with ``name_field``, NAME_FIELD (names files and records)."""
+    alg.addParameter(QgsProcessingParameterFeatureSource(
+        alg.ROIS, alg.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+    if name_field:
+        alg.addParameter(QgsProcessingParameterField(
+            alg.NAME_FIELD, alg.tr("Name field (default: feature id)"),
+            parentLayerParameterName=alg.ROIS, optional=True))
+
+
+def parse_percentiles(alg, text: str, default=()):
+    """'5, 50 95;99' → [5.0, 50.0, 95.0, 99.0] (order kept, repeats dropped); ``default`` when
+    empty; QgsProcessingException naming the token for anything that is not 0–100."""
+    out = []
+    for token in re.split(r"[,;\s]+", (text or "").strip()):
+        if not token:
+            continue
+        try:
+            q = float(token)
+        except ValueError:
+            q = math.nan
+        if not 0 <= q <= 100:
+            raise QgsProcessingException(alg.tr(
+                "Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
+                "separated by commas, e.g. 5,50,95,99.").format(token=token))
+        if q not in out:
+            out.append(q)
+    return out or list(default)

@@ -41,8 +41,20 @@ def _inputs(alg, parameters, context):
     return out
 
 
+def scratch_context(context):
+    """A context to resolve output paths in: ``parameterAsOutputLayer`` queues the layer for
+    loading on completion, and a queued 'memory:…' that no sink then fills fails to load (an
+    error in the desktop after every run to a temporary layer)."""
+    from qgis.core import QgsProcessingContext
+    scratch = QgsProcessingContext()
+    scratch.setProject(context.project())
+    scratch.setExpressionContext(context.expressionContext())
+    return scratch
+
+
 def _outputs(alg, parameters, context):
     """(file, parameter description) of every file output (sinks to memory are skipped)."""
+    context = scratch_context(context)
     out = []
     for p in alg.destinationParameterDefinitions():
         if isinstance(p, QgsProcessingParameterFolderDestination):

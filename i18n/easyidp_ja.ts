@@ -4,6 +4,182 @@
   <context>
     <name>EasyIDP</name>
     <message>
+      <source>Back-project ROIs to raw photos</source>
+      <translation>ROI を元画像へ逆投影</translation>
+    </message>
+    <message>
+      <source>Projection</source>
+      <translation>投影</translation>
+    </message>
+    <message>
+      <source>Finds every ROI (plot, tree, plant polygon) in every raw photo of a Metashape or Pix4D project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw photos are sharper than the orthomosaic and free of its seamlines.
+
+Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
+
+Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
+
+Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
+      <translation>Metashape または Pix4D プロジェクトの元画像（撮影写真）のうち、各 ROI（区画、樹木、植物のポリゴン）が写っているものを、プロジェクトで解かれたカメラを使ってすべて見つけます（EasyIDP の back2raw）。元画像はオルソモザイクより鮮明で、シームラインもありません。
+
+入力：ROI ポリゴン、プロジェクト（Metashape の .psx/.psz/カメラの .xml、Pix4D の .p4d またはその 1_initial/params フォルダ内の任意のファイル）、ROI 頂点の高さ。高さは、ジオメトリの Z（例：「DSM から ROI の高さを取得」の出力）、各頂点でサンプリングした数値表層モデル（DSM）、数値属性、または一定の地面の高さから取得します（高さはプロジェクトの高さ基準で指定します。地理座標系の Metashape チャンクでは楕円体高）。写真フォルダ：写真を移動した場合の写真の場所（ファイル名で照合）。
+
+各 ROI は頂点を高密度化してレンズ歪みを含めて投影し、写真の枠で切り取ります（「ROI 全体のみ」の場合は、ROI 全体が写真に収まるときのみ残します）。DSM がある場合は、ROI 内の地表上の点への視線について遮蔽を判定します。遮蔽されずに見える割合が最小値未満の写真は除外し、残りの写真はスコア（視線角、地上解像度、写真中心からの距離、見える割合）で順位付けします。
+
+出力：写真ピクセル単位の ROI（x = 列、y = −行。QGIS でジオリファレンスなしに開いた元画像に重なります。'photo' で絞り込んでください）。ROI × 写真ごとに 1 地物で、スコア、順位、視線角、地上画素寸法（GSD）、各割合を持ちます。地図上の ROI の概要（写真の枚数と最良の写真）。オプションで、EasyIDP の JSON {roi: {photo: [[x, y], ...]}}、元画像の切り出し（ROI をアルファとした PNG、16 ビットまたはマルチバンドの写真では TIFF。それぞれ JSON のサイドカー付き）、ROI ごとに最良の写真を示すプレビュー PNG 1 枚。</translation>
+    </message>
+    <message>
+      <source>Apply the lens distortion (off for undistorted photos)</source>
+      <translation>レンズ歪みを適用（歪み補正済みの写真ではオフ）</translation>
+    </message>
+    <message>
+      <source>Margin around the crops (pixels)</source>
+      <translation>切り出しの周囲の余白（ピクセル）</translation>
+    </message>
+    <message>
+      <source>ROIs</source>
+      <translation>ROI</translation>
+    </message>
+    <message>
+      <source>Heights of the ROI vertices</source>
+      <translation>ROI 頂点の高さ</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF): vertex heights and occlusion test</source>
+      <translation>DSM（GeoTIFF）：頂点の高さと遮蔽の判定</translation>
+    </message>
+    <message>
+      <source>Height attribute</source>
+      <translation>高さの属性</translation>
+    </message>
+    <message>
+      <source>Photos folder (when the photos moved; matched by file name)</source>
+      <translation>写真フォルダ（写真を移動した場合。ファイル名で照合）</translation>
+    </message>
+    <message>
+      <source>ROIs partly outside a photo</source>
+      <translation>写真から一部はみ出す ROI</translation>
+    </message>
+    <message>
+      <source>Test occlusion against the DSM (when a DSM is given)</source>
+      <translation>DSM で遮蔽を判定（DSM を指定した場合）</translation>
+    </message>
+    <message>
+      <source>Minimum visible, unoccluded share of a ROI in a photo</source>
+      <translation>写真内で遮蔽されずに見える ROI の最小割合</translation>
+    </message>
+    <message>
+      <source>Best photos to keep per ROI (0 = all)</source>
+      <translation>ROI ごとに残す最良の写真の枚数（0 = すべて）</translation>
+    </message>
+    <message>
+      <source>ROIs in photo pixels (x = column, y = −row)</source>
+      <translation>写真ピクセル単位の ROI（x = 列、y = −行）</translation>
+    </message>
+    <message>
+      <source>ROIs with their photo count and best photo</source>
+      <translation>写真の枚数と最良の写真付き ROI</translation>
+    </message>
+    <message>
+      <source>EasyIDP back2raw JSON</source>
+      <translation>EasyIDP back2raw JSON</translation>
+    </message>
+    <message>
+      <source>Crops of the raw photos</source>
+      <translation>元画像の切り出し</translation>
+    </message>
+    <message>
+      <source>Preview per ROI (its best photos)</source>
+      <translation>ROI ごとのプレビュー（最良の写真）</translation>
+    </message>
+    <message>
+      <source>No DSM given: occlusion is not tested.</source>
+      <translation>DSM が指定されていないため、遮蔽は判定しません。</translation>
+    </message>
+    <message>
+      <source>Cutting the ROIs out of the photos…</source>
+      <translation>写真から ROI を切り出しています…</translation>
+    </message>
+    <message>
+      <source>Geometry Z (3-D polygons)</source>
+      <translation>ジオメトリの Z（3 次元ポリゴン）</translation>
+    </message>
+    <message>
+      <source>DSM, sampled at every vertex</source>
+      <translation>DSM（各頂点でサンプリング）</translation>
+    </message>
+    <message>
+      <source>Attribute (one height per ROI)</source>
+      <translation>属性（ROI ごとに 1 つの高さ）</translation>
+    </message>
+    <message>
+      <source>Constant ground height</source>
+      <translation>一定の地面の高さ</translation>
+    </message>
+    <message>
+      <source>Constant ground height (project vertical reference)</source>
+      <translation>一定の地面の高さ（プロジェクトの高さ基準）</translation>
+    </message>
+    <message>
+      <source>Clip them to the photo frame</source>
+      <translation>写真の枠で切り取る</translation>
+    </message>
+    <message>
+      <source>Drop the photo (whole ROIs only)</source>
+      <translation>写真を除外（ROI 全体のみ）</translation>
+    </message>
+    <message>
+      <source>DSM</source>
+      <translation>DSM</translation>
+    </message>
+    <message>
+      <source>Projecting {n} ROIs into {m} photos ({h})</source>
+      <translation>{n} 個の ROI を {m} 枚の写真に投影しています（{h}）</translation>
+    </message>
+    <message>
+      <source>{rois} in the photos of {project} (photo pixels)</source>
+      <translation>{project} の写真上の {rois}（写真ピクセル）</translation>
+    </message>
+    <message>
+      <source>{rois}: photos of {project} that see them</source>
+      <translation>{rois}：ROI が写る {project} の写真</translation>
+    </message>
+    <message>
+      <source>{k} ROI × photo pairs for {seen} of {n} ROIs; {u} ROIs in no photo.</source>
+      <translation>{n} 個中 {seen} 個の ROI について ROI × 写真の組が {k} 組あります。どの写真にも写らない ROI は {u} 個です。</translation>
+    </message>
+    <message>
+      <source>Heights from the DSM: choose the DSM raster, or another height source.</source>
+      <translation>DSM から高さを取得：DSM ラスタを選択するか、別の高さの取得元を選択してください。</translation>
+    </message>
+    <message>
+      <source>ROI '{name}': {why}</source>
+      <translation>ROI '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>… and {n} more ROIs without a photo</source>
+      <translation>… ほかに写真のない ROI が {n} 個</translation>
+    </message>
+    <message>
+      <source>{n} crops and {p} previews written.</source>
+      <translation>切り出し {n} 件とプレビュー {p} 件を書き出しました。</translation>
+    </message>
+    <message>
+      <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
+      <translation>属性から高さを取得：ROI レイヤの高さの属性を選択してください。</translation>
+    </message>
+    <message>
+      <source>Constant ground height: give the height, or choose another height source.</source>
+      <translation>一定の地面の高さ：高さを入力するか、別の高さの取得元を選択してください。</translation>
+    </message>
+    <message>
+      <source>Photo {label} skipped: {why}</source>
+      <translation>写真 {label} をスキップしました：{why}</translation>
+    </message>
+    <message>
+      <source>Overwrite existing files (otherwise the tool stops before writing anything when an output already exists)</source>
+      <translation>既存のファイルを上書き（オフの場合、出力が既に存在すると何も書き出さずにツールを停止します）</translation>
+    </message>
+    <message>
       <source>Camera positions and footprints</source>
       <translation>カメラ位置と撮影範囲</translation>
     </message>
@@ -12,36 +188,32 @@
       <translation>写真測量プロジェクト</translation>
     </message>
     <message>
-      <source>Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, .psz, or an exported cameras .xml) or a Pix4D project (.p4d, the project folder or its 1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) and draws, for every aligned camera, its position and the part of the ground its photo sees. Run it first to check that a project was read right.
+      <source>Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, .psz, or an exported cameras .xml), a Pix4D project (.p4d, the project folder or its 1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) or an OpenDroneMap/OpenSfM project (choose opensfm/reconstruction.json in the ODM project folder; Python scripts may give the folder itself) and draws, for every aligned camera, its position and the part of the ground its photo sees. Run it first to check that a project was read right.
 
-The footprint is the photo border (densified, with the lens distortion) cast onto the DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo path, enabled, height above ground (m), view angle from nadir (degrees), and for footprints the area (m²) and whether the whole border reached the ground.
+Chunk: the Metashape chunk (label or index), or the OpenSfM reconstruction (index of a partial model; by default the largest, as the log says).
 
-Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D params folder without *_wkt.prj needs the project CRS. Heights of the DSM or the ground height must be in the project's vertical reference (for a Metashape chunk in a geographic CRS: ellipsoidal heights).</source>
-      <translation type="unfinished" />
+The footprint is the photo border (densified, with the lens distortion) cast onto the DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo path, enabled, height above ground (m), view angle from nadir (degrees), and for footprints the area (m²) and whether the whole border reached the ground's data (complete; where the DSM ends the footprint continues on a plane at the ground height under the camera). A camera at or below the ground gets no footprint and is named in the log.
+
+Metashape projects with rolling-shutter compensation: each photo has one pose per image row (the motion Metashape estimated during the readout); the footprints, like every projection, use it, and the log says when it is applied.
+
+Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in the map's CRS, else in the photogrammetry project's (the log says which). A Pix4D params folder without *_wkt.prj needs the project CRS. ODM projects bring ODM's CRS (that of its orthophoto and DSM); an OpenSfM dataset without ODM uses the WGS 84 / UTM zone of its reference point unless a project CRS is set. Heights of the DSM or the ground height must be in the project's vertical reference (for a Metashape chunk in a geographic CRS: ellipsoidal heights; for ODM: the heights of its DSM).</source>
+      <translation>Agisoft Metashape プロジェクト（.files フォルダを伴う .psx、.psz、またはエクスポートしたカメラの .xml）、Pix4D プロジェクト（.p4d、プロジェクトフォルダ、またはその 1_initial/params フォルダ：その中の任意のファイル、例えば *_pmatrix.txt を選択します）、または OpenDroneMap/OpenSfM プロジェクト（ODM プロジェクトフォルダ内の opensfm/reconstruction.json を選択します。Python スクリプトではフォルダ自体を指定できます）の解かれたカメラを読み込み、位置合わせされた各カメラについて、その位置と写真に写る地面の範囲を描画します。プロジェクトが正しく読み込まれたかを確認するため、最初に実行してください。
+
+チャンク：Metashape のチャンク（ラベルまたはインデックス）、または OpenSfM の再構成（部分モデルのインデックス。既定ではログに示される最大のもの）。
+
+撮影範囲（フットプリント）は、写真の縁（高密度化し、レンズ歪みを含む）を DSM 上に、DSM がない場合は一定の地面の高さに投影したものです。属性：ラベル、写真のパス、有効かどうか、対地高度（m）、天底からの視線角（度）、撮影範囲についてはその面積（m²）と、縁全体が地面のデータに届いたかどうか（complete。DSM が途切れる所では、撮影範囲はカメラ直下の地面の高さの平面上に続きます）。地面と同じ高さかそれより下にあるカメラには撮影範囲がなく、その名前がログに示されます。
+
+ローリングシャッター補正を使った Metashape プロジェクト：各写真は画像の行ごとに 1 つの姿勢を持ちます（読み出し中に Metashape が推定した動き）。撮影範囲は、他のすべての投影と同様にこれを使用し、適用された場合はログに示されます。
+
+出力は、出力の座標参照系（CRS）が選択されていればその CRS、なければ DSM の CRS、なければ地図の CRS、なければ写真測量プロジェクトの CRS で作成されます（どれを使ったかはログに示されます）。*_wkt.prj のない Pix4D の params フォルダには、プロジェクトの CRS が必要です。ODM プロジェクトは ODM の CRS（そのオルソフォトと DSM の CRS）を使用します。ODM を伴わない OpenSfM データセットは、プロジェクトの CRS が設定されていなければ、基準点の WGS 84 / UTM ゾーンを使用します。DSM の高さまたは地面の高さは、プロジェクトの高さ基準で指定する必要があります（地理座標系の Metashape チャンクでは楕円体高、ODM ではその DSM の高さ）。</translation>
     </message>
     <message>
-      <source>Output CRS (default: the project CRS)</source>
-      <translation>出力 CRS（既定：プロジェクトの CRS）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)</source>
-      <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d または params フォルダ内のファイル）</translation>
-    </message>
-    <message>
-      <source>Metashape chunk (label or index; needed when there are several)</source>
-      <translation>Metashape チャンク（名前または番号、複数ある場合は必須）</translation>
-    </message>
-    <message>
-      <source>Project CRS (Pix4D projects without a *_wkt.prj file)</source>
-      <translation>プロジェクト CRS（*_wkt.prj のない Pix4D プロジェクト用）</translation>
+      <source>Output CRS (default: the DSM's, else the map's, else the photogrammetry project's)</source>
+      <translation>出力の座標参照系（既定：DSM の CRS、なければ地図の CRS、なければ写真測量プロジェクトの CRS）</translation>
     </message>
     <message>
       <source>DSM (GeoTIFF) for the footprints</source>
       <translation>撮影範囲用の DSM（GeoTIFF）</translation>
-    </message>
-    <message>
-      <source>Ground height when no DSM is given (project vertical reference)</source>
-      <translation>DSM がない場合の地面の高さ（プロジェクトの高さ基準）</translation>
     </message>
     <message>
       <source>Camera positions</source>
@@ -52,12 +224,180 @@ Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D para
       <translation>撮影範囲</translation>
     </message>
     <message>
-      <source>DSM</source>
-      <translation>DSM</translation>
+      <source>the output CRS chosen</source>
+      <translation>選択された出力の CRS</translation>
+    </message>
+    <message>
+      <source>the DSM's CRS</source>
+      <translation>DSM の CRS</translation>
+    </message>
+    <message>
+      <source>the map's CRS</source>
+      <translation>地図の CRS</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) have no DSM right under them: their height above ground is taken from the DSM where their photo sees the ground.</source>
+      <translation>{n} 台のカメラは直下に DSM がありません。これらの対地高度は、写真に地面が写る範囲の DSM から求めます。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) see no DSM at all: their height above ground is taken from the median ground under the other cameras.</source>
+      <translation>{n} 台のカメラは DSM をまったく捉えていません。これらの対地高度は、他のカメラ直下の地面の中央値から求めます。</translation>
+    </message>
+    <message>
+      <source>Ground height when no DSM is given (project vertical reference)</source>
+      <translation>DSM がない場合の地面の高さ（プロジェクトの高さ基準）</translation>
     </message>
     <message>
       <source>Give a DSM or a ground height: the footprints are where the photos meet the ground.</source>
       <translation>DSM または地面の高さを指定してください。撮影範囲は写真が地面と交わる範囲です。</translation>
+    </message>
+    <message>
+      <source>Camera footprints of {project}</source>
+      <translation>{project} のカメラ撮影範囲</translation>
+    </message>
+    <message>
+      <source>Cameras of {project}</source>
+      <translation>{project} のカメラ</translation>
+    </message>
+    <message>
+      <source>Outputs in {crs} (the photogrammetry project's CRS).</source>
+      <translation>出力は {crs}（写真測量プロジェクトの CRS）です。</translation>
+    </message>
+    <message>
+      <source>{n} cameras and {f} footprints written.</source>
+      <translation>カメラ {n} 台と撮影範囲 {f} 件を書き出しました。</translation>
+    </message>
+    <message>
+      <source>The project is in a local coordinate system ({name}): the outputs will not line up with map layers.</source>
+      <translation>プロジェクトはローカル座標系（{name}）です。出力は地図のレイヤと重なりません。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are at or below the ground, so they have no footprint: {names}. Check the ground height or the DSM and its vertical reference.</source>
+      <translation>{n} 台のカメラが地面と同じ高さかそれより下にあるため、撮影範囲がありません：{names}。地面の高さ、または DSM とその高さ基準を確認してください。</translation>
+    </message>
+    <message>
+      <source>{n} footprint(s) reach beyond the DSM's data: there they continue on a plane at the ground height under the camera (attribute complete = false).</source>
+      <translation>{n} 件の撮影範囲が DSM のデータ範囲を超えています。その部分はカメラ直下の地面の高さの平面上に続きます（属性 complete = false）。</translation>
+    </message>
+    <message>
+      <source>Outputs in {crs} ({why}).</source>
+      <translation>出力は {crs}（{why}）です。</translation>
+    </message>
+    <message>
+      <source>Create demo survey</source>
+      <translation>デモ空撮データを作成</translation>
+    </message>
+    <message>
+      <source>Demo data</source>
+      <translation>デモデータ</translation>
+    </message>
+    <message>
+      <source>Writes a small, complete synthetic drone survey with a known truth, so that every EasyIDP tool can be tried at once without downloading anything. The survey is a 60 m × 40 m field of 40 plots (UTM 54N):
+- an orthomosaic (1 cm), a DSM (2 cm) and the plots (GeoPackage and GeoJSON, field plot_id);
+- a coloured point cloud (LAZ and PLY);
+- 36 raw photos of a lawnmower flight, rendered through the camera model;
+- the same flight as an Agisoft Metashape project, a Pix4D project and an OpenDroneMap project (odm/, with its opensfm/ files);
+- LabelMe annotations on four photos;
+- truth.json: where known ground points are in every photo.
+
+The same seed gives the same files. Small takes seconds; medium has larger photos.
+
+Growth season (advanced): with N dates, also the same field flown on N dates while the crop grows along known curves, in season/: per date an orthomosaic, a DSM and a point cloud, a bare-soil DSM, the plots with their variety, surveys.csv (the table for 'Plot traits over a season') and season_truth.json (height and cover per plot and date).</source>
+      <translation>既知の正解を持つ、小さいながら完全な合成ドローン空撮データを書き出します。何もダウンロードせずに、EasyIDP のすべてのツールをすぐに試せます。空撮データは 40 区画からなる 60 m × 40 m の圃場です（UTM 54N）：
+- オルソモザイク（1 cm）、DSM（2 cm）、区画（GeoPackage と GeoJSON、フィールド plot_id）
+- 色付きの点群（LAZ と PLY）
+- 往復飛行で撮影し、カメラモデルでレンダリングした 36 枚の元画像
+- 同じ飛行の Agisoft Metashape プロジェクト、Pix4D プロジェクト、OpenDroneMap プロジェクト（odm/、opensfm/ のファイル付き）
+- 4 枚の写真への LabelMe アノテーション
+- truth.json：既知の地上点が各写真のどこにあるか
+
+同じシードからは同じファイルが作られます。「小」は数秒で完了し、「中」は写真が大きくなります。
+
+生育シーズン（高度な設定）：N 個の日付を指定すると、作物が既知の曲線に沿って生育する間に同じ圃場を N 日飛行したデータも season/ に作成します：日付ごとのオルソモザイク、DSM、点群、裸地の DSM、品種付きの区画、surveys.csv（「シーズンを通した区画の形質」用の表）、season_truth.json（区画と日付ごとの高さと被覆）。</translation>
+    </message>
+    <message>
+      <source>Random seed</source>
+      <translation>乱数シード</translation>
+    </message>
+    <message>
+      <source>Growth season: dates flown (0: none)</source>
+      <translation>生育シーズン：飛行日数（0：なし）</translation>
+    </message>
+    <message>
+      <source>Output folder</source>
+      <translation>出力フォルダ</translation>
+    </message>
+    <message>
+      <source>Size</source>
+      <translation>サイズ</translation>
+    </message>
+    <message>
+      <source>Season survey table (surveys.csv)</source>
+      <translation>シーズンの空撮一覧表（surveys.csv）</translation>
+    </message>
+    <message>
+      <source>Orthomosaic</source>
+      <translation>オルソモザイク</translation>
+    </message>
+    <message>
+      <source>Plots</source>
+      <translation>区画</translation>
+    </message>
+    <message>
+      <source>Point cloud (LAZ)</source>
+      <translation>点群（LAZ）</translation>
+    </message>
+    <message>
+      <source>Metashape project</source>
+      <translation>Metashape プロジェクト</translation>
+    </message>
+    <message>
+      <source>Pix4D project</source>
+      <translation>Pix4D プロジェクト</translation>
+    </message>
+    <message>
+      <source>OpenDroneMap project</source>
+      <translation>OpenDroneMap プロジェクト</translation>
+    </message>
+    <message>
+      <source>Truth file</source>
+      <translation>正解ファイル</translation>
+    </message>
+    <message>
+      <source>Demo survey</source>
+      <translation>デモ空撮データ</translation>
+    </message>
+    <message>
+      <source>Writing a {size} demo survey (seed {seed}) into {folder}</source>
+      <translation>{size} サイズのデモ空撮データ（シード {seed}）を {folder} に書き出しています</translation>
+    </message>
+    <message>
+      <source>Demo survey written in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots, {dates} season dates, in {folder}.</source>
+      <translation>デモ空撮データを {folder} に書き出しました（{seconds:.1f} s）：写真 {n_photos} 枚、区画 {n_plot_ids} 個、シーズンの日付 {dates} 件。</translation>
+    </message>
+    <message>
+      <source>small (800 × 600 photos)</source>
+      <translation>小（写真 800 × 600）</translation>
+    </message>
+    <message>
+      <source>medium (1600 × 1200 photos)</source>
+      <translation>中（写真 1600 × 1200）</translation>
+    </message>
+    <message>
+      <source>Demo plots</source>
+      <translation>デモの区画</translation>
+    </message>
+    <message>
+      <source>Demo orthomosaic</source>
+      <translation>デモのオルソモザイク</translation>
+    </message>
+    <message>
+      <source>Demo DSM</source>
+      <translation>デモの DSM</translation>
+    </message>
+    <message>
+      <source>Growth season: {n} dates in {f}</source>
+      <translation>生育シーズン：{f} に {n} 日分</translation>
     </message>
     <message>
       <source>Crop point cloud by ROIs</source>
@@ -75,31 +415,41 @@ A point belongs to an ROI when its x, y is inside the polygon (holes and multipa
 Every point attribute is kept (colour, intensity, classification, returns, GPS time, normals, extra dimensions) with the exact coordinates. LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a CRS). ROIs in another CRS are reprojected to the cloud's.
 
 ROIs outside the cloud are named in the log and skipped; ROIs over the cloud without any point are reported and get no file unless 'Write empty files' is checked. Cropped LAS/LAZ files load into the map when this QGIS can display point clouds (PDAL provider).</source>
-      <translation type="unfinished" />
+      <translation>各 ROI（区画、樹木、植物のポリゴン）を点群（.las、.laz または .ply。例：Pix4D や Metashape の高密度点群）から切り出し、出力フォルダに ROI ごとに 1 ファイルとして保存します。ファイル名は名前フィールドに基づきます（ファイル名に使える一意の名前に変換されます）。
+
+点の x, y がポリゴン内にあり（穴とマルチパートポリゴンも考慮）、Z 範囲が設定されている場合はその Z が範囲内にあるとき、その点は ROI に属します（高度な設定：例えば地面より下や樹冠より上のノイズを除くため）。重なり合う ROI の内側にある点は、それぞれの ROI に含まれます。点群は 1 回だけ読み込まれ、各点は近くの ROI に対してのみ判定されるため、大きな点群上の数千の ROI でも高速です。
+
+すべての点属性（色、強度、分類、リターン、GPS 時刻、法線、追加次元）が正確な座標とともに保持されます。LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たないため、「点群の座標参照系」を指定してください（CRS のない LAS ファイルでも同様です）。別の CRS の ROI は点群の CRS に再投影されます。
+
+点群の範囲外の ROI はログに名前が示され、スキップされます。点群の上にあっても点を含まない ROI は報告され、「点のない ROI にも空のファイルを書き出す」がオンでない限りファイルは作成されません。切り出した LAS/LAZ ファイルは、この QGIS が点群を表示できる場合（PDAL プロバイダ）、地図に読み込まれます。</translation>
+    </message>
+    <message>
+      <source>Same as input</source>
+      <translation>入力と同じ</translation>
+    </message>
+    <message>
+      <source>LAZ (compressed LAS)</source>
+      <translation>LAZ（圧縮 LAS）</translation>
+    </message>
+    <message>
+      <source>Index of the crops (optional): the ROIs with the file ('crop_file'), the number of points ('points') and the outcome ('crop_status') of each. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group below the ROI layer, where this QGIS can display point clouds (PDAL provider).</source>
+      <translation>切り出しのインデックス（オプション）：各 ROI のファイル（'crop_file'）、点の数（'points'）、結果（'crop_status'）を持つ ROI です。実行後に開いた場合（またはバッチモードで 'Load layers on completion' がオンの場合、あるいは開くよう設定したモデルの出力の場合）、この QGIS が点群を表示できれば（PDAL プロバイダ）、最大 100 件の LAS/LAZ の切り出しも、ROI レイヤの下の折りたたまれた 1 つのグループに読み込まれます。</translation>
     </message>
     <message>
       <source>Write empty files for ROIs without any point</source>
       <translation>点のない ROI にも空のファイルを書き出す</translation>
     </message>
     <message>
-      <source>ROIs</source>
-      <translation>ROI</translation>
+      <source>Index of the crops (open it to see the crops)</source>
+      <translation>切り出しのインデックス（開くと切り出しを表示）</translation>
     </message>
     <message>
-      <source>ROIs (polygons)</source>
-      <translation>ROI（ポリゴン）</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名前フィールド（既定：地物 ID）</translation>
+      <source>Index of the point cloud crops</source>
+      <translation>点群の切り出しのインデックス</translation>
     </message>
     <message>
       <source>Output format</source>
       <translation>出力形式</translation>
-    </message>
-    <message>
-      <source>Output folder</source>
-      <translation>出力フォルダ</translation>
     </message>
     <message>
       <source>Cropped point clouds</source>
@@ -119,11 +469,27 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
     </message>
     <message>
       <source>The cropped point clouds are not loaded into the map: this QGIS has no point cloud provider (PDAL). Open them from the output folder (e.g. in CloudCompare).</source>
-      <translation type="unfinished" />
+      <translation>切り出した点群は地図に読み込まれません：この QGIS には点群プロバイダ（PDAL）がありません。出力フォルダから開いてください（例：CloudCompare）。</translation>
     </message>
     <message>
       <source>PLY crops are not loaded into the map; open them from the output folder.</source>
-      <translation type="unfinished" />
+      <translation>PLY の切り出しは地図に読み込まれません。出力フォルダから開いてください。</translation>
+    </message>
+    <message>
+      <source>Cropping {n_rois} ROIs into {folder}</source>
+      <translation>{n_rois} 個の ROI を {folder} に切り出しています</translation>
+    </message>
+    <message>
+      <source>Point cloud crops of {cloud} ({n})</source>
+      <translation>{cloud} の点群の切り出し（{n}）</translation>
+    </message>
+    <message>
+      <source>{cropped} ROIs cropped ({points:,} points), {n_empty} without points, {n_missed} outside the cloud.</source>
+      <translation>{cropped} 個の ROI を切り出しました（{points:,} 点）。点のない ROI は {n_empty} 個、点群の範囲外の ROI は {n_missed} 個です。</translation>
+    </message>
+    <message>
+      <source>None of the {n_items} ROIs overlaps the point cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one).</source>
+      <translation>{n_items} 個の ROI のいずれも点群と重なりません。ROI と点群の CRS が正しいか確認してください（ファイルに CRS がないか誤っている場合は「点群の座標参照系」を設定してください）。</translation>
     </message>
     <message>
       <source>Crop raster by ROIs</source>
@@ -133,7 +499,13 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
       <source>Cuts every ROI (plot, tree, plant polygon) out of a GeoTIFF raster: an orthomosaic (DOM), a surface model (DSM) or a multispectral map, into one GeoTIFF per ROI in the output folder, named after the name field (made safe for file names and unique).
 
 The raster is read in a single pass, each tile or strip once, so thousands of ROIs on rasters larger than memory are fast. Crops keep the raster's pixel grid, CRS and data type. Pixels outside the ROI are masked: RGB gets an alpha band, RGBA its alpha combined, DSM and multispectral get nodata (the raster's own, or -32767 for floating point and the type's extreme for integers when it has none). A pixel belongs to an ROI when its centre is inside (GDAL's rule); 'All touched' takes every pixel the ROI touches. Holes and multipart polygons are honoured. ROIs in another CRS are reprojected; ROIs outside the raster are reported and skipped.</source>
-      <translation type="unfinished" />
+      <translation>各 ROI（区画、樹木、植物のポリゴン）を GeoTIFF ラスタ（オルソモザイク（DOM）、数値表層モデル（DSM）、またはマルチスペクトルマップ）から切り出し、出力フォルダに ROI ごとに 1 つの GeoTIFF として保存します。ファイル名は名前フィールドに基づきます（ファイル名に使える一意の名前に変換されます）。
+
+ラスタは 1 回のパスで、各タイルまたはストリップを 1 度だけ読み込むため、メモリより大きいラスタ上の数千の ROI でも高速です。切り出しはラスタのピクセルグリッド、CRS、データ型を保持します。ROI 外のピクセルはマスクされます：RGB にはアルファバンドが追加され、RGBA ではアルファが合成され、DSM とマルチスペクトルには NoData 値が設定されます（ラスタ自身の値、ない場合は浮動小数点では -32767、整数では型の極値）。ピクセルの中心が ROI 内にあるとき、そのピクセルは ROI に属します（GDAL の規則）。「接触する全ピクセル」では、ROI が触れるすべてのピクセルが含まれます。穴とマルチパートポリゴンも考慮されます。別の CRS の ROI は再投影されます。ラスタの範囲外の ROI は報告され、スキップされます。</translation>
+    </message>
+    <message>
+      <source>Index of the crops (optional): the ROIs with the file of each ('crop_file', empty for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.</source>
+      <translation>切り出しのインデックス（オプション）：各 ROI のファイル（'crop_file'。スキップした ROI では空）と 'crop_status' を持つ ROI です。実行後に開いた場合（またはバッチモードで 'Load layers on completion' がオンの場合、あるいは開くよう設定したモデルの出力の場合）、最大 100 件の切り出しも ROI レイヤの下の折りたたまれた 1 つのグループに読み込まれます。</translation>
     </message>
     <message>
       <source>All touched (include every pixel the ROI touches)</source>
@@ -142,6 +514,10 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Raster</source>
       <translation>ラスタ</translation>
+    </message>
+    <message>
+      <source>Index of the crops</source>
+      <translation>切り出しのインデックス</translation>
     </message>
     <message>
       <source>Raster (GeoTIFF: orthomosaic, DSM or multispectral)</source>
@@ -154,6 +530,178 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Number of ROIs skipped</source>
       <translation>スキップした ROI の数</translation>
+    </message>
+    <message>
+      <source>Cropping {n_rois} ROIs out of {raster} into {folder}</source>
+      <translation>{n_rois} 個の ROI を {raster} から {folder} に切り出しています</translation>
+    </message>
+    <message>
+      <source>Crops of {raster} ({n})</source>
+      <translation>{raster} の切り出し（{n}）</translation>
+    </message>
+    <message>
+      <source>{n_files} GeoTIFFs written, {n_skipped} ROIs skipped.</source>
+      <translation>{n_files} 個の GeoTIFF を書き出し、{n_skipped} 個の ROI をスキップしました。</translation>
+    </message>
+    <message>
+      <source>ROI '{name}' skipped: {reason}</source>
+      <translation>ROI '{name}' をスキップしました：{reason}</translation>
+    </message>
+    <message>
+      <source>Forward-project photo polygons to the map</source>
+      <translation>写真上のポリゴンを地図へ投影</translation>
+    </message>
+    <message>
+      <source>Brings polygons drawn or detected on the raw photos (LabelMe, COCO, YOLO, or the photo-pixel layer written by Back-project ROIs) to the map, with their true position, area and perimeter: every vertex's pixel becomes a ray through the solved camera (lens distortion included) and its first hit on the DSM is the vertex on the map. Exact on any terrain and canopy (not a flat-ground homography).
+
+Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json files or YOLO .txt files, with classes.txt or data.yaml for class names); or a photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a photo of the project by file name; an image that is not in the project, or whose size differs from the camera's, is refused with its name.
+
+Edges are densified in the photo (a vertex every few pixels) so that long edges follow the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped and its polygon marked complete = false (and reported), never silently reshaped.
+
+Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit). Output in the DSM's CRS, heights from the DSM.</source>
+      <translation>元画像（撮影写真）上で描画または検出したポリゴン（LabelMe、COCO、YOLO、または「ROI を元画像へ逆投影」が書き出す写真ピクセルのレイヤ）を、正しい位置、面積、周長で地図へ投影します：各頂点のピクセルは、解かれたカメラを通る光線（レンズ歪みを含む）となり、その光線が DSM と最初に交わる点が地図上の頂点になります。どのような地形や樹冠でも正確です（平坦な地面を仮定したホモグラフィではありません）。
+
+入力は次のいずれか 1 つです：ファイル（LabelMe .json、COCO .json、YOLO .txt）、フォルダ（LabelMe .json ファイルまたは YOLO .txt ファイル。クラス名には classes.txt または data.yaml）、または写真ピクセルのレイヤ（x = 列、y = −行、フィールド 'photo'）。各画像はファイル名でプロジェクトの写真と照合されます。プロジェクトにない画像や、サイズがカメラと異なる画像は、その名前を示して拒否されます。
+
+辺は写真上で高密度化され（数ピクセルごとに 1 頂点）、長い辺も地表に沿います。光線が DSM に当たらない、DSM の外に出る、または NoData 値に入る頂点は除外され、そのポリゴンには complete = false が設定されます（報告もされます）。黙って形が変えられることはありません。
+
+統合：「なし」は写真ごとに 1 つのポリゴンを残します。「視点の和集合」は、複数の写真に写る同じラベルの重なり合うポリゴンを 1 つに統合します。「最良の視点」は最良の視点（complete、最高スコア、最も天底に近いもの）を残します。フィールド：photo、label、score、area_m2 と perimeter_m（平面上、メートル単位）、views、complete、missing（交点のない頂点）。出力は DSM の CRS で、高さは DSM から取得します。</translation>
+    </message>
+    <message>
+      <source>Annotation file (LabelMe .json, COCO .json or YOLO .txt)</source>
+      <translation>アノテーションファイル（LabelMe .json、COCO .json または YOLO .txt）</translation>
+    </message>
+    <message>
+      <source>…or a folder of LabelMe .json or YOLO .txt files</source>
+      <translation>…または LabelMe .json か YOLO .txt ファイルのフォルダ</translation>
+    </message>
+    <message>
+      <source>…or a photo-pixel polygon layer (x = column, y = −row)</source>
+      <translation>…または写真ピクセルのポリゴンレイヤ（x = 列、y = −行）</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF)</source>
+      <translation>DSM（GeoTIFF）</translation>
+    </message>
+    <message>
+      <source>Merge the same object seen in several photos</source>
+      <translation>複数の写真に写る同じ物体を統合</translation>
+    </message>
+    <message>
+      <source>Densify edges: a vertex every … photo pixels (0: off)</source>
+      <translation>辺の高密度化：… 写真ピクセルごとに 1 頂点（0：オフ）</translation>
+    </message>
+    <message>
+      <source>Polygons on the map</source>
+      <translation>地図上のポリゴン</translation>
+    </message>
+    <message>
+      <source>Give exactly one input: an annotation file, a folder of annotation files, or a photo-pixel layer.</source>
+      <translation>入力は 1 つだけ指定してください：アノテーションファイル、アノテーションファイルのフォルダ、または写真ピクセルのレイヤ。</translation>
+    </message>
+    <message>
+      <source>{what} on the map (through {project} onto {dsm})</source>
+      <translation>地図上の {what}（{project} を通して {dsm} へ投影）</translation>
+    </message>
+    <message>
+      <source>{n} polygons from {p} photos written to the map ({i} incomplete).</source>
+      <translation>{p} 枚の写真から {n} 個のポリゴンを地図に書き出しました（不完全：{i} 個）。</translation>
+    </message>
+    <message>
+      <source>None (one polygon per photo)</source>
+      <translation>なし（写真ごとに 1 ポリゴン）</translation>
+    </message>
+    <message>
+      <source>Union of the views</source>
+      <translation>視点の和集合</translation>
+    </message>
+    <message>
+      <source>Best view</source>
+      <translation>最良の視点</translation>
+    </message>
+    <message>
+      <source>{n} lines or points skipped: only polygons are forward-projected by this tool.</source>
+      <translation>{n} 個のラインまたはポイントをスキップしました：このツールで地図へ投影するのはポリゴンのみです。</translation>
+    </message>
+    <message>
+      <source>'{label}' is incomplete ({why}).</source>
+      <translation>'{label}' は不完全です（{why}）。</translation>
+    </message>
+    <message>
+      <source>Orthorectify ROIs from raw photos</source>
+      <translation>元画像から ROI をオルソ補正</translation>
+    </message>
+    <message>
+      <source>Makes, for every ROI, a georeferenced image from a raw photo instead of the orthomosaic: sharper (no blending, ghosting or seamlines) and with true geometry. Each output pixel's ground point (its height from the DSM) is projected into the photo with the solved camera (lens distortion included) and the photo is sampled there (bilinear).
+
+Photos: 'best' takes the best-scored photo of each ROI (the backward projection's score: visible share, view angle, resolution, distance from the centre); 'all' writes one image per photo that sees the ROI; 'named photo' uses the photo given. Pixel size: the GSD given (DSM CRS units), or 0 for the photo's native resolution at the ROI.
+
+Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the camera by the DSM (occlusion) are transparent (alpha 0). One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
+      <translation>各 ROI について、オルソモザイクではなく元画像（撮影写真）からジオリファレンス付きの画像を作成します：より鮮明で（ブレンド、ゴースト、シームラインがなく）、正しい幾何形状を持ちます。出力の各ピクセルの地上点（高さは DSM から取得）を、解かれたカメラ（レンズ歪みを含む）で写真に投影し、その位置で写真をサンプリングします（バイリニア）。
+
+写真：「各 ROI の最良の写真」は、各 ROI で最もスコアの高い写真を使用します（逆投影のスコア：見える割合、視線角、解像度、中心からの距離）。「ROI が写るすべての写真」は、ROI が写る写真ごとに 1 枚の画像を書き出します。「指定した写真」は、指定された写真を使用します。ピクセルサイズ：指定した地上画素寸法（GSD）（DSM の CRS の単位）、または ROI における写真本来の解像度を使う場合は 0。
+
+ROI の外、DSM の NoData 値の上、写真の外、または DSM によってカメラから隠れている（遮蔽）出力ピクセルは透明になります（アルファ 0）。出力フォルダに ROI ごと（「ROI が写るすべての写真」では写真ごと）に 1 つの GeoTIFF を、DSM の CRS で、写真のバンドとアルファを付けて書き出します。写真はプロジェクトに保存されたパスから読み込みます。元画像のフォルダを指定した場合はそこから読み込みます（ファイル名で照合）。</translation>
+    </message>
+    <message>
+      <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 images are loaded too, in one collapsed group below the ROI layer.</source>
+      <translation>画像のインデックス（オプション）：画像ごとに 1 地物で、ファイル（'image_file'）、写真、見える割合、ピクセルサイズを持つ ROI です。実行後に開いた場合（またはバッチモードで 'Load layers on completion' がオンの場合、あるいは開くよう設定したモデルの出力の場合）、最大 100 件の画像も ROI レイヤの下の折りたたまれた 1 つのグループに読み込まれます。</translation>
+    </message>
+    <message>
+      <source>Pixel size (DSM CRS units; 0: the photo's native resolution)</source>
+      <translation>ピクセルサイズ（DSM の CRS の単位。0：写真本来の解像度）</translation>
+    </message>
+    <message>
+      <source>Index of the images (open it to see the images)</source>
+      <translation>画像のインデックス（開くと画像を表示）</translation>
+    </message>
+    <message>
+      <source>Index of the images</source>
+      <translation>画像のインデックス</translation>
+    </message>
+    <message>
+      <source>Folder of the raw photos (default: the paths in the project)</source>
+      <translation>元画像のフォルダ（既定：プロジェクト内のパス）</translation>
+    </message>
+    <message>
+      <source>Photos</source>
+      <translation>写真</translation>
+    </message>
+    <message>
+      <source>Photo label (for 'A named photo')</source>
+      <translation>写真のラベル（「指定した写真」の場合）</translation>
+    </message>
+    <message>
+      <source>Orthorectified ROI images</source>
+      <translation>オルソ補正した ROI 画像</translation>
+    </message>
+    <message>
+      <source>Number of images written</source>
+      <translation>書き出した画像の数</translation>
+    </message>
+    <message>
+      <source>{rois} from raw photos ({n})</source>
+      <translation>元画像からの {rois}（{n}）</translation>
+    </message>
+    <message>
+      <source>{n} orthorectified ROI images written to {folder}; {s} skipped.</source>
+      <translation>オルソ補正した ROI 画像 {n} 枚を {folder} に書き出しました。スキップ：{s} 件。</translation>
+    </message>
+    <message>
+      <source>Best photo of each ROI</source>
+      <translation>各 ROI の最良の写真</translation>
+    </message>
+    <message>
+      <source>Every photo that sees the ROI</source>
+      <translation>ROI が写るすべての写真</translation>
+    </message>
+    <message>
+      <source>A named photo</source>
+      <translation>指定した写真</translation>
+    </message>
+    <message>
+      <source>{what}: no image ({why}).</source>
+      <translation>{what}：画像なし（{why}）。</translation>
     </message>
     <message>
       <source>Point cloud statistics per ROI</source>
@@ -171,19 +719,25 @@ The result is the ROI layer with its attributes and: count (points inside), dens
 Ground: a DSM/DTM raster sampled under every point (a bare-soil DSM flown before emergence, or a DTM); or a single ground height; or, with neither, each ROI's own lowest points: the given percentile of its Z (advanced, default 1). The raster and the height must be in the cloud's Z units and vertical reference.
 
 LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a CRS). ROIs in another CRS are reprojected. ROIs without any point are named in the log; their count and density are 0 and their Z and heights empty (NULL), never 0.</source>
-      <translation type="unfinished" />
+      <translation>各 ROI（区画、樹木、植物のポリゴン）について、その内側にある点群（.las、.laz または .ply）の点と、その地面からの高さを求めます：樹冠高、そのパーセンタイル、点密度など。例えば草丈やバイオマスのモデルに使用できます。
+
+結果は ROI レイヤの属性に次を加えたものです：count（内側の点数）、density（点群の CRS の単位面積あたりの点数。メートル単位の点群では m² あたり）、z_min、z_mean、z_max（点の Z）、ground（点の下の地面の Z の平均）、h_mean、h_max、および指定した各高さパーセンタイルの h_pNN（地面からの高さ：Z − ground）（既定は 5、50、95、99。p99 はロバストな樹冠頂部です）。
+
+地面：各点の下でサンプリングする DSM/DTM ラスタ（出芽前に飛行した裸地の DSM、または数値地形モデル（DTM））、一定の地面の高さ、またはどちらもない場合は各 ROI 自身の最も低い点、つまりその Z の指定パーセンタイル（高度な設定、既定は 1）。ラスタと高さは、点群の Z の単位と高さ基準で指定する必要があります。
+
+LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たないため、「点群の座標参照系」を指定してください（CRS のない LAS ファイルでも同様です）。別の CRS の ROI は再投影されます。点を含まない ROI はログに名前が示されます。その count と density は 0、Z と高さは空（NULL）となり、0 にはなりません。</translation>
     </message>
     <message>
-      <source>Ground without raster or height: this percentile of each ROI's Z</source>
-      <translation type="unfinished" />
+      <source>ROIs (polygons)</source>
+      <translation>ROI（ポリゴン）</translation>
     </message>
     <message>
       <source>Ground: DSM/DTM raster (GeoTIFF; optional)</source>
-      <translation type="unfinished" />
+      <translation>地面：DSM/DTM ラスタ（GeoTIFF、オプション）</translation>
     </message>
     <message>
-      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
-      <translation type="unfinished" />
+      <source>Ground without raster or height: this percentile of each ROI's Z</source>
+      <translation>ラスタも高さもない場合の地面：各 ROI の Z のこのパーセンタイル</translation>
     </message>
     <message>
       <source>Height percentiles (comma separated)</source>
@@ -195,7 +749,7 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     </message>
     <message>
       <source>Ground: give either a DSM/DTM raster or one ground height, not both.</source>
-      <translation type="unfinished" />
+      <translation>地面：DSM/DTM ラスタか地面の高さのどちらか一方を指定してください。両方は指定できません。</translation>
     </message>
     <message>
       <source>Ground DSM/DTM</source>
@@ -203,7 +757,47 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     </message>
     <message>
       <source>The ROI layer's own fields with the names of the statistics are replaced by the new values.</source>
-      <translation type="unfinished" />
+      <translation>ROI レイヤ自体にある、統計量と同じ名前のフィールドは新しい値で置き換えられます。</translation>
+    </message>
+    <message>
+      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
+      <translation>地面：すべての ROI に共通の高さ（点群の Z の単位、オプション）</translation>
+    </message>
+    <message>
+      <source>{rois}: point cloud heights of {cloud}</source>
+      <translation>{rois}：{cloud} の点群の高さ</translation>
+    </message>
+    <message>
+      <source>Statistics of {n_rois} ROIs written, {n} with points{shown}.</source>
+      <translation>{n_rois} 個の ROI の統計量を書き出しました。点を含むもの：{n} 個{shown}。</translation>
+    </message>
+    <message>
+      <source>Ground: the raster {name} under every point.</source>
+      <translation>地面：各点の下のラスタ {name}。</translation>
+    </message>
+    <message>
+      <source>Ground: percentile {ground_pct:g} of each ROI's Z.</source>
+      <translation>地面：各 ROI の Z の {ground_pct:g} パーセンタイル。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
+    </message>
+    <message>
+      <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
+      <translation>{n_rois} 個の ROI のいずれにも点群の点が含まれていません。ROI と点群の CRS が正しいか（ファイルに CRS がないか誤っている場合は「点群の座標参照系」を設定してください）、および Z 範囲を確認してください。</translation>
+    </message>
+    <message>
+      <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
+      <translation>{n} 個の ROI に点が含まれていません（点群の範囲外、欠損部、または Z 範囲外）。これらの統計量は空です：地物 ID {ids}。</translation>
+    </message>
+    <message>
+      <source>Ground: {height:g} for every ROI.</source>
+      <translation>地面：すべての ROI で {height:g}。</translation>
+    </message>
+    <message>
+      <source> (map colours: {field})</source>
+      <translation>（地図の色分け：{field}）</translation>
     </message>
     <message>
       <source>ROI heights from DSM</source>
@@ -212,19 +806,28 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     <message>
       <source>Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as the attribute 'height' (in the DSM's units and vertical reference). The result is the ROI layer as PolygonZ, ready for backward projection into raw photos.
 
-Per polygon: the statistic (mean, median, min, max or a percentile, e.g. 90 for canopy top, 5 for ground) of the DSM pixels whose centres are inside the ROI, grown by a positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets that height.
+Per polygon: the statistic (mean, median, min, max, a percentile, e.g. 90 for canopy top, 5 for ground, the standard deviation, or EasyIDP's pmin/pmax: the mean of the values below the percentile / above 100 minus the percentile) of the DSM pixels whose centres are inside the ROI, grown by a positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets that height.
 Per vertex: the DSM height at each vertex (bilinear or nearest pixel), or, with a buffer, the statistic of the pixels within the buffer distance of the vertex; 'height' is then the mean of the vertex heights.
 
 Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) height and NaN Z, and is listed in the log; it never gets 0.</source>
-      <translation type="unfinished" />
+      <translation>各 ROI に数値表層モデル（DSM）からの高さを、頂点の Z と属性 'height' として付与します（DSM の単位と高さ基準）。結果は PolygonZ の ROI レイヤとなり、元画像（撮影写真）への逆投影にそのまま使用できます。
+
+ポリゴンごと：ROI 内に中心がある DSM ピクセルの統計量（平均、中央値、最小、最大、パーセンタイル（例：樹冠頂部には 90、地面には 5）、標準偏差、または EasyIDP の pmin/pmax：パーセンタイル未満の値の平均 / 100 からパーセンタイルを引いた値を超える値の平均）。ROI は正のバッファ距離で拡大、負のバッファ距離で縮小されます（DSM の地図単位）。すべての頂点にその高さが設定されます。
+頂点ごと：各頂点での DSM の高さ（バイリニアまたは最近傍ピクセル）、またはバッファ距離を指定した場合は頂点からバッファ距離内のピクセルの統計量。その場合 'height' は頂点の高さの平均になります。
+
+NoData 値のピクセルは無視されます。有効なピクセルが 1 つもない ROI は高さが空（NULL）、Z が NaN のままとなり、ログに示されます。0 になることはありません。</translation>
+    </message>
+    <message>
+      <source>Per polygon: one statistic of the DSM pixels inside</source>
+      <translation>ポリゴンごと：ROI 内の DSM ピクセルの統計量を 1 つ</translation>
+    </message>
+    <message>
+      <source>Per vertex: the DSM height at each vertex</source>
+      <translation>頂点ごと：各頂点での DSM の高さ</translation>
     </message>
     <message>
       <source>Vertex sampling</source>
       <translation>頂点のサンプリング</translation>
-    </message>
-    <message>
-      <source>DSM (GeoTIFF)</source>
-      <translation>DSM（GeoTIFF）</translation>
     </message>
     <message>
       <source>Mode</source>
@@ -235,10 +838,6 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
       <translation>統計量</translation>
     </message>
     <message>
-      <source>Percentile (for the 'percentile' statistic)</source>
-      <translation>パーセンタイル（「percentile」統計量用）</translation>
-    </message>
-    <message>
       <source>Buffer (DSM map units; negative shrinks the polygon)</source>
       <translation>バッファ（DSM の地図単位、負の値でポリゴンを縮小）</translation>
     </message>
@@ -247,12 +846,288 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
       <translation>高さ付き ROI</translation>
     </message>
     <message>
+      <source>Percentile (0–100, for the percentile, pmin and pmax statistics)</source>
+      <translation>パーセンタイル（0–100。percentile、pmin、pmax の統計量用）</translation>
+    </message>
+    <message>
+      <source>{rois}: height {what} from {dsm}</source>
+      <translation>{rois}：{dsm} からの高さ {what}</translation>
+    </message>
+    <message>
+      <source>ROI '{name}': {reason}; its height is left empty.</source>
+      <translation>ROI '{name}'：{reason}。高さは空のままです。</translation>
+    </message>
+    <message>
+      <source>Heights ({what}) of {n} ROIs: {lo:.3f} to {hi:.3f} (DSM units), {null} empty (NULL).</source>
+      <translation>{n} 個の ROI の高さ（{what}）：{lo:.3f}～{hi:.3f}（DSM の単位）、空（NULL）{null} 個。</translation>
+    </message>
+    <message>
+      <source>Heights of {n} ROIs: all empty (NULL): the DSM has no valid pixel under any of them.</source>
+      <translation>{n} 個の ROI の高さ：すべて空（NULL）です。どの ROI の下にも DSM の有効なピクセルがありません。</translation>
+    </message>
+    <message>
+      <source>Plot traits over a season</source>
+      <translation>シーズンを通した区画の形質</translation>
+    </message>
+    <message>
+      <source>Time series</source>
+      <translation>時系列</translation>
+    </message>
+    <message>
+      <source>Traits of every ROI (plot, tree) on every date of a season of surveys: plant height from the DSMs, canopy cover, band means and a vegetation index from the orthomosaics, heights from the point clouds. Each file is read once for all ROIs; the files are shared out to worker processes on this computer, or to a Dask cluster.
+
+Survey table: a CSV file or a table layer with the columns date (YYYY-MM-DD), orthomosaic, dsm, point_cloud and project (file paths, absolute or relative to the table's folder; empty cells allowed); optional: bands (the orthomosaic's band names in order, e.g. blue,green,red,rededge,nir: NDVI needs red and nir) and crs (for files without one, e.g. PLY). Rows with a missing file, an unreadable raster or a CRS that cannot be related to the ROIs are reported by row and left out; the rest completes. The project column is read but not used by the traits yet.
+
+Traits: height_pNN (percentiles of the DSM above the ground, metres); cover (share of the ROI whose vegetation index is above the threshold, 0-1; Otsu's automatic threshold per orthomosaic, or a given one); exg (excess green, RGB) or ndvi (named bands); mean_&lt;band&gt; (band means); cloud_points and cloud_height_pNN (point clouds).
+
+Ground: a bare-soil DSM or DTM of the season (a flight before emergence): a plane is fitted to it under each ROI. Without one, each ROI's ground is the plane through the lowest heights (the given percentile) in a 3 × 3 grid over it, which needs bare soil between the plants.
+
+Workers: processes on this computer. Dask scheduler (advanced): tcp://host:8786 to run on a Dask cluster (the files must be at the same paths on every worker), or 'local' for a Dask cluster of 'Workers' processes on this computer.
+
+Outputs: the long table (roi, date, trait, value); the ROIs with the traits of their latest date (styled by height); growth curves as a PNG (a panel per ROI, or per group when there are many ROIs and a group field); optionally the crops, in &lt;date&gt;/&lt;orthomosaic|dsm|point_cloud&gt;/ folders.</source>
+      <translation>シーズン中の一連の空撮の各日付について、各 ROI（区画、樹木）の形質を求めます：DSM からの草丈、オルソモザイクからの植被率、バンド平均値、植生指数、点群からの高さ。各ファイルはすべての ROI に対して 1 回だけ読み込まれます。ファイルはこのコンピュータ上のワーカープロセス、または Dask クラスタに分配されます。
+
+空撮一覧表：date（YYYY-MM-DD）、orthomosaic、dsm、point_cloud、project の列を持つ CSV ファイルまたはテーブルレイヤです（ファイルパスは絶対パス、または表のフォルダからの相対パス。空のセルも可）。オプション：bands（オルソモザイクのバンド名を順番に。例：blue,green,red,rededge,nir。NDVI には red と nir が必要）と crs（CRS のないファイル用。例：PLY）。ファイルが見つからない行、ラスタが読めない行、ROI と関連付けられない CRS の行は、行ごとに報告されて除外され、残りは最後まで処理されます。project 列は読み込まれますが、現時点では形質にはまだ使用されません。
+
+形質：height_pNN（地面からの DSM の高さのパーセンタイル、メートル）、cover（植生指数がしきい値を超える ROI の割合、0-1。オルソモザイクごとの大津の自動しきい値、または指定値）、exg（過剰緑色指数、RGB）または ndvi（名前付きバンド）、mean_&lt;band&gt;（バンド平均値）、cloud_points と cloud_height_pNN（点群）。
+
+地面：シーズンの裸地の DSM または数値地形モデル（DTM）（出芽前の飛行）。各 ROI の下でこれに平面を当てはめます。ない場合、各 ROI の地面は、ROI 上の 3 × 3 グリッドにおける最も低い高さ（指定パーセンタイル）を通る平面となるため、植物の間に裸地が見えている必要があります。
+
+ワーカープロセス：このコンピュータ上のプロセス数。Dask スケジューラ（高度な設定）：Dask クラスタで実行するには tcp://host:8786（ファイルはすべてのワーカーで同じパスにある必要があります）、このコンピュータ上で「ワーカープロセス」の数のプロセスによる Dask クラスタを使うには 'local'。
+
+出力：縦長の表（roi、date、trait、value）、最新の日付の形質を持つ ROI（高さで色分け）、PNG の生育曲線（ROI ごと、または ROI が多くグループフィールドがある場合はグループごとに 1 パネル）、オプションで &lt;date&gt;/&lt;orthomosaic|dsm|point_cloud&gt;/ フォルダ内の切り出し。</translation>
+    </message>
+    <message>
+      <source>Dask scheduler (tcp://host:port, or 'local'; empty: processes here)</source>
+      <translation>Dask スケジューラ（tcp://host:port または 'local'。空欄：このコンピュータのプロセス）</translation>
+    </message>
+    <message>
+      <source>Survey table (CSV file or table layer)</source>
+      <translation>空撮一覧表（CSV ファイルまたはテーブルレイヤ）</translation>
+    </message>
+    <message>
+      <source>Name field (unique; default: feature id)</source>
+      <translation>名前フィールド（一意。既定：地物 ID）</translation>
+    </message>
+    <message>
+      <source>Group field (treatment, variety: colours the curves)</source>
+      <translation>グループフィールド（処理区、品種：曲線を色分け）</translation>
+    </message>
+    <message>
+      <source>Traits</source>
+      <translation>形質</translation>
+    </message>
+    <message>
+      <source>Ground: bare-soil DSM or DTM of the season (optional)</source>
+      <translation>地面：シーズンの裸地の DSM または DTM（オプション）</translation>
+    </message>
+    <message>
+      <source>Ground without a DTM: percentile of each ROI's lowest heights</source>
+      <translation>DTM がない場合の地面：各 ROI の最も低い高さのパーセンタイル</translation>
+    </message>
+    <message>
+      <source>Cover threshold on the vegetation index (empty: Otsu per orthomosaic)</source>
+      <translation>植生指数に対する植被のしきい値（空欄：オルソモザイクごとに大津の方法）</translation>
+    </message>
+    <message>
+      <source>Worker processes</source>
+      <translation>ワーカープロセス</translation>
+    </message>
+    <message>
+      <source>Crops per date (optional folder)</source>
+      <translation>日付ごとの切り出し（オプションのフォルダ）</translation>
+    </message>
+    <message>
+      <source>Traits per ROI and date (long table)</source>
+      <translation>ROI と日付ごとの形質（縦長の表）</translation>
+    </message>
+    <message>
+      <source>ROIs with their latest traits</source>
+      <translation>最新の形質付き ROI</translation>
+    </message>
+    <message>
+      <source>Growth curves (PNG)</source>
+      <translation>生育曲線（PNG）</translation>
+    </message>
+    <message>
+      <source>PNG files (*.png)</source>
+      <translation>PNG ファイル (*.png)</translation>
+    </message>
+    <message>
+      <source>Survey table: no table given, or it could not be loaded.</source>
+      <translation>空撮一覧表：表が指定されていないか、読み込めませんでした。</translation>
+    </message>
+    <message>
+      <source>Traits: choose at least one.</source>
+      <translation>形質：少なくとも 1 つ選択してください。</translation>
+    </message>
+    <message>
+      <source>Ground</source>
+      <translation>地面</translation>
+    </message>
+    <message>
+      <source>No trait could be computed: every survey row was left out (see the messages above).</source>
+      <translation>形質を 1 つも計算できませんでした：空撮一覧表のすべての行が除外されました（上記のメッセージを参照してください）。</translation>
+    </message>
+    <message>
+      <source>{n} surveys, {r} ROIs, traits: {t}</source>
+      <translation>空撮 {n} 件、ROI {r} 個、形質：{t}</translation>
+    </message>
+    <message>
+      <source>{v} values of {k} traits for {r} ROIs on {d} dates in {s:.0f} s ({e}); {p} rows or files left out.</source>
+      <translation>{d} 日分の {r} 個の ROI について、{k} 種類の形質の値 {v} 件を {s:.0f} s で計算しました（{e}）。除外した行またはファイル：{p} 件。</translation>
+    </message>
+    <message>
+      <source>{rois}: latest traits</source>
+      <translation>{rois}：最新の形質</translation>
+    </message>
+    <message>
+      <source>{rois}: traits per date</source>
+      <translation>{rois}：日付ごとの形質</translation>
+    </message>
+    <message>
+      <source>Height from the DSM</source>
+      <translation>DSM からの高さ</translation>
+    </message>
+    <message>
+      <source>Canopy cover</source>
+      <translation>植被率</translation>
+    </message>
+    <message>
+      <source>Band means</source>
+      <translation>バンド平均値</translation>
+    </message>
+    <message>
+      <source>Vegetation index (ExG or NDVI)</source>
+      <translation>植生指数（ExG または NDVI）</translation>
+    </message>
+    <message>
+      <source>Heights from the point cloud</source>
+      <translation>点群からの高さ</translation>
+    </message>
+    <message>
+      <source>Survey {p}</source>
+      <translation>空撮 {p}</translation>
+    </message>
+    <message>
+      <source>Left out: {p}</source>
+      <translation>除外：{p}</translation>
+    </message>
+    <message>
+      <source>QGIS's own {packages}: the plugin does not replace QGIS's packages; use a newer QGIS.</source>
+      <translation>QGIS 本体の {packages}：このプラグインは QGIS のパッケージを置き換えません。より新しい QGIS を使用してください。</translation>
+    </message>
+    <message>
+      <source>{tool} needs Python packages that QGIS's Python does not have: {packages}.</source>
+      <translation>{tool} には、QGIS の Python にない Python パッケージが必要です：{packages}。</translation>
+    </message>
+    <message>
+      <source>Nothing was installed.</source>
+      <translation>何もインストールされませんでした。</translation>
+    </message>
+    <message>
+      <source>The plugin's Python packages are installed with the Install button the QGIS desktop shows when one is missing, or by running:
+{command}</source>
+      <translation>プラグインの Python パッケージは、不足しているときに QGIS デスクトップに表示される［インストール］ボタンでインストールするか、次のコマンドを実行してインストールします：
+{command}</translation>
+    </message>
+    <message>
+      <source>{name} {version} (needs {spec})</source>
+      <translation>{name} {version}（{spec} が必要）</translation>
+    </message>
+    <message>
+      <source>{python} is Python {got}, but QGIS runs Python {want}; QGIS's own interpreter was not found</source>
+      <translation>{python} は Python {got} ですが、QGIS は Python {want} で動作しています。QGIS 自身のインタプリタが見つかりませんでした</translation>
+    </message>
+    <message>
+      <source>{error}. Install the missing Python package for QGIS's Python ({python}).</source>
+      <translation>{error}。QGIS の Python（{python}）に、不足している Python パッケージをインストールしてください。</translation>
+    </message>
+    <message>
+      <source>QGIS's Python interpreter {python} cannot run: {error}</source>
+      <translation>QGIS の Python インタプリタ {python} を実行できません：{error}</translation>
+    </message>
+    <message>
+      <source>To install them, click Install in the EasyIDP message bar of the QGIS desktop, or run:
+{command}</source>
+      <translation>インストールするには、QGIS デスクトップの EasyIDP メッセージバーで［インストール］をクリックするか、次のコマンドを実行してください：
+{command}</translation>
+    </message>
+    <message>
+      <source>EasyIDP</source>
+      <translation>EasyIDP</translation>
+    </message>
+    <message>
+      <source>Installing Python packages for EasyIDP</source>
+      <translation>EasyIDP 用の Python パッケージをインストールしています</translation>
+    </message>
+    <message>
+      <source>Cancel</source>
+      <translation>キャンセル</translation>
+    </message>
+    <message>
+      <source>Some tools need Python packages that QGIS's Python lacks: {packages}.</source>
+      <translation>一部のツールには、QGIS の Python にない Python パッケージが必要です：{packages}。</translation>
+    </message>
+    <message>
+      <source>Install</source>
+      <translation>インストール</translation>
+    </message>
+    <message>
+      <source>Download them with pip into your QGIS profile; QGIS's own packages are not changed.</source>
+      <translation>pip で QGIS のプロファイルにダウンロードします。QGIS 本体のパッケージは変更されません。</translation>
+    </message>
+    <message>
+      <source>Every Python package EasyIDP needs is installed.</source>
+      <translation>EasyIDP に必要な Python パッケージはすべてインストールされています。</translation>
+    </message>
+    <message>
+      <source>Installing {packages} …</source>
+      <translation>{packages} をインストールしています…</translation>
+    </message>
+    <message>
+      <source>Python packages installed: {packages}.</source>
+      <translation>Python パッケージをインストールしました：{packages}。</translation>
+    </message>
+    <message>
+      <source>Restart QGIS to use them: an older copy is already loaded.</source>
+      <translation>使用するには QGIS を再起動してください：古いバージョンが既に読み込まれています。</translation>
+    </message>
+    <message>
+      <source>nothing was missing</source>
+      <translation>不足しているものはありませんでした</translation>
+    </message>
+    <message>
+      <source>Installation cancelled; nothing was changed. To install later, run:
+{command}</source>
+      <translation>インストールをキャンセルしました。何も変更されていません。後でインストールするには、次のコマンドを実行してください：
+{command}</translation>
+    </message>
+    <message>
+      <source>Installing the Python packages failed: {reason}. Run this command in a terminal to see why:
+{command}</source>
+      <translation>Python パッケージのインストールに失敗しました：{reason}。原因を確認するには、ターミナルで次のコマンドを実行してください：
+{command}</translation>
+    </message>
+    <message>
+      <source>still missing after pip: {packages}</source>
+      <translation>pip の実行後も不足しています：{packages}</translation>
+    </message>
+    <message>
+      <source>exit status {code}</source>
+      <translation>終了ステータス {code}</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap)</source>
+      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM）</translation>
+    </message>
+    <message>
       <source>Point cloud (.las, .laz or .ply)</source>
       <translation>点群（.las、.laz または .ply）</translation>
     </message>
     <message>
       <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation type="unfinished" />
+      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -261,6 +1136,62 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
     <message>
       <source>Highest Z to keep (cloud Z units; empty: no limit)</source>
       <translation>残す最高 Z（点群の Z 単位、空欄：制限なし）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
+      <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap フォルダまたは reconstruction.json）</translation>
+    </message>
+    <message>
+      <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
+      <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名前フィールド（既定：地物 ID）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
+    </message>
+    <message>
+      <source>Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95,99.</source>
+      <translation>高さのパーセンタイル：「{token}」は 0～100 の数値ではありません。パーセンタイルをカンマ区切りで指定してください（例：5,50,95,99）。</translation>
+    </message>
+    <message>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
     </message>
   </context>
 </TS>

@@ -4,6 +4,182 @@
   <context>
     <name>EasyIDP</name>
     <message>
+      <source>Back-project ROIs to raw photos</source>
+      <translation>将感兴趣区反投影到原始照片</translation>
+    </message>
+    <message>
+      <source>Projection</source>
+      <translation>投影</translation>
+    </message>
+    <message>
+      <source>Finds every ROI (plot, tree, plant polygon) in every raw photo of a Metashape or Pix4D project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw photos are sharper than the orthomosaic and free of its seamlines.
+
+Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
+
+Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
+
+Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
+      <translation>在 Metashape 或 Pix4D 工程中，利用工程解算出的相机，找出每个感兴趣区（小区、树木、植株多边形）在所有能看到它的原始照片中的位置（EasyIDP 的 back2raw）。原始照片比正射影像更清晰，且没有拼接线。
+
+输入：感兴趣区多边形；工程（Metashape .psx/.psz/相机 .xml，Pix4D .p4d 或其 1_initial/params 文件夹中的任一文件）；感兴趣区顶点的高度，可来自几何的 Z 值（如“从 DSM 获取感兴趣区高度”的输出）、在每个顶点采样的 DSM、数值属性或单一地面高度（高度采用工程的高程基准；对于地理坐标系中的 Metashape 块（chunk）：椭球高）。照片文件夹：照片被移动后所在的位置（按文件名匹配）。
+
+每个感兴趣区先加密顶点，再结合镜头畸变进行投影，并裁剪到照片画幅内（若选择“仅限完整感兴趣区”，则只在整个感兴趣区都位于照片内时保留）。提供 DSM 时，会检测从相机到感兴趣区内地表点的视线是否被遮挡。可见且未被遮挡的比例低于最小值的照片会被舍弃；其余照片按评分排序（视角、地面分辨率、到照片中心的距离、可见比例）。
+
+输出：照片像素坐标下的感兴趣区（x = 列，y = −行：可叠加在 QGIS 中未经地理配准打开的原始照片上；按 photo 字段筛选），每个感兴趣区 × 照片一个要素，含评分、排名、视角、地面采样距离（GSD）及各比例；地图中感兴趣区的汇总，含照片数量和最佳照片；可选输出 EasyIDP 的 JSON {roi: {photo: [[x, y], ...]}}、原始照片的裁剪图（PNG，以感兴趣区作为 alpha 通道；16 位或多波段照片为 TIFF，均附带 JSON 附属文件），以及每个感兴趣区一张展示其最佳照片的预览 PNG。</translation>
+    </message>
+    <message>
+      <source>Apply the lens distortion (off for undistorted photos)</source>
+      <translation>应用镜头畸变（对已去畸变的照片请关闭）</translation>
+    </message>
+    <message>
+      <source>Margin around the crops (pixels)</source>
+      <translation>裁剪图四周的边距（像素）</translation>
+    </message>
+    <message>
+      <source>ROIs</source>
+      <translation>感兴趣区</translation>
+    </message>
+    <message>
+      <source>Heights of the ROI vertices</source>
+      <translation>感兴趣区顶点的高度</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF): vertex heights and occlusion test</source>
+      <translation>DSM（GeoTIFF）：顶点高度与遮挡检测</translation>
+    </message>
+    <message>
+      <source>Height attribute</source>
+      <translation>高度属性</translation>
+    </message>
+    <message>
+      <source>Photos folder (when the photos moved; matched by file name)</source>
+      <translation>照片文件夹（照片被移动时使用；按文件名匹配）</translation>
+    </message>
+    <message>
+      <source>ROIs partly outside a photo</source>
+      <translation>部分位于照片外的感兴趣区</translation>
+    </message>
+    <message>
+      <source>Test occlusion against the DSM (when a DSM is given)</source>
+      <translation>基于 DSM 检测遮挡（提供 DSM 时）</translation>
+    </message>
+    <message>
+      <source>Minimum visible, unoccluded share of a ROI in a photo</source>
+      <translation>感兴趣区在照片中可见且未被遮挡的最小比例</translation>
+    </message>
+    <message>
+      <source>Best photos to keep per ROI (0 = all)</source>
+      <translation>每个感兴趣区保留的最佳照片数（0 = 全部）</translation>
+    </message>
+    <message>
+      <source>ROIs in photo pixels (x = column, y = −row)</source>
+      <translation>照片像素坐标下的感兴趣区（x = 列，y = −行）</translation>
+    </message>
+    <message>
+      <source>ROIs with their photo count and best photo</source>
+      <translation>带照片数量和最佳照片的感兴趣区</translation>
+    </message>
+    <message>
+      <source>EasyIDP back2raw JSON</source>
+      <translation>EasyIDP back2raw JSON</translation>
+    </message>
+    <message>
+      <source>Crops of the raw photos</source>
+      <translation>原始照片裁剪图</translation>
+    </message>
+    <message>
+      <source>Preview per ROI (its best photos)</source>
+      <translation>每个感兴趣区的预览（其最佳照片）</translation>
+    </message>
+    <message>
+      <source>No DSM given: occlusion is not tested.</source>
+      <translation>未提供 DSM：不检测遮挡。</translation>
+    </message>
+    <message>
+      <source>Cutting the ROIs out of the photos…</source>
+      <translation>正在从照片中裁出感兴趣区…</translation>
+    </message>
+    <message>
+      <source>Geometry Z (3-D polygons)</source>
+      <translation>几何 Z 值（三维多边形）</translation>
+    </message>
+    <message>
+      <source>DSM, sampled at every vertex</source>
+      <translation>DSM，在每个顶点采样</translation>
+    </message>
+    <message>
+      <source>Attribute (one height per ROI)</source>
+      <translation>属性（每个感兴趣区一个高度）</translation>
+    </message>
+    <message>
+      <source>Constant ground height</source>
+      <translation>固定地面高度</translation>
+    </message>
+    <message>
+      <source>Constant ground height (project vertical reference)</source>
+      <translation>固定地面高度（工程高程基准）</translation>
+    </message>
+    <message>
+      <source>Clip them to the photo frame</source>
+      <translation>裁剪到照片画幅内</translation>
+    </message>
+    <message>
+      <source>Drop the photo (whole ROIs only)</source>
+      <translation>舍弃该照片（仅限完整感兴趣区）</translation>
+    </message>
+    <message>
+      <source>DSM</source>
+      <translation>DSM</translation>
+    </message>
+    <message>
+      <source>Projecting {n} ROIs into {m} photos ({h})</source>
+      <translation>正在将 {n} 个感兴趣区投影到 {m} 张照片中（{h}）</translation>
+    </message>
+    <message>
+      <source>{rois} in the photos of {project} (photo pixels)</source>
+      <translation>{project} 照片中的 {rois}（照片像素）</translation>
+    </message>
+    <message>
+      <source>{rois}: photos of {project} that see them</source>
+      <translation>{rois}：{project} 中能看到它们的照片</translation>
+    </message>
+    <message>
+      <source>{k} ROI × photo pairs for {seen} of {n} ROIs; {u} ROIs in no photo.</source>
+      <translation>{n} 个感兴趣区中的 {seen} 个共得到 {k} 个感兴趣区 × 照片组合；{u} 个感兴趣区不在任何照片中。</translation>
+    </message>
+    <message>
+      <source>Heights from the DSM: choose the DSM raster, or another height source.</source>
+      <translation>高度来自 DSM：请选择 DSM 栅格，或选择其他高度来源。</translation>
+    </message>
+    <message>
+      <source>ROI '{name}': {why}</source>
+      <translation>感兴趣区“{name}”：{why}</translation>
+    </message>
+    <message>
+      <source>… and {n} more ROIs without a photo</source>
+      <translation>… 以及另外 {n} 个没有照片的感兴趣区</translation>
+    </message>
+    <message>
+      <source>{n} crops and {p} previews written.</source>
+      <translation>已写出 {n} 张裁剪图和 {p} 张预览图。</translation>
+    </message>
+    <message>
+      <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
+      <translation>高度来自属性：请选择感兴趣区图层的高度属性。</translation>
+    </message>
+    <message>
+      <source>Constant ground height: give the height, or choose another height source.</source>
+      <translation>固定地面高度：请给出高度，或选择其他高度来源。</translation>
+    </message>
+    <message>
+      <source>Photo {label} skipped: {why}</source>
+      <translation>已跳过照片 {label}：{why}</translation>
+    </message>
+    <message>
+      <source>Overwrite existing files (otherwise the tool stops before writing anything when an output already exists)</source>
+      <translation>覆盖已有文件（否则当输出已存在时，工具会在写出任何内容之前停止）</translation>
+    </message>
+    <message>
       <source>Camera positions and footprints</source>
       <translation>相机位置与地面覆盖范围</translation>
     </message>
@@ -12,36 +188,32 @@
       <translation>摄影测量工程</translation>
     </message>
     <message>
-      <source>Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, .psz, or an exported cameras .xml) or a Pix4D project (.p4d, the project folder or its 1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) and draws, for every aligned camera, its position and the part of the ground its photo sees. Run it first to check that a project was read right.
+      <source>Reads the solved cameras of an Agisoft Metashape project (.psx with its .files folder, .psz, or an exported cameras .xml), a Pix4D project (.p4d, the project folder or its 1_initial/params folder: choose any file in it, e.g. *_pmatrix.txt) or an OpenDroneMap/OpenSfM project (choose opensfm/reconstruction.json in the ODM project folder; Python scripts may give the folder itself) and draws, for every aligned camera, its position and the part of the ground its photo sees. Run it first to check that a project was read right.
 
-The footprint is the photo border (densified, with the lens distortion) cast onto the DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo path, enabled, height above ground (m), view angle from nadir (degrees), and for footprints the area (m²) and whether the whole border reached the ground.
+Chunk: the Metashape chunk (label or index), or the OpenSfM reconstruction (index of a partial model; by default the largest, as the log says).
 
-Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D params folder without *_wkt.prj needs the project CRS. Heights of the DSM or the ground height must be in the project's vertical reference (for a Metashape chunk in a geographic CRS: ellipsoidal heights).</source>
-      <translation type="unfinished" />
+The footprint is the photo border (densified, with the lens distortion) cast onto the DSM, or onto a constant ground height when no DSM is given. Attributes: label, photo path, enabled, height above ground (m), view angle from nadir (degrees), and for footprints the area (m²) and whether the whole border reached the ground's data (complete; where the DSM ends the footprint continues on a plane at the ground height under the camera). A camera at or below the ground gets no footprint and is named in the log.
+
+Metashape projects with rolling-shutter compensation: each photo has one pose per image row (the motion Metashape estimated during the readout); the footprints, like every projection, use it, and the log says when it is applied.
+
+Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in the map's CRS, else in the photogrammetry project's (the log says which). A Pix4D params folder without *_wkt.prj needs the project CRS. ODM projects bring ODM's CRS (that of its orthophoto and DSM); an OpenSfM dataset without ODM uses the WGS 84 / UTM zone of its reference point unless a project CRS is set. Heights of the DSM or the ground height must be in the project's vertical reference (for a Metashape chunk in a geographic CRS: ellipsoidal heights; for ODM: the heights of its DSM).</source>
+      <translation>读取 Agisoft Metashape 工程（.psx 及其 .files 文件夹、.psz 或导出的相机 .xml）、Pix4D 工程（.p4d、工程文件夹或其 1_initial/params 文件夹：选择其中任一文件，如 *_pmatrix.txt）或 OpenDroneMap/OpenSfM 工程（选择 ODM 工程文件夹中的 opensfm/reconstruction.json；Python 脚本可直接给出该文件夹）中解算出的相机，并为每台已对齐的相机绘制其位置及其照片所见的地面范围。请先运行此工具，以检查工程是否被正确读取。
+
+块（chunk）：Metashape 的块（标签或索引），或 OpenSfM 重建（部分模型的索引；默认为最大的一个，见日志）。
+
+覆盖范围是照片边框（加密顶点并考虑镜头畸变）投射到 DSM 上的结果；未提供 DSM 时，则投射到固定地面高度上。属性：标签、照片路径、是否启用、离地高度（m）、偏离天底的视角（度），覆盖范围另有面积（m²）以及整个边框是否都落在地面数据上（complete；在 DSM 结束处，覆盖范围在相机正下方地面高度的平面上延续）。位于地面或地面以下的相机没有覆盖范围，并会在日志中列出。
+
+带卷帘快门补偿的 Metashape 工程：每张照片的每个图像行各有一个位姿（Metashape 估计的读出期间的运动）；覆盖范围与所有投影一样会使用它，日志会说明何时应用。
+
+如果选择了输出坐标系，则输出采用该坐标系，否则依次采用 DSM 的坐标系、地图的坐标系、摄影测量工程的坐标系（日志会说明采用哪个）。没有 *_wkt.prj 的 Pix4D params 文件夹需要设置工程坐标系。ODM 工程采用 ODM 的坐标系（即其正射影像和 DSM 的坐标系）；没有 ODM 的 OpenSfM 数据集使用其参考点所在的 WGS 84 / UTM 带，除非设置了工程坐标系。DSM 的高度或地面高度必须采用工程的高程基准（对于地理坐标系中的 Metashape 块：椭球高；对于 ODM：其 DSM 的高度）。</translation>
     </message>
     <message>
-      <source>Output CRS (default: the project CRS)</source>
-      <translation>输出坐标系（默认：工程坐标系）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d or a file of its params folder)</source>
-      <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d 或其 params 文件夹中的文件）</translation>
-    </message>
-    <message>
-      <source>Metashape chunk (label or index; needed when there are several)</source>
-      <translation>Metashape 块（名称或序号；有多个块时必填）</translation>
-    </message>
-    <message>
-      <source>Project CRS (Pix4D projects without a *_wkt.prj file)</source>
-      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D 工程）</translation>
+      <source>Output CRS (default: the DSM's, else the map's, else the photogrammetry project's)</source>
+      <translation>输出坐标系（默认：DSM 的坐标系，否则为地图的，再否则为摄影测量工程的）</translation>
     </message>
     <message>
       <source>DSM (GeoTIFF) for the footprints</source>
       <translation>用于覆盖范围的 DSM（GeoTIFF）</translation>
-    </message>
-    <message>
-      <source>Ground height when no DSM is given (project vertical reference)</source>
-      <translation>未提供 DSM 时的地面高度（工程高程基准）</translation>
     </message>
     <message>
       <source>Camera positions</source>
@@ -52,12 +224,180 @@ Outputs are in the project CRS, or the output CRS if one is chosen. A Pix4D para
       <translation>相机地面覆盖范围</translation>
     </message>
     <message>
-      <source>DSM</source>
-      <translation>DSM</translation>
+      <source>the output CRS chosen</source>
+      <translation>所选的输出坐标系</translation>
+    </message>
+    <message>
+      <source>the DSM's CRS</source>
+      <translation>DSM 的坐标系</translation>
+    </message>
+    <message>
+      <source>the map's CRS</source>
+      <translation>地图的坐标系</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) have no DSM right under them: their height above ground is taken from the DSM where their photo sees the ground.</source>
+      <translation>{n} 台相机正下方没有 DSM：其离地高度取自其照片所见地面处的 DSM。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) see no DSM at all: their height above ground is taken from the median ground under the other cameras.</source>
+      <translation>{n} 台相机完全看不到 DSM：其离地高度取其他相机下方地面高度的中位数。</translation>
+    </message>
+    <message>
+      <source>Ground height when no DSM is given (project vertical reference)</source>
+      <translation>未提供 DSM 时的地面高度（工程高程基准）</translation>
     </message>
     <message>
       <source>Give a DSM or a ground height: the footprints are where the photos meet the ground.</source>
       <translation>请提供 DSM 或地面高度：覆盖范围是照片与地面相交之处。</translation>
+    </message>
+    <message>
+      <source>Camera footprints of {project}</source>
+      <translation>{project} 的相机地面覆盖范围</translation>
+    </message>
+    <message>
+      <source>Cameras of {project}</source>
+      <translation>{project} 的相机</translation>
+    </message>
+    <message>
+      <source>Outputs in {crs} (the photogrammetry project's CRS).</source>
+      <translation>输出采用 {crs}（摄影测量工程的坐标系）。</translation>
+    </message>
+    <message>
+      <source>{n} cameras and {f} footprints written.</source>
+      <translation>已写出 {n} 台相机和 {f} 个覆盖范围。</translation>
+    </message>
+    <message>
+      <source>The project is in a local coordinate system ({name}): the outputs will not line up with map layers.</source>
+      <translation>工程位于局部坐标系（{name}）中：输出将无法与地图图层对齐。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are at or below the ground, so they have no footprint: {names}. Check the ground height or the DSM and its vertical reference.</source>
+      <translation>{n} 台相机位于地面或地面以下，因此没有覆盖范围：{names}。请检查地面高度，或 DSM 及其高程基准。</translation>
+    </message>
+    <message>
+      <source>{n} footprint(s) reach beyond the DSM's data: there they continue on a plane at the ground height under the camera (attribute complete = false).</source>
+      <translation>{n} 个覆盖范围超出了 DSM 的数据范围：超出部分在相机下方地面高度的平面上延续（属性 complete = false）。</translation>
+    </message>
+    <message>
+      <source>Outputs in {crs} ({why}).</source>
+      <translation>输出采用 {crs}（{why}）。</translation>
+    </message>
+    <message>
+      <source>Create demo survey</source>
+      <translation>创建演示航测数据</translation>
+    </message>
+    <message>
+      <source>Demo data</source>
+      <translation>演示数据</translation>
+    </message>
+    <message>
+      <source>Writes a small, complete synthetic drone survey with a known truth, so that every EasyIDP tool can be tried at once without downloading anything. The survey is a 60 m × 40 m field of 40 plots (UTM 54N):
+- an orthomosaic (1 cm), a DSM (2 cm) and the plots (GeoPackage and GeoJSON, field plot_id);
+- a coloured point cloud (LAZ and PLY);
+- 36 raw photos of a lawnmower flight, rendered through the camera model;
+- the same flight as an Agisoft Metashape project, a Pix4D project and an OpenDroneMap project (odm/, with its opensfm/ files);
+- LabelMe annotations on four photos;
+- truth.json: where known ground points are in every photo.
+
+The same seed gives the same files. Small takes seconds; medium has larger photos.
+
+Growth season (advanced): with N dates, also the same field flown on N dates while the crop grows along known curves, in season/: per date an orthomosaic, a DSM and a point cloud, a bare-soil DSM, the plots with their variety, surveys.csv (the table for 'Plot traits over a season') and season_truth.json (height and cover per plot and date).</source>
+      <translation>写出一套小型、完整且真值已知的合成无人机航测数据，无需下载任何内容即可立即试用 EasyIDP 的所有工具。航测区域为 60 m × 40 m 的田块，含 40 个小区（UTM 54N）：
+- 正射影像（1 cm）、DSM（2 cm）和小区（GeoPackage 和 GeoJSON，字段 plot_id）；
+- 彩色点云（LAZ 和 PLY）；
+- 弓字形航线拍摄的 36 张原始照片，通过相机模型渲染；
+- 同一次飞行的 Agisoft Metashape 工程、Pix4D 工程和 OpenDroneMap 工程（odm/，含其 opensfm/ 文件）；
+- 四张照片上的 LabelMe 标注；
+- truth.json：已知地面点在每张照片中的位置。
+
+相同的随机种子生成相同的文件。“小”只需几秒；“中”的照片更大。
+
+生长季（高级）：设置 N 个日期时，还会在 season/ 中生成同一田块在 N 个日期飞行的数据，作物按已知曲线生长：每个日期的正射影像、DSM 和点云，一个裸土 DSM，带品种信息的小区，surveys.csv（“生长季小区性状”所用的表）和 season_truth.json（每个小区和日期的高度与覆盖度）。</translation>
+    </message>
+    <message>
+      <source>Random seed</source>
+      <translation>随机种子</translation>
+    </message>
+    <message>
+      <source>Growth season: dates flown (0: none)</source>
+      <translation>生长季：飞行日期数（0：无）</translation>
+    </message>
+    <message>
+      <source>Output folder</source>
+      <translation>输出文件夹</translation>
+    </message>
+    <message>
+      <source>Size</source>
+      <translation>尺寸</translation>
+    </message>
+    <message>
+      <source>Season survey table (surveys.csv)</source>
+      <translation>生长季航测表（surveys.csv）</translation>
+    </message>
+    <message>
+      <source>Orthomosaic</source>
+      <translation>正射影像</translation>
+    </message>
+    <message>
+      <source>Plots</source>
+      <translation>小区</translation>
+    </message>
+    <message>
+      <source>Point cloud (LAZ)</source>
+      <translation>点云（LAZ）</translation>
+    </message>
+    <message>
+      <source>Metashape project</source>
+      <translation>Metashape 工程</translation>
+    </message>
+    <message>
+      <source>Pix4D project</source>
+      <translation>Pix4D 工程</translation>
+    </message>
+    <message>
+      <source>OpenDroneMap project</source>
+      <translation>OpenDroneMap 工程</translation>
+    </message>
+    <message>
+      <source>Truth file</source>
+      <translation>真值文件</translation>
+    </message>
+    <message>
+      <source>Demo survey</source>
+      <translation>演示航测数据</translation>
+    </message>
+    <message>
+      <source>Writing a {size} demo survey (seed {seed}) into {folder}</source>
+      <translation>正在将 {size} 演示航测数据（随机种子 {seed}）写入 {folder}</translation>
+    </message>
+    <message>
+      <source>Demo survey written in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots, {dates} season dates, in {folder}.</source>
+      <translation>演示航测数据已在 {seconds:.1f} s 内写入 {folder}：{n_photos} 张照片，{n_plot_ids} 个小区，{dates} 个生长季日期。</translation>
+    </message>
+    <message>
+      <source>small (800 × 600 photos)</source>
+      <translation>小（800 × 600 照片）</translation>
+    </message>
+    <message>
+      <source>medium (1600 × 1200 photos)</source>
+      <translation>中（1600 × 1200 照片）</translation>
+    </message>
+    <message>
+      <source>Demo plots</source>
+      <translation>演示小区</translation>
+    </message>
+    <message>
+      <source>Demo orthomosaic</source>
+      <translation>演示正射影像</translation>
+    </message>
+    <message>
+      <source>Demo DSM</source>
+      <translation>演示 DSM</translation>
+    </message>
+    <message>
+      <source>Growth season: {n} dates in {f}</source>
+      <translation>生长季：{n} 个日期，位于 {f}</translation>
     </message>
     <message>
       <source>Crop point cloud by ROIs</source>
@@ -75,31 +415,41 @@ A point belongs to an ROI when its x, y is inside the polygon (holes and multipa
 Every point attribute is kept (colour, intensity, classification, returns, GPS time, normals, extra dimensions) with the exact coordinates. LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a CRS). ROIs in another CRS are reprojected to the cloud's.
 
 ROIs outside the cloud are named in the log and skipped; ROIs over the cloud without any point are reported and get no file unless 'Write empty files' is checked. Cropped LAS/LAZ files load into the map when this QGIS can display point clouds (PDAL provider).</source>
-      <translation type="unfinished" />
+      <translation>将每个感兴趣区（小区、树木、植株多边形）从点云（.las、.laz 或 .ply，如 Pix4D 或 Metashape 的密集点云）中裁出，在输出文件夹中为每个感兴趣区生成一个文件，以名称字段命名（转换为可用作文件名的唯一名称）。
+
+当点的 x、y 位于多边形内（考虑孔洞和多部件多边形），且（如已设置）其 Z 在 Z 范围内时（高级：例如去除地面以下或冠层以上的噪点），该点属于此感兴趣区。位于重叠感兴趣区内的点会分配给其中每一个。点云只读取一次，且每个点只与其附近的感兴趣区比较，因此在大型点云上处理数千个感兴趣区也很快。
+
+保留所有点属性（颜色、强度、分类、回波、GPS 时间、法向量、额外维度）及精确坐标。LAS/LAZ 文件自带坐标系；PLY 文件没有，因此需要为其设置“点云坐标系”（没有坐标系的 LAS 文件也一样）。其他坐标系中的感兴趣区会重投影到点云的坐标系。
+
+点云范围外的感兴趣区会在日志中列出并跳过；位于点云上但没有任何点的感兴趣区会被报告，除非勾选“写出空文件”，否则不生成文件。若此 QGIS 能显示点云（PDAL 数据提供程序），裁剪得到的 LAS/LAZ 文件会加载到地图中。</translation>
+    </message>
+    <message>
+      <source>Same as input</source>
+      <translation>与输入相同</translation>
+    </message>
+    <message>
+      <source>LAZ (compressed LAS)</source>
+      <translation>LAZ（压缩的 LAS）</translation>
+    </message>
+    <message>
+      <source>Index of the crops (optional): the ROIs with the file ('crop_file'), the number of points ('points') and the outcome ('crop_status') of each. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group below the ROI layer, where this QGIS can display point clouds (PDAL provider).</source>
+      <translation>裁剪索引（可选）：包含各感兴趣区的文件（crop_file）、点数（points）和结果（crop_status）。运行后打开该索引时（或在批处理模式下勾选了“完成后加载图层”，或它是设为打开的模型输出），若此 QGIS 能显示点云（PDAL 数据提供程序），最多 100 个 LAS/LAZ 裁剪结果也会一并加载，放在感兴趣区图层下方的一个折叠分组中。</translation>
     </message>
     <message>
       <source>Write empty files for ROIs without any point</source>
       <translation>为没有点的感兴趣区写出空文件</translation>
     </message>
     <message>
-      <source>ROIs</source>
-      <translation>感兴趣区</translation>
+      <source>Index of the crops (open it to see the crops)</source>
+      <translation>裁剪索引（打开它即可查看裁剪结果）</translation>
     </message>
     <message>
-      <source>ROIs (polygons)</source>
-      <translation>感兴趣区（多边形）</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名称字段（默认：要素 ID）</translation>
+      <source>Index of the point cloud crops</source>
+      <translation>点云裁剪索引</translation>
     </message>
     <message>
       <source>Output format</source>
       <translation>输出格式</translation>
-    </message>
-    <message>
-      <source>Output folder</source>
-      <translation>输出文件夹</translation>
     </message>
     <message>
       <source>Cropped point clouds</source>
@@ -119,11 +469,27 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
     </message>
     <message>
       <source>The cropped point clouds are not loaded into the map: this QGIS has no point cloud provider (PDAL). Open them from the output folder (e.g. in CloudCompare).</source>
-      <translation type="unfinished" />
+      <translation>裁剪后的点云未加载到地图中：此 QGIS 没有点云数据提供程序（PDAL）。请从输出文件夹中打开它们（例如在 CloudCompare 中）。</translation>
     </message>
     <message>
       <source>PLY crops are not loaded into the map; open them from the output folder.</source>
-      <translation type="unfinished" />
+      <translation>PLY 裁剪结果不会加载到地图中；请从输出文件夹中打开。</translation>
+    </message>
+    <message>
+      <source>Cropping {n_rois} ROIs into {folder}</source>
+      <translation>正在将 {n_rois} 个感兴趣区裁剪到 {folder}</translation>
+    </message>
+    <message>
+      <source>Point cloud crops of {cloud} ({n})</source>
+      <translation>{cloud} 的点云裁剪结果（{n}）</translation>
+    </message>
+    <message>
+      <source>{cropped} ROIs cropped ({points:,} points), {n_empty} without points, {n_missed} outside the cloud.</source>
+      <translation>已裁剪 {cropped} 个感兴趣区（{points:,} 个点），{n_empty} 个没有点，{n_missed} 个在点云范围外。</translation>
+    </message>
+    <message>
+      <source>None of the {n_items} ROIs overlaps the point cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one).</source>
+      <translation>{n_items} 个感兴趣区均未与点云重叠：请检查感兴趣区和点云的坐标系是否正确（如果文件没有坐标系或坐标系错误，请设置“点云坐标系”）。</translation>
     </message>
     <message>
       <source>Crop raster by ROIs</source>
@@ -133,7 +499,13 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
       <source>Cuts every ROI (plot, tree, plant polygon) out of a GeoTIFF raster: an orthomosaic (DOM), a surface model (DSM) or a multispectral map, into one GeoTIFF per ROI in the output folder, named after the name field (made safe for file names and unique).
 
 The raster is read in a single pass, each tile or strip once, so thousands of ROIs on rasters larger than memory are fast. Crops keep the raster's pixel grid, CRS and data type. Pixels outside the ROI are masked: RGB gets an alpha band, RGBA its alpha combined, DSM and multispectral get nodata (the raster's own, or -32767 for floating point and the type's extreme for integers when it has none). A pixel belongs to an ROI when its centre is inside (GDAL's rule); 'All touched' takes every pixel the ROI touches. Holes and multipart polygons are honoured. ROIs in another CRS are reprojected; ROIs outside the raster are reported and skipped.</source>
-      <translation type="unfinished" />
+      <translation>将每个感兴趣区（小区、树木、植株多边形）从 GeoTIFF 栅格（正射影像（DOM）、数字表面模型（DSM）或多光谱图）中裁出，在输出文件夹中为每个感兴趣区生成一个 GeoTIFF，以名称字段命名（转换为可用作文件名的唯一名称）。
+
+栅格只需读取一遍，每个瓦片或条带只读一次，因此即使栅格大于内存，处理数千个感兴趣区也很快。裁剪结果保留栅格的像元格网、坐标系和数据类型。感兴趣区外的像元会被掩膜：RGB 添加 alpha 波段，RGBA 与其 alpha 合并，DSM 和多光谱设为无数据值（使用栅格自身的无数据值；若没有，浮点型用 -32767，整型用该类型的极值）。像元中心位于感兴趣区内时，该像元属于此感兴趣区（GDAL 的规则）；“全部接触”则包含感兴趣区接触到的所有像元。考虑孔洞和多部件多边形。其他坐标系中的感兴趣区会被重投影；栅格范围外的感兴趣区会被报告并跳过。</translation>
+    </message>
+    <message>
+      <source>Index of the crops (optional): the ROIs with the file of each ('crop_file', empty for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.</source>
+      <translation>裁剪索引（可选）：包含各感兴趣区及其文件（crop_file，跳过的感兴趣区为空）和 crop_status。运行后打开该索引时（或在批处理模式下勾选了“完成后加载图层”，或它是设为打开的模型输出），最多 100 个裁剪结果也会一并加载，放在感兴趣区图层下方的一个折叠分组中。</translation>
     </message>
     <message>
       <source>All touched (include every pixel the ROI touches)</source>
@@ -142,6 +514,10 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Raster</source>
       <translation>栅格</translation>
+    </message>
+    <message>
+      <source>Index of the crops</source>
+      <translation>裁剪索引</translation>
     </message>
     <message>
       <source>Raster (GeoTIFF: orthomosaic, DSM or multispectral)</source>
@@ -154,6 +530,178 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Number of ROIs skipped</source>
       <translation>跳过的感兴趣区数量</translation>
+    </message>
+    <message>
+      <source>Cropping {n_rois} ROIs out of {raster} into {folder}</source>
+      <translation>正在从 {raster} 中裁剪 {n_rois} 个感兴趣区到 {folder}</translation>
+    </message>
+    <message>
+      <source>Crops of {raster} ({n})</source>
+      <translation>{raster} 的裁剪结果（{n}）</translation>
+    </message>
+    <message>
+      <source>{n_files} GeoTIFFs written, {n_skipped} ROIs skipped.</source>
+      <translation>已写出 {n_files} 个 GeoTIFF，跳过 {n_skipped} 个感兴趣区。</translation>
+    </message>
+    <message>
+      <source>ROI '{name}' skipped: {reason}</source>
+      <translation>已跳过感兴趣区“{name}”：{reason}</translation>
+    </message>
+    <message>
+      <source>Forward-project photo polygons to the map</source>
+      <translation>将照片多边形正向投影到地图</translation>
+    </message>
+    <message>
+      <source>Brings polygons drawn or detected on the raw photos (LabelMe, COCO, YOLO, or the photo-pixel layer written by Back-project ROIs) to the map, with their true position, area and perimeter: every vertex's pixel becomes a ray through the solved camera (lens distortion included) and its first hit on the DSM is the vertex on the map. Exact on any terrain and canopy (not a flat-ground homography).
+
+Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json files or YOLO .txt files, with classes.txt or data.yaml for class names); or a photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a photo of the project by file name; an image that is not in the project, or whose size differs from the camera's, is refused with its name.
+
+Edges are densified in the photo (a vertex every few pixels) so that long edges follow the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped and its polygon marked complete = false (and reported), never silently reshaped.
+
+Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit). Output in the DSM's CRS, heights from the DSM.</source>
+      <translation>将在原始照片上绘制或检测到的多边形（LabelMe、COCO、YOLO，或“将感兴趣区反投影到原始照片”写出的照片像素图层）投影到地图上，得到其真实位置、面积和周长：每个顶点的像素成为穿过解算相机（含镜头畸变）的一条射线，射线与 DSM 的第一个交点即为该顶点在地图上的位置。在任何地形和冠层上都精确（并非平地单应变换）。
+
+输入，以下之一：一个文件（LabelMe .json、COCO .json、YOLO .txt）；一个文件夹（LabelMe .json 文件或 YOLO .txt 文件，类别名称来自 classes.txt 或 data.yaml）；或一个照片像素图层（x = 列，y = −行，字段 photo）。每幅图像按文件名与工程中的照片匹配；不在工程中或尺寸与相机不符的图像会被拒绝，并给出其名称。
+
+边在照片中加密（每隔几个像素一个顶点），使长边贴合地表。射线未击中 DSM、离开 DSM 或进入无数据值区域的顶点会被删除，其多边形标记为 complete = false（并报告），绝不会悄然改变形状。
+
+合并：“无”为每张照片保留一个多边形；“多视图合并”将多张照片中同一标签的重叠多边形合并为一个；“最佳视图”保留最佳视图（完整、评分最高、最接近天底）。字段：photo、label、score、area_m2 和 perimeter_m（平面，米）、views、complete、missing（未击中的顶点）。输出采用 DSM 的坐标系，高度取自 DSM。</translation>
+    </message>
+    <message>
+      <source>Annotation file (LabelMe .json, COCO .json or YOLO .txt)</source>
+      <translation>标注文件（LabelMe .json、COCO .json 或 YOLO .txt）</translation>
+    </message>
+    <message>
+      <source>…or a folder of LabelMe .json or YOLO .txt files</source>
+      <translation>…或 LabelMe .json 或 YOLO .txt 文件所在的文件夹</translation>
+    </message>
+    <message>
+      <source>…or a photo-pixel polygon layer (x = column, y = −row)</source>
+      <translation>…或照片像素多边形图层（x = 列，y = −行）</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF)</source>
+      <translation>数字表面模型 DSM（GeoTIFF）</translation>
+    </message>
+    <message>
+      <source>Merge the same object seen in several photos</source>
+      <translation>合并在多张照片中看到的同一对象</translation>
+    </message>
+    <message>
+      <source>Densify edges: a vertex every … photo pixels (0: off)</source>
+      <translation>边加密：每隔 … 个照片像素一个顶点（0：关闭）</translation>
+    </message>
+    <message>
+      <source>Polygons on the map</source>
+      <translation>地图上的多边形</translation>
+    </message>
+    <message>
+      <source>Give exactly one input: an annotation file, a folder of annotation files, or a photo-pixel layer.</source>
+      <translation>请只给出一个输入：标注文件、标注文件所在的文件夹，或照片像素图层。</translation>
+    </message>
+    <message>
+      <source>{what} on the map (through {project} onto {dsm})</source>
+      <translation>地图上的 {what}（经 {project} 投影到 {dsm}）</translation>
+    </message>
+    <message>
+      <source>{n} polygons from {p} photos written to the map ({i} incomplete).</source>
+      <translation>已将来自 {p} 张照片的 {n} 个多边形写入地图（{i} 个不完整）。</translation>
+    </message>
+    <message>
+      <source>None (one polygon per photo)</source>
+      <translation>无（每张照片一个多边形）</translation>
+    </message>
+    <message>
+      <source>Union of the views</source>
+      <translation>多视图合并</translation>
+    </message>
+    <message>
+      <source>Best view</source>
+      <translation>最佳视图</translation>
+    </message>
+    <message>
+      <source>{n} lines or points skipped: only polygons are forward-projected by this tool.</source>
+      <translation>已跳过 {n} 个线或点：此工具只正向投影多边形。</translation>
+    </message>
+    <message>
+      <source>'{label}' is incomplete ({why}).</source>
+      <translation>“{label}”不完整（{why}）。</translation>
+    </message>
+    <message>
+      <source>Orthorectify ROIs from raw photos</source>
+      <translation>基于原始照片正射校正感兴趣区</translation>
+    </message>
+    <message>
+      <source>Makes, for every ROI, a georeferenced image from a raw photo instead of the orthomosaic: sharper (no blending, ghosting or seamlines) and with true geometry. Each output pixel's ground point (its height from the DSM) is projected into the photo with the solved camera (lens distortion included) and the photo is sampled there (bilinear).
+
+Photos: 'best' takes the best-scored photo of each ROI (the backward projection's score: visible share, view angle, resolution, distance from the centre); 'all' writes one image per photo that sees the ROI; 'named photo' uses the photo given. Pixel size: the GSD given (DSM CRS units), or 0 for the photo's native resolution at the ROI.
+
+Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the camera by the DSM (occlusion) are transparent (alpha 0). One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
+      <translation>为每个感兴趣区基于原始照片（而非正射影像）生成一幅地理配准图像：更清晰（无融合、重影或拼接线），且几何真实。每个输出像元的地面点（高度取自 DSM）通过解算相机（含镜头畸变）投影到照片中，并在该处对照片采样（双线性）。
+
+照片：“每个感兴趣区的最佳照片”取各感兴趣区评分最高的照片（反投影的评分：可见比例、视角、分辨率、到中心的距离）；“能看到该感兴趣区的所有照片”为每张能看到该感兴趣区的照片各写出一幅图像；“指定的照片”使用给定的照片。像元大小：给定的 GSD（DSM 坐标系单位），或 0 表示照片在该感兴趣区处的原始分辨率。
+
+位于感兴趣区外、DSM 无数据值处、照片外，或被 DSM 遮挡而相机看不到（遮挡）的输出像元为透明（alpha 0）。在输出文件夹中为每个感兴趣区（选择“所有照片”时为每个感兴趣区和照片）生成一个 GeoTIFF，采用 DSM 的坐标系，包含照片的波段及 alpha 波段。照片从工程中存储的路径读取；若给出了照片文件夹，则从该文件夹读取（按文件名匹配）。</translation>
+    </message>
+    <message>
+      <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 images are loaded too, in one collapsed group below the ROI layer.</source>
+      <translation>图像索引（可选）：每幅图像一个要素，包含感兴趣区及其文件（image_file）、照片、可见比例和像元大小。运行后打开该索引时（或在批处理模式下勾选了“完成后加载图层”，或它是设为打开的模型输出），最多 100 幅图像也会一并加载，放在感兴趣区图层下方的一个折叠分组中。</translation>
+    </message>
+    <message>
+      <source>Pixel size (DSM CRS units; 0: the photo's native resolution)</source>
+      <translation>像元大小（DSM 坐标系单位；0：照片的原始分辨率）</translation>
+    </message>
+    <message>
+      <source>Index of the images (open it to see the images)</source>
+      <translation>图像索引（打开它即可查看图像）</translation>
+    </message>
+    <message>
+      <source>Index of the images</source>
+      <translation>图像索引</translation>
+    </message>
+    <message>
+      <source>Folder of the raw photos (default: the paths in the project)</source>
+      <translation>原始照片文件夹（默认：工程中的路径）</translation>
+    </message>
+    <message>
+      <source>Photos</source>
+      <translation>照片</translation>
+    </message>
+    <message>
+      <source>Photo label (for 'A named photo')</source>
+      <translation>照片标签（用于“指定的照片”）</translation>
+    </message>
+    <message>
+      <source>Orthorectified ROI images</source>
+      <translation>正射校正的感兴趣区图像</translation>
+    </message>
+    <message>
+      <source>Number of images written</source>
+      <translation>写出的图像数量</translation>
+    </message>
+    <message>
+      <source>{rois} from raw photos ({n})</source>
+      <translation>基于原始照片的 {rois}（{n}）</translation>
+    </message>
+    <message>
+      <source>{n} orthorectified ROI images written to {folder}; {s} skipped.</source>
+      <translation>已将 {n} 幅正射校正的感兴趣区图像写入 {folder}；跳过 {s} 幅。</translation>
+    </message>
+    <message>
+      <source>Best photo of each ROI</source>
+      <translation>每个感兴趣区的最佳照片</translation>
+    </message>
+    <message>
+      <source>Every photo that sees the ROI</source>
+      <translation>能看到该感兴趣区的所有照片</translation>
+    </message>
+    <message>
+      <source>A named photo</source>
+      <translation>指定的照片</translation>
+    </message>
+    <message>
+      <source>{what}: no image ({why}).</source>
+      <translation>{what}：无图像（{why}）。</translation>
     </message>
     <message>
       <source>Point cloud statistics per ROI</source>
@@ -171,19 +719,25 @@ The result is the ROI layer with its attributes and: count (points inside), dens
 Ground: a DSM/DTM raster sampled under every point (a bare-soil DSM flown before emergence, or a DTM); or a single ground height; or, with neither, each ROI's own lowest points: the given percentile of its Z (advanced, default 1). The raster and the height must be in the cloud's Z units and vertical reference.
 
 LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS' for it (and for a LAS file without a CRS). ROIs in another CRS are reprojected. ROIs without any point are named in the log; their count and density are 0 and their Z and heights empty (NULL), never 0.</source>
-      <translation type="unfinished" />
+      <translation>对每个感兴趣区（小区、树木、植株多边形），统计点云（.las、.laz 或 .ply）中位于其内的点及其离地高度：冠层高度、其百分位数和点密度，可用于株高或生物量模型等。
+
+结果为带原有属性的感兴趣区图层，并新增：count（内部点数）、density（点云坐标系中每平方单位的点数：对以米为单位的点云即每 m²）、z_min、z_mean、z_max（点的 Z）、ground（点下方地面 Z 的平均值）、h_mean、h_max，以及所需每个高度百分位数的 h_pNN（离地高度：Z 减去地面）（默认 5、50、95、99；p99 可稳健地代表冠层顶部）。
+
+地面：在每个点下方采样的 DSM/DTM 栅格（出苗前飞行得到的裸土 DSM，或 DTM）；或单一地面高度；若两者都没有，则使用每个感兴趣区自身的最低点：其 Z 的给定百分位数（高级，默认 1）。栅格和高度必须与点云采用相同的 Z 单位和高程基准。
+
+LAS/LAZ 文件自带坐标系；PLY 文件没有，因此需要为其设置“点云坐标系”（没有坐标系的 LAS 文件也一样）。其他坐标系中的感兴趣区会被重投影。没有任何点的感兴趣区会在日志中列出；其 count 和 density 为 0，Z 和高度为空（NULL），绝不为 0。</translation>
     </message>
     <message>
-      <source>Ground without raster or height: this percentile of each ROI's Z</source>
-      <translation type="unfinished" />
+      <source>ROIs (polygons)</source>
+      <translation>感兴趣区（多边形）</translation>
     </message>
     <message>
       <source>Ground: DSM/DTM raster (GeoTIFF; optional)</source>
-      <translation type="unfinished" />
+      <translation>地面：DSM/DTM 栅格（GeoTIFF；可选）</translation>
     </message>
     <message>
-      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
-      <translation type="unfinished" />
+      <source>Ground without raster or height: this percentile of each ROI's Z</source>
+      <translation>无栅格或高度时的地面：每个感兴趣区 Z 的此百分位数</translation>
     </message>
     <message>
       <source>Height percentiles (comma separated)</source>
@@ -195,7 +749,7 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     </message>
     <message>
       <source>Ground: give either a DSM/DTM raster or one ground height, not both.</source>
-      <translation type="unfinished" />
+      <translation>地面：请给出 DSM/DTM 栅格或单一地面高度，不能同时给出。</translation>
     </message>
     <message>
       <source>Ground DSM/DTM</source>
@@ -203,7 +757,47 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     </message>
     <message>
       <source>The ROI layer's own fields with the names of the statistics are replaced by the new values.</source>
-      <translation type="unfinished" />
+      <translation>感兴趣区图层中与统计量同名的原有字段将被新值替换。</translation>
+    </message>
+    <message>
+      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
+      <translation>地面：所有感兴趣区使用同一高度（点云 Z 单位；可选）</translation>
+    </message>
+    <message>
+      <source>{rois}: point cloud heights of {cloud}</source>
+      <translation>{rois}：{cloud} 的点云高度</translation>
+    </message>
+    <message>
+      <source>Statistics of {n_rois} ROIs written, {n} with points{shown}.</source>
+      <translation>已写出 {n_rois} 个感兴趣区的统计，其中 {n} 个含点{shown}。</translation>
+    </message>
+    <message>
+      <source>Ground: the raster {name} under every point.</source>
+      <translation>地面：每个点下方的栅格 {name}。</translation>
+    </message>
+    <message>
+      <source>Ground: percentile {ground_pct:g} of each ROI's Z.</source>
+      <translation>地面：每个感兴趣区 Z 的第 {ground_pct:g} 百分位数。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面栅格 {name} 在 {total} 个感兴趣区中 {n} 个的点下方没有数据（位于其范围外或为无数据值）：这些感兴趣区的离地高度为空。请检查它是否覆盖了感兴趣区。</translation>
+    </message>
+    <message>
+      <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
+      <translation>{n_rois} 个感兴趣区均不包含点云中的点：请检查感兴趣区和点云的坐标系是否正确（如果文件没有坐标系或坐标系错误，请设置“点云坐标系”），以及 Z 范围。</translation>
+    </message>
+    <message>
+      <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
+      <translation>{n} 个感兴趣区不含任何点（位于点云外、空洞中或 Z 范围外）；其统计为空：要素 ID {ids}。</translation>
+    </message>
+    <message>
+      <source>Ground: {height:g} for every ROI.</source>
+      <translation>地面：所有感兴趣区均为 {height:g}。</translation>
+    </message>
+    <message>
+      <source> (map colours: {field})</source>
+      <translation>（地图着色：{field}）</translation>
     </message>
     <message>
       <source>ROI heights from DSM</source>
@@ -212,19 +806,28 @@ LAS/LAZ files carry their CRS; a PLY file has none, so give the 'Point cloud CRS
     <message>
       <source>Gives every ROI its height from a surface model (DSM), as the Z of its vertices and as the attribute 'height' (in the DSM's units and vertical reference). The result is the ROI layer as PolygonZ, ready for backward projection into raw photos.
 
-Per polygon: the statistic (mean, median, min, max or a percentile, e.g. 90 for canopy top, 5 for ground) of the DSM pixels whose centres are inside the ROI, grown by a positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets that height.
+Per polygon: the statistic (mean, median, min, max, a percentile, e.g. 90 for canopy top, 5 for ground, the standard deviation, or EasyIDP's pmin/pmax: the mean of the values below the percentile / above 100 minus the percentile) of the DSM pixels whose centres are inside the ROI, grown by a positive buffer or shrunk by a negative one (map units of the DSM). Every vertex gets that height.
 Per vertex: the DSM height at each vertex (bilinear or nearest pixel), or, with a buffer, the statistic of the pixels within the buffer distance of the vertex; 'height' is then the mean of the vertex heights.
 
 Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) height and NaN Z, and is listed in the log; it never gets 0.</source>
-      <translation type="unfinished" />
+      <translation>从数字表面模型（DSM）为每个感兴趣区赋予高度，作为其顶点的 Z 值以及属性 height（采用 DSM 的单位和高程基准）。结果为 PolygonZ 类型的感兴趣区图层，可直接用于反投影到原始照片。
+
+按多边形：对中心位于感兴趣区内的 DSM 像元计算统计量（平均值、中位数、最小值、最大值、某一百分位数（如冠层顶部用 90，地面用 5）、标准差，或 EasyIDP 的 pmin/pmax：低于该百分位数 / 高于 100 减该百分位数的值的平均值），感兴趣区可用正缓冲距离扩大或用负缓冲距离收缩（DSM 的地图单位）。每个顶点都取该高度。
+按顶点：每个顶点处的 DSM 高度（双线性或最近像元），或在设置缓冲距离时，取该顶点缓冲距离内像元的统计量；此时 height 为各顶点高度的平均值。
+
+忽略无数据值像元。没有任何有效像元的感兴趣区，其高度保留为空（NULL），Z 为 NaN，并在日志中列出；绝不会赋为 0。</translation>
+    </message>
+    <message>
+      <source>Per polygon: one statistic of the DSM pixels inside</source>
+      <translation>按多边形：内部 DSM 像元的一个统计量</translation>
+    </message>
+    <message>
+      <source>Per vertex: the DSM height at each vertex</source>
+      <translation>按顶点：每个顶点处的 DSM 高度</translation>
     </message>
     <message>
       <source>Vertex sampling</source>
       <translation>顶点采样</translation>
-    </message>
-    <message>
-      <source>DSM (GeoTIFF)</source>
-      <translation>数字表面模型 DSM（GeoTIFF）</translation>
     </message>
     <message>
       <source>Mode</source>
@@ -235,10 +838,6 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
       <translation>统计量</translation>
     </message>
     <message>
-      <source>Percentile (for the 'percentile' statistic)</source>
-      <translation>百分位数（用于“percentile”统计量）</translation>
-    </message>
-    <message>
       <source>Buffer (DSM map units; negative shrinks the polygon)</source>
       <translation>缓冲距离（DSM 地图单位；负值收缩多边形）</translation>
     </message>
@@ -247,12 +846,288 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
       <translation>带高度的感兴趣区</translation>
     </message>
     <message>
+      <source>Percentile (0–100, for the percentile, pmin and pmax statistics)</source>
+      <translation>百分位数（0–100，用于百分位数、pmin 和 pmax 统计量）</translation>
+    </message>
+    <message>
+      <source>{rois}: height {what} from {dsm}</source>
+      <translation>{rois}：来自 {dsm} 的高度 {what}</translation>
+    </message>
+    <message>
+      <source>ROI '{name}': {reason}; its height is left empty.</source>
+      <translation>感兴趣区“{name}”：{reason}；其高度留空。</translation>
+    </message>
+    <message>
+      <source>Heights ({what}) of {n} ROIs: {lo:.3f} to {hi:.3f} (DSM units), {null} empty (NULL).</source>
+      <translation>{n} 个感兴趣区的高度（{what}）：{lo:.3f} 至 {hi:.3f}（DSM 单位），{null} 个为空（NULL）。</translation>
+    </message>
+    <message>
+      <source>Heights of {n} ROIs: all empty (NULL): the DSM has no valid pixel under any of them.</source>
+      <translation>{n} 个感兴趣区的高度：全部为空（NULL）：DSM 在它们下方都没有有效像元。</translation>
+    </message>
+    <message>
+      <source>Plot traits over a season</source>
+      <translation>生长季小区性状</translation>
+    </message>
+    <message>
+      <source>Time series</source>
+      <translation>时间序列</translation>
+    </message>
+    <message>
+      <source>Traits of every ROI (plot, tree) on every date of a season of surveys: plant height from the DSMs, canopy cover, band means and a vegetation index from the orthomosaics, heights from the point clouds. Each file is read once for all ROIs; the files are shared out to worker processes on this computer, or to a Dask cluster.
+
+Survey table: a CSV file or a table layer with the columns date (YYYY-MM-DD), orthomosaic, dsm, point_cloud and project (file paths, absolute or relative to the table's folder; empty cells allowed); optional: bands (the orthomosaic's band names in order, e.g. blue,green,red,rededge,nir: NDVI needs red and nir) and crs (for files without one, e.g. PLY). Rows with a missing file, an unreadable raster or a CRS that cannot be related to the ROIs are reported by row and left out; the rest completes. The project column is read but not used by the traits yet.
+
+Traits: height_pNN (percentiles of the DSM above the ground, metres); cover (share of the ROI whose vegetation index is above the threshold, 0-1; Otsu's automatic threshold per orthomosaic, or a given one); exg (excess green, RGB) or ndvi (named bands); mean_&lt;band&gt; (band means); cloud_points and cloud_height_pNN (point clouds).
+
+Ground: a bare-soil DSM or DTM of the season (a flight before emergence): a plane is fitted to it under each ROI. Without one, each ROI's ground is the plane through the lowest heights (the given percentile) in a 3 × 3 grid over it, which needs bare soil between the plants.
+
+Workers: processes on this computer. Dask scheduler (advanced): tcp://host:8786 to run on a Dask cluster (the files must be at the same paths on every worker), or 'local' for a Dask cluster of 'Workers' processes on this computer.
+
+Outputs: the long table (roi, date, trait, value); the ROIs with the traits of their latest date (styled by height); growth curves as a PNG (a panel per ROI, or per group when there are many ROIs and a group field); optionally the crops, in &lt;date&gt;/&lt;orthomosaic|dsm|point_cloud&gt;/ folders.</source>
+      <translation>计算一个生长季中每个感兴趣区（小区、树木）在每次航测日期的性状：来自 DSM 的株高，来自正射影像的冠层覆盖度、波段均值和植被指数，以及来自点云的高度。每个文件只读取一次即可处理所有感兴趣区；文件会分配给本机上的工作进程，或分配给 Dask 集群。
+
+航测表：CSV 文件或表格图层，包含 date（YYYY-MM-DD）、orthomosaic、dsm、point_cloud 和 project 列（文件路径，可为绝对路径或相对于表所在文件夹的路径；允许空单元格）；可选列：bands（正射影像按顺序排列的波段名称，如 blue,green,red,rededge,nir：NDVI 需要 red 和 nir）和 crs（用于没有坐标系的文件，如 PLY）。文件缺失、栅格无法读取或坐标系无法与感兴趣区关联的行会按行报告并排除；其余部分照常完成。project 列会被读取，但目前尚未用于性状计算。
+
+性状：height_pNN（DSM 高出地面部分的百分位数，米）；cover（植被指数高于阈值的感兴趣区面积比例，0-1；每幅正射影像使用 Otsu 自动阈值，或使用给定阈值）；exg（超绿指数，RGB）或 ndvi（需命名波段）；mean_&lt;band&gt;（波段均值）；cloud_points 和 cloud_height_pNN（点云）。
+
+地面：该生长季的裸土 DSM 或 DTM（出苗前的一次飞行）：在每个感兴趣区下方对其拟合一个平面。若没有，则每个感兴趣区的地面为通过其上 3 × 3 格网中最低高度（给定百分位数）的平面，这要求植株之间有裸土。
+
+工作进程数：本机上的进程。Dask 调度器（高级）：tcp://host:8786 表示在 Dask 集群上运行（文件在每个 worker 上的路径必须相同），'local' 表示在本机上使用由“工作进程数”个进程组成的 Dask 集群。
+
+输出：长表（roi、date、trait、value）；带最新日期性状的感兴趣区（按高度设置样式）；PNG 格式的生长曲线（每个感兴趣区一个面板，若感兴趣区很多且设置了分组字段，则每组一个面板）；可选的裁剪结果，位于 &lt;date&gt;/&lt;orthomosaic|dsm|point_cloud&gt;/ 文件夹中。</translation>
+    </message>
+    <message>
+      <source>Dask scheduler (tcp://host:port, or 'local'; empty: processes here)</source>
+      <translation>Dask 调度器（tcp://host:port 或 'local'；留空：使用本机进程）</translation>
+    </message>
+    <message>
+      <source>Survey table (CSV file or table layer)</source>
+      <translation>航测表（CSV 文件或表格图层）</translation>
+    </message>
+    <message>
+      <source>Name field (unique; default: feature id)</source>
+      <translation>名称字段（唯一；默认：要素 ID）</translation>
+    </message>
+    <message>
+      <source>Group field (treatment, variety: colours the curves)</source>
+      <translation>分组字段（处理、品种：用于曲线着色）</translation>
+    </message>
+    <message>
+      <source>Traits</source>
+      <translation>性状</translation>
+    </message>
+    <message>
+      <source>Ground: bare-soil DSM or DTM of the season (optional)</source>
+      <translation>地面：该生长季的裸土 DSM 或 DTM（可选）</translation>
+    </message>
+    <message>
+      <source>Ground without a DTM: percentile of each ROI's lowest heights</source>
+      <translation>无 DTM 时的地面：每个感兴趣区最低高度的百分位数</translation>
+    </message>
+    <message>
+      <source>Cover threshold on the vegetation index (empty: Otsu per orthomosaic)</source>
+      <translation>植被指数的覆盖度阈值（留空：每幅正射影像使用 Otsu 阈值）</translation>
+    </message>
+    <message>
+      <source>Worker processes</source>
+      <translation>工作进程数</translation>
+    </message>
+    <message>
+      <source>Crops per date (optional folder)</source>
+      <translation>按日期的裁剪结果（可选文件夹）</translation>
+    </message>
+    <message>
+      <source>Traits per ROI and date (long table)</source>
+      <translation>按感兴趣区和日期的性状（长表）</translation>
+    </message>
+    <message>
+      <source>ROIs with their latest traits</source>
+      <translation>带最新性状的感兴趣区</translation>
+    </message>
+    <message>
+      <source>Growth curves (PNG)</source>
+      <translation>生长曲线（PNG）</translation>
+    </message>
+    <message>
+      <source>PNG files (*.png)</source>
+      <translation>PNG 文件 (*.png)</translation>
+    </message>
+    <message>
+      <source>Survey table: no table given, or it could not be loaded.</source>
+      <translation>航测表：未给出表，或无法加载该表。</translation>
+    </message>
+    <message>
+      <source>Traits: choose at least one.</source>
+      <translation>性状：请至少选择一项。</translation>
+    </message>
+    <message>
+      <source>Ground</source>
+      <translation>地面</translation>
+    </message>
+    <message>
+      <source>No trait could be computed: every survey row was left out (see the messages above).</source>
+      <translation>无法计算任何性状：所有航测行均被排除（见上方消息）。</translation>
+    </message>
+    <message>
+      <source>{n} surveys, {r} ROIs, traits: {t}</source>
+      <translation>{n} 次航测，{r} 个感兴趣区，性状：{t}</translation>
+    </message>
+    <message>
+      <source>{v} values of {k} traits for {r} ROIs on {d} dates in {s:.0f} s ({e}); {p} rows or files left out.</source>
+      <translation>在 {s:.0f} s 内为 {r} 个感兴趣区在 {d} 个日期计算了 {k} 种性状，共 {v} 个值（{e}）；排除了 {p} 行或文件。</translation>
+    </message>
+    <message>
+      <source>{rois}: latest traits</source>
+      <translation>{rois}：最新性状</translation>
+    </message>
+    <message>
+      <source>{rois}: traits per date</source>
+      <translation>{rois}：各日期性状</translation>
+    </message>
+    <message>
+      <source>Height from the DSM</source>
+      <translation>来自 DSM 的高度</translation>
+    </message>
+    <message>
+      <source>Canopy cover</source>
+      <translation>冠层覆盖度</translation>
+    </message>
+    <message>
+      <source>Band means</source>
+      <translation>波段均值</translation>
+    </message>
+    <message>
+      <source>Vegetation index (ExG or NDVI)</source>
+      <translation>植被指数（ExG 或 NDVI）</translation>
+    </message>
+    <message>
+      <source>Heights from the point cloud</source>
+      <translation>来自点云的高度</translation>
+    </message>
+    <message>
+      <source>Survey {p}</source>
+      <translation>航测表：{p}</translation>
+    </message>
+    <message>
+      <source>Left out: {p}</source>
+      <translation>已排除：{p}</translation>
+    </message>
+    <message>
+      <source>QGIS's own {packages}: the plugin does not replace QGIS's packages; use a newer QGIS.</source>
+      <translation>QGIS 自带的 {packages}：插件不会替换 QGIS 自带的包；请使用更新版本的 QGIS。</translation>
+    </message>
+    <message>
+      <source>{tool} needs Python packages that QGIS's Python does not have: {packages}.</source>
+      <translation>{tool} 需要 QGIS 的 Python 中没有的 Python 包：{packages}。</translation>
+    </message>
+    <message>
+      <source>Nothing was installed.</source>
+      <translation>未安装任何内容。</translation>
+    </message>
+    <message>
+      <source>The plugin's Python packages are installed with the Install button the QGIS desktop shows when one is missing, or by running:
+{command}</source>
+      <translation>缺少插件所需的 Python 包时，可通过 QGIS 桌面端显示的“安装”按钮安装，或运行：
+{command}</translation>
+    </message>
+    <message>
+      <source>{name} {version} (needs {spec})</source>
+      <translation>{name} {version}（需要 {spec}）</translation>
+    </message>
+    <message>
+      <source>{python} is Python {got}, but QGIS runs Python {want}; QGIS's own interpreter was not found</source>
+      <translation>{python} 是 Python {got}，但 QGIS 运行的是 Python {want}；未找到 QGIS 自带的解释器</translation>
+    </message>
+    <message>
+      <source>{error}. Install the missing Python package for QGIS's Python ({python}).</source>
+      <translation>{error}。请为 QGIS 的 Python（{python}）安装缺少的 Python 包。</translation>
+    </message>
+    <message>
+      <source>QGIS's Python interpreter {python} cannot run: {error}</source>
+      <translation>QGIS 的 Python 解释器 {python} 无法运行：{error}</translation>
+    </message>
+    <message>
+      <source>To install them, click Install in the EasyIDP message bar of the QGIS desktop, or run:
+{command}</source>
+      <translation>要安装它们，请在 QGIS 桌面端的 EasyIDP 消息栏中点击“安装”，或运行：
+{command}</translation>
+    </message>
+    <message>
+      <source>EasyIDP</source>
+      <translation>EasyIDP</translation>
+    </message>
+    <message>
+      <source>Installing Python packages for EasyIDP</source>
+      <translation>正在为 EasyIDP 安装 Python 包</translation>
+    </message>
+    <message>
+      <source>Cancel</source>
+      <translation>取消</translation>
+    </message>
+    <message>
+      <source>Some tools need Python packages that QGIS's Python lacks: {packages}.</source>
+      <translation>部分工具需要 QGIS 的 Python 中缺少的 Python 包：{packages}。</translation>
+    </message>
+    <message>
+      <source>Install</source>
+      <translation>安装</translation>
+    </message>
+    <message>
+      <source>Download them with pip into your QGIS profile; QGIS's own packages are not changed.</source>
+      <translation>使用 pip 将它们下载到您的 QGIS 用户配置文件中；不会改动 QGIS 自带的包。</translation>
+    </message>
+    <message>
+      <source>Every Python package EasyIDP needs is installed.</source>
+      <translation>EasyIDP 所需的 Python 包均已安装。</translation>
+    </message>
+    <message>
+      <source>Installing {packages} …</source>
+      <translation>正在安装 {packages} …</translation>
+    </message>
+    <message>
+      <source>Python packages installed: {packages}.</source>
+      <translation>已安装 Python 包：{packages}。</translation>
+    </message>
+    <message>
+      <source>Restart QGIS to use them: an older copy is already loaded.</source>
+      <translation>请重启 QGIS 以使用它们：已加载了旧版本。</translation>
+    </message>
+    <message>
+      <source>nothing was missing</source>
+      <translation>没有缺少的包</translation>
+    </message>
+    <message>
+      <source>Installation cancelled; nothing was changed. To install later, run:
+{command}</source>
+      <translation>安装已取消，未做任何更改。如需稍后安装，请运行：
+{command}</translation>
+    </message>
+    <message>
+      <source>Installing the Python packages failed: {reason}. Run this command in a terminal to see why:
+{command}</source>
+      <translation>安装 Python 包失败：{reason}。请在终端中运行以下命令查看原因：
+{command}</translation>
+    </message>
+    <message>
+      <source>still missing after pip: {packages}</source>
+      <translation>pip 运行后仍缺少：{packages}</translation>
+    </message>
+    <message>
+      <source>exit status {code}</source>
+      <translation>退出状态 {code}</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap)</source>
+      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM）</translation>
+    </message>
+    <message>
       <source>Point cloud (.las, .laz or .ply)</source>
       <translation>点云（.las、.laz 或 .ply）</translation>
     </message>
     <message>
       <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation type="unfinished" />
+      <translation>点云坐标系（PLY 以及没有坐标系的 LAS 需要；否则从文件读取）</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -261,6 +1136,62 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
     <message>
       <source>Highest Z to keep (cloud Z units; empty: no limit)</source>
       <translation>保留的最高 Z（点云 Z 单位；留空：不限制）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
+      <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d、工程文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json）</translation>
+    </message>
+    <message>
+      <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
+      <translation>块（chunk）：Metashape 块（标签或索引）或 OpenSfM 重建索引（存在多个时需要）</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名称字段（默认：要素 ID）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>摄影测量工程：未给出（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：工程的坐标系未知（没有 *_wkt.prj 的 Pix4D 工程，或没有 GPS 的 OpenSfM 数据集）：请设置“工程坐标系”。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台相机未对齐，没有位姿：{names}</translation>
+    </message>
+    <message>
+      <source>Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95,99.</source>
+      <translation>高度百分位数：“{token}”不是 0 到 100 之间的数字。请用逗号分隔百分位数，例如 5,50,95,99。</translation>
+    </message>
+    <message>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>“{a}”和“{b}”都是 {path}：其中一个会替换另一个。请选择两个不同的文件。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} 已存在，未写出任何内容。请选择其他文件，或勾选“覆盖已有文件”（高级）以替换它。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} 同时也是输入“{input}”。输入绝不会被覆盖：请选择其他文件。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} 不是数字；请给出一个有限值。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} 超出范围 {lo}–{hi}。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} 不是可选值之一（{opts}）。</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
     </message>
   </context>
 </TS>

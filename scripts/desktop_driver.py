@@ -4,7 +4,9 @@ EasyIDP plugin shows at start-up and clicks its buttons, as a user would.
 The spec comes in ``EASYIDP_DRIVER`` (JSON): ``out`` (result file), ``screenshot`` (PNG of the
 message bar, optional), ``steps`` (optional list of ``{"action": "install" | "cancel",
 "env": {name: value or null}}``: the environment pip sees during that step; *Install* is clicked,
-and for "cancel" *Cancel* once pip runs). QGIS quits when done; errors go to ``driver_error``.
+and for "cancel" *Cancel* once pip runs), ``session`` (optional: a user's session with the tools,
+see ``desktop_session.py``; its findings go to ``session``). QGIS quits when done; errors go to
+``driver_error``.
 """
 import json
 import os
@@ -134,6 +136,9 @@ def run() -> None:
             folder=_listing(dependencies.packages_dir()))
         if SPEC.get("screenshot"):
             _screenshot(SPEC["screenshot"])
+        if SPEC.get("session"):
+            from easyidp_toolbox.scripts.desktop_session import run_session
+            found["session"] = run_session(SPEC["session"])
         for step in SPEC.get("steps", []):
             found["steps"].append(_step(plugin, step))
         if found["steps"] and found["steps"][-1]["result"] == "installed":

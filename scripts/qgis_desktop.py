@@ -1,9 +1,14 @@
-"""The plugin as a user installs it: its zip unpacked into a fresh QGIS profile, run by the real QGIS
-desktop (under Xvfb) and by ``qgis_process``, with QGIS's own Python only (none of this
-repository's environments). Used by ``tests/qgis/test_install_from_zip.py`` and to make the
-README's screenshot:
+"""The real QGIS desktop (under Xvfb), driven as a user would:
+
+- the plugin as a user installs it: its zip unpacked into a fresh QGIS profile, run by the
+  desktop and by ``qgis_process`` with QGIS's own Python only (none of this repository's
+  environments): ``tests/qgis/test_install_from_zip.py`` and the README's screenshot of the
+  message bar (``--screenshot docs/install_message_bar.png``);
+- a user's session with the tools of this checkout (``run_session``, ``desktop_session.py``):
+  ``tests/qgis/test_desktop.py`` and ``make screenshots`` (``--screenshots docs``).
 
     python -m easyidp_toolbox.scripts.qgis_desktop --screenshot docs/install_message_bar.png
+    python -m easyidp_toolbox.scripts.qgis_desktop --screenshots docs
 
 The desktop runs ``desktop_driver.py`` (``qgis --code``), which does what ``spec`` asks and writes
 what it saw to a JSON file.
@@ -15,12 +20,15 @@ import os
 import shutil
 import subprocess
 import sys
+import sysconfig
 import tempfile
 import zipfile
 from typing import Dict, List, Optional
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(HERE)
 DRIVER = os.path.join(HERE, "desktop_driver.py")
+MODEL = os.path.join(ROOT, "tests", "qgis", "data", "heights_then_crop.model3")
 QGIS = shutil.which("qgis") or "/usr/bin/qgis"
 QGIS_PROCESS = shutil.which("qgis_process.bin") or "/usr/bin/qgis_process.bin"
 PLUGIN_ID = "easyidp_toolbox"
@@ -37,6 +45,12 @@ def install_zip(zip_path: str, root: str) -> str:
     os.makedirs(plugins, exist_ok=True)
     with zipfile.ZipFile(zip_path) as zf:
         zf.extractall(plugins)
+    enable_plugin(root)
+    return os.path.join(plugins, PLUGIN_ID)
+
+
+def enable_plugin(root: str) -> None:
+    """Mark the plugin enabled in the profile's settings (as the Plugin Manager does)."""
     ini = os.path.join(profile_dir(root), "QGIS", "QGIS3.ini")
     os.makedirs(os.path.dirname(ini), exist_ok=True)
     cfg = configparser.ConfigParser()
@@ -47,7 +61,6 @@ def install_zip(zip_path: str, root: str) -> str:
     cfg.set("PythonPlugins", PLUGIN_ID, "true")
     with open(ini, "w") as fh:
         cfg.write(fh, space_around_delimiters=False)
-    return os.path.join(plugins, PLUGIN_ID)
 
 
 def clean_env(extra: Optional[Dict[str, str]] = None) -> Dict[str, str]:
@@ -64,9 +77,35 @@ def clean_env(extra: Optional[Dict[str, str]] = None) -> Dict[str, str]:
     return env
 
 
-def run_desktop(root: str, spec: dict, timeout: float = 600) -> dict:
+def checkout_env() -> Dict[str, str]:
+    """What the desktop needs to load this checkout's plugin with this environment's packages
+    (as ``qgis_process.qgis_process_env`` does for qgis_process)."""
+    from .qgis_process import PLUGINS
+    if not os.path.isdir(os.path.join(PLUGINS, PLUGIN_ID)):
+        os.makedirs(PLUGINS, exist_ok=True)
+        os.symlink(ROOT, os.path.join(PLUGINS, PLUGIN_ID))
+    return {"QGIS_PLUGINPATH": PLUGINS, "PYTHONPATH": sysconfig.get_paths()["purelib"],
+            "PYTHONDONTWRITEBYTECODE": "1"}
+
+
+def run_session(work: str, shots: Optional[str] = None, timeout: float = 900) -> dict:
+    """A user's session (``desktop_session.py``) in a fresh profile, with this checkout's
+    plugin: the demo survey and the tools in ``work``; PNGs in ``shots`` when given.
+    Returns what the session saw (layers, groups, styles, the message log, steps)."""
+    root = os.path.join(work, "qgis-profile")
+    enable_plugin(root)
+    found = run_desktop(root, {"session": {"work": work, "shots": shots, "model": MODEL}},
+                        timeout=timeout, extra_env=checkout_env())
+    if found.get("session", {}).get("session_error"):
+        raise RuntimeError("the desktop session failed:\n" + found["session"]["session_error"])
+    return found
+
+
+def run_desktop(root: str, spec: dict, timeout: float = 600,
+                extra_env: Optional[Dict[str, str]] = None) -> dict:
     """Start the QGIS desktop on the profile under Xvfb; the driver follows ``spec`` (see
-    desktop_driver.py) and its findings are returned."""
+    desktop_driver.py) and its findings are returned. ``extra_env``: added to a user's
+    environment (e.g. :func:`checkout_env`)."""
     xvfb = shutil.which("xvfb-run")
     if not xvfb:
         raise RuntimeError("xvfb-run is missing: apt-get install xvfb xauth (make env does)")
@@ -74,7 +113,7 @@ def run_desktop(root: str, spec: dict, timeout: float = 600) -> dict:
     os.close(fd)
     os.remove(out)
     spec = dict(spec, out=out)
-    env = clean_env({"EASYIDP_DRIVER": json.dumps(spec)})
+    env = clean_env({"EASYIDP_DRIVER": json.dumps(spec), **(extra_env or {})})
     cmd = [xvfb, "-a", "-s", "-screen 0 1280x800x24", QGIS, "--noversioncheck", "--nologo",
            "--profiles-path", root, "--code", DRIVER]
     proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
@@ -98,8 +137,17 @@ def run_headless(root: str, args: List[str], timeout: float = 600) -> subprocess
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--screenshot", required=True, help="PNG of the message bar to write")
+    what = parser.add_mutually_exclusive_group(required=True)
+    what.add_argument("--screenshot", help="PNG of the message bar after installing the zip")
+    what.add_argument("--screenshots", help="folder for the PNGs of a session with the tools")
     args = parser.parse_args(argv)
+    if args.screenshots:
+        shots = os.path.abspath(args.screenshots)
+        with tempfile.TemporaryDirectory(prefix="easyidp-session-") as work:
+            found = run_session(work, shots)
+        for path in found["session"]["shots"]:
+            print(path)
+        return 0
     from .package import build
     with tempfile.TemporaryDirectory(prefix="easyidp-shot-") as tmp:
         zip_path, _ = build(os.path.join(tmp, "dist"))

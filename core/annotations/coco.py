@@ -14,7 +14,7 @@ from typing import Dict, List
 import numpy as np
 
 from ..errors import InputError
-from .model import POLYGON, PhotoAnnotations, PhotoShape
+from .model import POLYGON, PhotoAnnotations, PhotoShape, image_size
 
 
 def read_coco(path) -> List[PhotoAnnotations]:
@@ -43,7 +43,7 @@ def read_coco(path) -> List[PhotoAnnotations]:
         where = f"{path}: images[{k}]"
         if not isinstance(im, dict) or "id" not in im or not im.get("file_name"):
             raise InputError(f"{where} has no 'id' or 'file_name'.")
-        w, h = _size(im, where)
+        w, h = image_size(im, ("width", "height"), where)
         images[im["id"]] = PhotoAnnotations(path, str(im["file_name"]), w, h, [])
     for k, a in enumerate(doc.get("annotations") or []):
         where = f"{path}: annotations[{k}]"
@@ -64,23 +64,6 @@ def read_coco(path) -> List[PhotoAnnotations]:
         images[a["image_id"]].shapes.append(
             PhotoShape(label, POLYGON, rings, typ, score, a.get("id"), attrs))
     return list(images.values())
-
-
-def _size(im: dict, where: str):
-    out = []
-    for key in ("width", "height"):
-        v = im.get(key)
-        if v is None:
-            out.append(None)
-            continue
-        try:
-            n = int(v)
-        except (TypeError, ValueError):
-            raise InputError(f"{where}: {key} is {v!r}, not a whole number of pixels.") from None
-        if n <= 0:
-            raise InputError(f"{where}: {key} is {n}; an image has a positive size.")
-        out.append(n)
-    return tuple(out)
 
 
 def _rings(a: dict, where: str):

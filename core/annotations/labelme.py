@@ -13,7 +13,7 @@ import numpy as np
 
 from ..errors import InputError, reads_file
 from ..files import load_json
-from .model import LINE, POINT, POLYGON, PhotoAnnotations, PhotoShape
+from .model import LINE, POINT, POLYGON, PhotoAnnotations, PhotoShape, image_size
 
 CIRCLE_VERTICES = 64
 
@@ -25,26 +25,9 @@ def read_labelme(path) -> PhotoAnnotations:
     doc = load_json(path, "LabelMe JSON")
     if not isinstance(doc, dict) or not isinstance(doc.get("shapes"), list):
         raise InputError(f"{path} is not a LabelMe file: it has no 'shapes' list.")
-    width, height = _size(doc, path)
+    width, height = image_size(doc, ("imageWidth", "imageHeight"), path)
     shapes = [_shape(s, k, path) for k, s in enumerate(doc["shapes"])]
     return PhotoAnnotations(path, str(doc.get("imagePath") or ""), width, height, shapes)
-
-
-def _size(doc: dict, path: str):
-    out = []
-    for key in ("imageWidth", "imageHeight"):
-        v = doc.get(key)
-        if v is None:
-            out.append(None)
-            continue
-        try:
-            n = int(v)
-        except (TypeError, ValueError):
-            raise InputError(f"{path}: {key} is {v!r}, not a whole number of pixels.") from None
-        if n <= 0:
-            raise InputError(f"{path}: {key} is {n}; an image has a positive size.")
-        out.append(n)
-    return tuple(out)
 
 
 def _shape(s, k: int, path: str) -> PhotoShape:

@@ -1,8 +1,10 @@
 """Shapes on one photo, in pixels, as the annotation readers return them."""
 from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import List, Optional, Tuple
 
 import numpy as np
+
+from ..errors import InputError
 
 POLYGON, LINE, POINT = "polygon", "line", "point"
 
@@ -33,3 +35,22 @@ class PhotoAnnotations:
     width: Optional[int]
     height: Optional[int]
     shapes: List[PhotoShape] = field(default_factory=list)
+
+
+def image_size(doc: dict, keys: Tuple[str, str], where: str) -> Tuple[Optional[int], Optional[int]]:
+    """(width, height) an annotation file declares under ``keys`` (None where it says nothing);
+    :class:`InputError` naming ``where`` for a size that is not a positive whole number."""
+    out = []
+    for key in keys:
+        v = doc.get(key)
+        if v is None:
+            out.append(None)
+            continue
+        try:
+            n = int(v)
+        except (TypeError, ValueError):
+            raise InputError(f"{where}: {key} is {v!r}, not a whole number of pixels.") from None
+        if n <= 0:
+            raise InputError(f"{where}: {key} is {n}; an image has a positive size.")
+        out.append(n)
+    return out[0], out[1]

@@ -88,26 +88,35 @@ def _plot_canopy(p: dict, x, y):
     return inside, p["height"] * rows * plants
 
 
+def plot_window(layout: FieldLayout, p: dict, pixel: float):
+    """((i0, i1, j0, j1), x, y): the rows and columns of the ``pixel`` grid of ``layout`` around
+    plot ``p`` (one pixel of margin) and the map coordinates of their centres, broadcast to the
+    window's shape; None when the plot lies outside the grid."""
+    ny, nx = layout.grid_shape(pixel)
+    x0, y0 = layout.origin
+    c = plot_corners(p)
+    j0 = max(int(np.floor((c[:, 0].min() - x0) / pixel)) - 1, 0)
+    j1 = min(int(np.ceil((c[:, 0].max() - x0) / pixel)) + 1, nx)
+    i0 = max(int(np.floor((y0 - c[:, 1].max()) / pixel)) - 1, 0)
+    i1 = min(int(np.ceil((y0 - c[:, 1].min()) / pixel)) + 1, ny)
+    if j1 <= j0 or i1 <= i0:
+        return None
+    x = x0 + (np.arange(j0, j1) + 0.5)[None, :] * pixel
+    y = y0 - (np.arange(i0, i1) + 0.5)[:, None] * pixel
+    return (i0, i1, j0, j1), *np.broadcast_arrays(x, y)
+
+
 def canopy_grid(layout: FieldLayout, plots: List[dict], pixel: float) -> np.ndarray:
     """Crop height (m, float64) at the pixel centres of the ``pixel`` grid of ``layout``;
     each plot is evaluated only in its bounding window."""
-    ny, nx = layout.grid_shape(pixel)
-    h = np.zeros((ny, nx))
-    x0, y0 = layout.origin
+    h = np.zeros(layout.grid_shape(pixel))
     for p in plots:
-        c = plot_corners(p)
-        j0 = max(int(np.floor((c[:, 0].min() - x0) / pixel)) - 1, 0)
-        j1 = min(int(np.ceil((c[:, 0].max() - x0) / pixel)) + 1, nx)
-        i0 = max(int(np.floor((y0 - c[:, 1].max()) / pixel)) - 1, 0)
-        i1 = min(int(np.ceil((y0 - c[:, 1].min()) / pixel)) + 1, ny)
-        if j1 <= j0 or i1 <= i0:
+        win = plot_window(layout, p, pixel)
+        if win is None:
             continue
-        x = x0 + (np.arange(j0, j1) + 0.5)[None, :] * pixel
-        y = y0 - (np.arange(i0, i1) + 0.5)[:, None] * pixel
-        x, y = np.broadcast_to(x, (i1 - i0, j1 - j0)), np.broadcast_to(y, (i1 - i0, j1 - j0))
+        (i0, i1, j0, j1), x, y = win
         inside, val = _plot_canopy(p, x, y)
-        win = h[i0:i1, j0:j1]
-        h[i0:i1, j0:j1] = np.where(inside, np.maximum(win, val), win)
+        h[i0:i1, j0:j1] = np.where(inside, np.maximum(h[i0:i1, j0:j1], val), h[i0:i1, j0:j1])
     return h
 
 

@@ -40,7 +40,7 @@ from ..files import write_bytes, write_json
 from ..progress import as_progress
 from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
 from .field import DOM_PIXEL, DSM_PIXEL, EDGE, NODATA, PLANT_SPACING, ROW_SPACING, FieldLayout, \
-    make_plots, plot_corners
+    make_plots, plot_corners, plot_window
 from .scene import SURVEY_FIELD
 from .survey import LAS_DATE
 
@@ -150,16 +150,12 @@ def canopy_grid(layout: FieldLayout, plots: List[dict], day: float, pixel: float
     ny, nx = layout.grid_shape(pixel)
     leaf = np.zeros((ny, nx), bool)
     height = np.zeros((ny, nx), np.float32)
-    x0, y0 = layout.origin
     for p in plots:
-        c = plot_corners(p)
-        j0 = max(int(np.floor((c[:, 0].min() - x0) / pixel)) - 1, 0)
-        j1 = min(int(np.ceil((c[:, 0].max() - x0) / pixel)) + 1, nx)
-        i0 = max(int(np.floor((y0 - c[:, 1].max()) / pixel)) - 1, 0)
-        i1 = min(int(np.ceil((y0 - c[:, 1].min()) / pixel)) + 1, ny)
-        x = x0 + (np.arange(j0, j1) + 0.5)[None, :] * pixel
-        y = y0 - (np.arange(i0, i1) + 0.5)[:, None] * pixel
-        lf, h = canopy_at(p, day, *np.broadcast_arrays(x, y))
+        win = plot_window(layout, p, pixel)
+        if win is None:
+            continue
+        (i0, i1, j0, j1), x, y = win
+        lf, h = canopy_at(p, day, x, y)
         leaf[i0:i1, j0:j1] |= lf
         height[i0:i1, j0:j1] = np.maximum(height[i0:i1, j0:j1], h)
     return leaf, height

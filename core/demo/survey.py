@@ -40,11 +40,10 @@ import numpy as np
 from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
 from ..errors import InputError
 from ..files import OutputFolder, write_bytes
+from ..gpkg import GpkgTable, write_geopackage
 from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
 from ..progress import as_progress
 from .flight import ALTITUDE, SIZES, make_camera, plan_flight
-from .geo import UTM54_WKT
-from .gpkg import write_gpkg_polygons
 from .labelme import write_labelme
 from .metashape_writer import write_metashape
 from .odm_writer import write_odm
@@ -206,11 +205,11 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
 
 def _write_plots(folder: str, scene):
     lay = scene.layout
-    rings = [np.vstack([plot_corners(p), plot_corners(p)[:1]]) for p in scene.plots]
     geojson = write_plots_geojson(os.path.join(folder, "plots.geojson"), scene.plots, lay.epsg)
-    gpkg = write_gpkg_polygons(os.path.join(folder, "plots.gpkg"), "plots", rings, scene.plots,
-                               {"plot_id": "TEXT", "row": "INTEGER", "col": "INTEGER"},
-                               lay.epsg, "WGS 84 / UTM zone 54N", UTM54_WKT)
+    table = GpkgTable("plots", [("plot_id", "TEXT"), ("row", "INTEGER"), ("col", "INTEGER")],
+                      [(p["plot_id"], p["row"], p["col"]) for p in scene.plots],
+                      [[[plot_corners(p)]] for p in scene.plots], f"EPSG:{lay.epsg}")
+    gpkg = write_geopackage(os.path.join(folder, "plots.gpkg"), [table])
     return geojson, gpkg
 
 

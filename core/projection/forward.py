@@ -16,6 +16,7 @@ from typing import List, Optional
 
 import numpy as np
 
+from .. import geometry
 from ..annotations.model import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transformer
 from ..errors import EasyIDPError
@@ -105,11 +106,6 @@ def _as_shapes(polygons_px) -> List[PhotoShape]:
                 raise EasyIDPError(f"polygon {k}: rings must be (n ≥ 3, 2) arrays of pixels.")
         out.append(PhotoShape(str(k), POLYGON, rings))
     return out
-
-
-def _shoelace(xy: np.ndarray) -> float:
-    x, y = xy[:, 0] - xy[0, 0], xy[:, 1] - xy[0, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
@@ -213,18 +209,10 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
         if s.kind == POLYGON:
             if outer_ok[i]:
                 f.area_m2, f.perimeter_m = float(area[i]), float(perim[i])
-            f.pixel_area = abs(_shoelace(np.asarray(s.rings[0], np.float64)))
+            f.pixel_area = abs(geometry.ring_area(np.asarray(s.rings[0], np.float64)))
         result.append(f)
     prog.set(100)
     return result
-
-
-def _horizontal_basis(up: np.ndarray) -> np.ndarray:
-    """(3, 2) orthonormal basis of the plane normal to ``up`` (right-handed with it)."""
-    a = np.array([1.0, 0.0, 0.0]) if abs(up[0]) < 0.9 else np.array([0.0, 1.0, 0.0])
-    e1 = a - (a @ up) * up
-    e1 /= np.linalg.norm(e1)
-    return np.column_stack([e1, np.cross(up, e1)])
 
 
 __all__ = ["ForwardShape", "forward_project", "densify_ring", "DENSIFY_PX", "LINE", "POINT",

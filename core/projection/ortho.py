@@ -39,12 +39,14 @@ EXTRASAMPLE_ALPHA = 2          # TIFF ExtraSamples: unassociated alpha
 
 @dataclass
 class OrthoResult:
-    """``files``/``rois``/``photos``/``visible``: one entry per image written (``visible`` =
-    share of the ROI's output pixels that the photo shows); ``skipped``: ROI (or ROI × photo)
+    """``files``/``rois``/``indices``/``photos``/``visible``: one entry per image written
+    (``indices``: the ROI's position in the set given; ``visible`` = share of the ROI's output
+    pixels that the photo shows); ``skipped``: ROI (or ROI × photo)
     → why no image was written; ``occluded``: share of the ROI's pixels inside the frame that
     the DSM hides from the photo; ``gsd``: output pixel size per image (DSM CRS units)."""
     files: List[str] = field(default_factory=list)
     rois: List[str] = field(default_factory=list)
+    indices: List[int] = field(default_factory=list)
     photos: List[str] = field(default_factory=list)
     visible: List[float] = field(default_factory=list)
     occluded: List[float] = field(default_factory=list)
@@ -163,6 +165,7 @@ def _render_all(by_photo, found, missing, pairs, cams, paths, local, names, reco
                 result.skipped[f"{names[r]} / {label}"] = why
             else:
                 result.rois.append(names[r])
+                result.indices.append(r)
                 result.photos.append(label)
         done += len(ks)
         prog.set(10 + 90.0 * done / max(len(pairs), 1))

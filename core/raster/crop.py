@@ -31,6 +31,7 @@ MAX_PENDING_WRITES = 32
 class CropResult:
     files: List[str] = field(default_factory=list)
     names: List[str] = field(default_factory=list)        # ROI name of each file
+    rois: List[int] = field(default_factory=list)         # ROI index of each file
     skipped: Dict[int, str] = field(default_factory=dict)  # ROI index -> reason
     nodata: Optional[float] = None
     notes: List[str] = field(default_factory=list)         # problems met reading the raster
@@ -78,6 +79,7 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
     order = sorted(range(len(result.files)), key=lambda j: result.files[j])
     result.files = [result.files[j] for j in order]
     result.names = [result.names[j] for j in order]
+    result.rois = [result.rois[j] for j in order]
     return result
 
 
@@ -120,6 +122,7 @@ def _crop(tif: GeoTiff, placed, skipped, paths, prog, workers) -> CropResult:
         k, fut = item
         result.files.append(fut.result())
         result.names.append(placed[k].roi.name)
+        result.rois.append(placed[k].index)
 
     with thread_pool(workers) as pool:  # writers; the sweep has its own pool of decoders
         try:

@@ -12,6 +12,7 @@ from typing import List, Optional, Sequence, Union
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..geometry import ring_area
 from ..progress import as_progress
 from .model import Reconstruction
 
@@ -61,11 +62,6 @@ def border_pixels(width: int, height: int, per_edge: int = 16) -> np.ndarray:
     bottom = np.column_stack([(1 - s) * width, np.full_like(s, height)])
     left = np.column_stack([np.zeros_like(s), (1 - s) * height])
     return np.vstack([top, right, bottom, left])
-
-
-def _shoelace(xy: np.ndarray) -> float:
-    x, y = xy[:, 0], xy[:, 1]
-    return 0.5 * abs(float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1))))
 
 
 def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
@@ -137,7 +133,8 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         hit = np.isfinite(t)
         pts_model = origin[hit] + t[hit, None] * d[hit]
         ring = recon.from_model(pts_model, crs) if hit.sum() >= 3 else None
-        area = _shoelace(pts_model @ _horizontal_basis(up[i])) if ring is not None else float("nan")
+        area = abs(ring_area(pts_model @ _horizontal_basis(up[i]))) if ring is not None \
+            else float("nan")
         out.append(Footprint(cam.label, cam.photo_path, cam.enabled, centre, ring, h_i, angle,
                              area, complete and bool(hit.all()), note))
         prog.set(100.0 * (i + 1) / len(cams))

@@ -1,19 +1,22 @@
 """Processing tool: Back-project ROIs to raw photos (easyidp:backprojectrois)."""
 import math
+import os
 
 from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
                        QgsFields, QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPolygon,
                        QgsProcessing, QgsProcessingException, QgsProcessingParameterBoolean,
                        QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
+                       QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingUtils, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
-from ..layers import (add_height_parameters, add_project_parameters, dsm_parameter,
-                     height_source_parameter, open_project_parameter, rois_from_source)
+from .. import presentation
+from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
+                     dsm_parameter, height_source_parameter, open_project_parameter,
+                     rois_from_source)
 from .base import EasyIDPAlgorithm
 
 
@@ -69,11 +72,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
         "per ROI showing its best photos.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         add_project_parameters(self)
         add_height_parameters(self)
         self.addParameter(QgsProcessingParameterFile(
@@ -85,9 +84,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterBoolean(
             self.OCCLUSION, self.tr("Test occlusion against the DSM (when a DSM is given)"), True))
-        p = QgsProcessingParameterNumber(
+        p = self.decimals(QgsProcessingParameterNumber(
             self.MIN_VISIBLE, self.tr("Minimum visible, unoccluded share of a ROI in a photo"),
-            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0)
+            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0), 2)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterNumber(
             self.MAX_IMAGES, self.tr("Best photos to keep per ROI (0 = all)"),
@@ -182,6 +181,13 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 outputs[self.CROPS_FOLDER] = crops
             if previews:
                 outputs[self.PREVIEW_FOLDER] = previews
+        project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
+        presentation.present(self, context, out, self.OUTPUT, pixel_style(),
+                             self.tr("{rois} in the photos of {project} (photo pixels)").format(
+                                 rois=source.sourceName(), project=project))
+        presentation.present(self, context, summary, self.OUTPUT_SUMMARY, summary_style(),
+                             self.tr("{rois}: photos of {project} that see them").format(
+                                 rois=source.sourceName(), project=project))
         feedback.setProgress(100)
         seen = int((result.photos_per_roi() > 0).sum())
         feedback.pushInfo(self.tr("{k} ROI × photo pairs for {seen} of {n} ROIs; {u} ROIs in no photo.").format(
@@ -241,6 +247,17 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 None if i is None else _num(result.score[i])])
             sink.addFeature(f, QgsFeatureSink.FastInsert)
         return dest
+
+
+def pixel_style():
+    """ROIs in photo pixels: each ROI's best photo bold green, the other photos thin white,
+    labelled with the ROI name (filter by 'photo' to see one photo's ROIs)."""
+    return presentation.rank_style("#33dd33", "#f0f0f0", label='"roi"')
+
+
+def summary_style():
+    """ROIs on the map coloured by how many photos see them (the legend gives the counts)."""
+    return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu", label=False)
 
 
 def pixel_geometry(polys) -> QgsGeometry:

@@ -1,5 +1,6 @@
 """Processing tool: Camera positions and footprints (easyidp:camerafootprints)."""
 import math
+import os
 
 import numpy as np
 from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
@@ -10,6 +11,7 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsProcessingParameterRasterLayer, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
+from .. import presentation
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from .base import EasyIDPAlgorithm
 
@@ -60,9 +62,9 @@ class CameraFootprints(EasyIDPAlgorithm):
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.DSM, self.tr("DSM (GeoTIFF) for the footprints"), optional=True))
-        self.addParameter(QgsProcessingParameterNumber(
+        self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.GROUND_HEIGHT, self.tr("Ground height when no DSM is given (project vertical reference)"),
-            QgsProcessingParameterNumber.Double, optional=True))
+            QgsProcessingParameterNumber.Double, optional=True), 3))
         p = QgsProcessingParameterCrs(
             self.OUTPUT_CRS, self.tr("Output CRS (default: the DSM's, else the map's, else the "
                                      "photogrammetry project's)"), optional=True)
@@ -128,6 +130,11 @@ class CameraFootprints(EasyIDPAlgorithm):
                                                                  for k in range(3)]))))
             fp_sink.addFeature(g, QgsFeatureSink.FastInsert)
             beyond += not fp.complete
+        project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
+        presentation.present(self, context, fp_id, self.OUTPUT_FOOTPRINTS, footprint_style(),
+                             self.tr("Camera footprints of {project}").format(project=project))
+        presentation.present(self, context, cam_id, self.OUTPUT_CAMERAS, camera_style(),
+                             self.tr("Cameras of {project}").format(project=project))
         self._report(prints, beyond, below, feedback)
         return {self.OUTPUT_CAMERAS: cam_id, self.OUTPUT_FOOTPRINTS: fp_id}
 
@@ -177,6 +184,21 @@ class CameraFootprints(EasyIDPAlgorithm):
         drawn = sum(fp.ring is not None for fp in prints)
         feedback.pushInfo(self.tr("{n} cameras and {f} footprints written.").format(
             n=len(prints), f=drawn))
+
+
+def footprint_style():
+    """Footprints as thin outlines of one colour, no fill: the orthomosaic and the plots stay
+    visible through the overlapping footprints of a whole flight."""
+    return presentation.outline_style("#ff6a00", 0.25,
+                                      tip='<b>[% "label" %]</b><br>[% round("view_angle", 1) %]° '
+                                          'from nadir, [% round("area", 0) %] m²')
+
+
+def camera_style():
+    """Cameras as small dots, labelled when zoomed in (beyond 1:300) and on hover (map tips)."""
+    return presentation.points_style("#1f4e9c", 1.6, label='"label"', label_scale=300,
+                                     tip='<b>[% "label" %]</b><br>[% round("height_above_ground", '
+                                         '1) %] m above ground')
 
 
 def _num(v):

@@ -1,12 +1,13 @@
 """Processing tool: Create demo survey (easyidp:createdemosurvey)."""
 import os
 
-from qgis.core import (QgsProcessingContext, QgsProcessingOutputFile, QgsProcessingOutputFolder,
+from qgis.core import (QgsProcessingOutputFile, QgsProcessingOutputFolder,
                        QgsProcessingOutputRasterLayer,
                        QgsProcessingOutputVectorLayer, QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
                        QgsProcessingParameterNumber)
 
+from .. import presentation
 from .base import EasyIDPAlgorithm
 
 SIZES = ["small", "medium"]
@@ -88,15 +89,16 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
                               size=size, seed=seed, folder=folder))
         s = make_demo_survey(folder, seed=seed, size=size, overwrite=self.overwrite(parameters, context),
                              progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
-        feedback.pushInfo(self.tr("Done in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots.").format(
-                              seconds=s.seconds, n_photos=len(s.photos),
-                              n_plot_ids=len(s.plot_ids)))
-        if context.project() is not None:
-            for path, name, out in ((s.orthomosaic, "Demo orthomosaic", self.ORTHOMOSAIC),
-                                    (s.dsm, "Demo DSM", self.DSM),
-                                    (s.plots_gpkg, "Demo plots", self.PLOTS)):
-                context.addLayerToLoadOnCompletion(
-                    path, QgsProcessingContext.LayerDetails(name, context.project(), out))
+        if context.project() is not None:     # the desktop (qgis_process loads nothing)
+            group = presentation.MapGroup(self.tr("Demo survey"), expanded=True)
+            for rank, (path, name, out, hint, style) in enumerate((
+                    (s.plots_gpkg, self.tr("Demo plots"), self.PLOTS, presentation.VECTOR,
+                     plots_style()),
+                    (s.orthomosaic, self.tr("Demo orthomosaic"), self.ORTHOMOSAIC,
+                     presentation.RASTER, None),
+                    (s.dsm, self.tr("Demo DSM"), self.DSM, presentation.RASTER, None))):
+                presentation.load_files(self, context, feedback, context.project(), [path], [name],
+                                        hint, group, out, style=style, first_rank=rank)
         out = {}
         dates = self.parameterAsInt(parameters, self.SEASON_DATES, context)
         if dates:
@@ -106,7 +108,17 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
             feedback.pushInfo(self.tr("Growth season: {n} dates in {f}").format(
                 n=len(season.dates), f=season.folder))
             out[self.SEASON_SURVEYS] = season.surveys
+        feedback.pushInfo(self.tr("Demo survey written in {seconds:.1f} s: {n_photos} photos, "
+                                  "{n_plot_ids} plots, {dates} season dates, in {folder}.").format(
+                              seconds=s.seconds, n_photos=len(s.photos),
+                              n_plot_ids=len(s.plot_ids), dates=dates, folder=folder))
         return {**out, self.OUTPUT_FOLDER: folder, self.ORTHOMOSAIC: s.orthomosaic, self.DSM: s.dsm,
                 self.PLOTS: s.plots_gpkg, self.POINT_CLOUD: s.point_cloud_laz,
                 self.METASHAPE_PROJECT: s.metashape_project, self.PIX4D_PROJECT: s.pix4d_project,
                 self.ODM_PROJECT: s.odm_project, self.TRUTH: s.truth}
+
+
+def plots_style():
+    """Plot outlines in yellow, no fill, labelled with plot_id when zoomed in."""
+    return presentation.outline_style("#ffd400", 0.5, label='"plot_id"', label_scale=1000,
+                                      label_priority=3)

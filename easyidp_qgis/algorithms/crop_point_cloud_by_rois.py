@@ -1,20 +1,21 @@
 """Processing tool: Crop point cloud by ROIs (easyidp:croppointcloudbyrois)."""
 import os
 
-from qgis.core import (QgsProcessing, QgsProcessingContext, QgsProcessingException,
+from qgis.core import (QgsProcessingException,
                        QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
                        QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFolderDestination,
-                       QgsProcessingUtils, QgsProviderRegistry)
+                       QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
+                       QgsProviderRegistry)
+from qgis.PyQt.QtCore import QVariant
 
-from ..layers import (add_point_cloud_parameters, add_z_range_parameters,
-                      qgis_crs, read_point_cloud_parameter, rois_from_source, z_range)
-from .base import EasyIDPAlgorithm
-from .crop_raster_by_rois import MAX_LAYERS_TO_LOAD
+from .. import presentation
+from ..layers import (add_index_parameter, add_point_cloud_parameters, add_roi_parameters,
+                     add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_from_source,
+                     write_index, z_range)
+from .base import EasyIDPAlgorithm, translatable
 
-FORMATS = [("same", "Same as input"), ("las", "LAS"), ("laz", "LAZ (compressed LAS)"),
-           ("ply", "PLY")]
+FORMATS = [("same", translatable("Same as input")), ("las", "LAS"),
+           ("laz", translatable("LAZ (compressed LAS)")), ("ply", "PLY")]
 
 
 def point_cloud_provider_available() -> bool:
@@ -33,6 +34,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
     FORMAT = "FORMAT"
     OUTPUT_FOLDER = "OUTPUT_FOLDER"
     OUTPUT_FILES = "OUTPUT_FILES"
+    OUTPUT_INDEX = "OUTPUT_INDEX"
     CROPPED = "CROPPED"
     EMPTY = "EMPTY"
     MISSED = "MISSED"
@@ -58,13 +60,17 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         "point are reported and get no file unless 'Write empty files' is checked. Cropped LAS/LAZ "
         "files load into the map when this QGIS can display point clouds (PDAL provider).")
 
+    def shortHelpString(self):  # noqa: N802 (QGIS API)
+        return super().shortHelpString() + "\n\n" + self.tr(
+            "Index of the crops (optional): the ROIs with the file ('crop_file'), the number of "
+            "points ('points') and the outcome ('crop_status') of each. When it is opened after "
+            "the run (or 'Load layers on completion' is ticked in batch mode, or it is a model "
+            "output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group "
+            "below the ROI layer, where this QGIS can display point clouds (PDAL provider).")
+
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_point_cloud_parameters(self)
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         add_z_range_parameters(self)
         p = QgsProcessingParameterBoolean(
             self.WRITE_EMPTY, self.tr("Write empty files for ROIs without any point"), False)
@@ -75,6 +81,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        add_index_parameter(self, self.tr("Index of the crops (open it to see the crops)"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Cropped point clouds")))
@@ -89,8 +96,8 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
-                                   qgis_crs(cloud.crs), context)
+        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
+                                          qgis_crs(cloud.crs), context)
         z_min, z_max = z_range(self, parameters, context)
         fmt = FORMATS[self.parameterAsEnum(parameters, self.FORMAT, context)][0]
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
@@ -112,39 +119,44 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         written = [item for item in result.items if item.file is not None]
         cropped = sum(item.status == "written" for item in result.items)
         points = sum(item.count for item in result.items if item.status == "written")
+        index = write_index(self, parameters, context, source, [
+            (f, [str(item.file) if item.file is not None else None, int(item.count), item.status])
+            for f, item in zip(features, result.items)],
+            [("crop_file", QVariant.String), ("points", QVariant.LongLong),
+             ("crop_status", QVariant.String)])
+        name = os.path.splitext(os.path.basename(str(cloud.path)))[0]
+        group = presentation.MapGroup(
+            self.tr("Point cloud crops of {cloud} ({n})").format(cloud=name, n=len(written)),
+            presentation.anchor_id(self, parameters, self.ROIS, context))
+        presentation.present(self, context, index, self.OUTPUT_INDEX, presentation.index_style(),
+                             self.tr("Index of the point cloud crops"), group, rank=-1)
+        self._load(written, group, presentation.load_project(parameters, self.OUTPUT_INDEX),
+                   context, feedback)
         feedback.pushInfo(self.tr("{cropped} ROIs cropped ({points:,} points), {n_empty} without "
                                   "points, {n_missed} outside the cloud.").format(
                               cropped=cropped, points=points, n_empty=len(result.empty),
                               n_missed=len(result.missed)))
-        self._load(written, os.path.splitext(os.path.basename(str(cloud.path)))[0], context,
-                   feedback)
-        return {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: [str(i.file) for i in written],
-                self.CROPPED: cropped, self.EMPTY: len(result.empty),
-                self.MISSED: len(result.missed)}
+        out = {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: [str(i.file) for i in written],
+               self.CROPPED: cropped, self.EMPTY: len(result.empty),
+               self.MISSED: len(result.missed)}
+        if index:
+            out[self.OUTPUT_INDEX] = index
+        return out
 
-    def _load(self, written, cloud_name, context, feedback):
-        """Queue LAS/LAZ crops for loading into the map where QGIS has a point cloud provider."""
-        if not written:
+    def _load(self, written, group, project, context, feedback):
+        """Queue LAS/LAZ crops for loading where QGIS has a point cloud provider."""
+        if not written or project is None:
             return
         if not point_cloud_provider_available():
             feedback.pushInfo(self.tr("The cropped point clouds are not loaded into the map: this "
                                       "QGIS has no point cloud provider (PDAL). Open them from the "
                                       "output folder (e.g. in CloudCompare)."))
             return
-        if context.project() is None:
-            return
         las = [i for i in written if i.file.suffix.lower() in (".las", ".laz")]
         if len(las) < len(written):
             feedback.pushInfo(self.tr("PLY crops are not loaded into the map; open them from the "
                                       "output folder."))
-        if len(las) > MAX_LAYERS_TO_LOAD:
-            feedback.pushInfo(self.tr("More than {limit} crops: they are not loaded "
-                                      "into the map; open them from the output folder.").format(
-                                  limit=MAX_LAYERS_TO_LOAD))
-            return
-        for item in las:
-            details = QgsProcessingContext.LayerDetails(f"{cloud_name} – {item.name}",
-                                                        context.project(), self.OUTPUT_FILES)
-            if hasattr(details, "layerTypeHint"):  # QGIS ≥ 3.26
-                details.layerTypeHint = QgsProcessingUtils.LayerHint.PointCloud
-            context.addLayerToLoadOnCompletion(os.path.abspath(str(item.file)), details)
+        presentation.load_files(self, context, feedback, project, [i.file for i in las],
+                                [i.stem for i in las], presentation.POINT_CLOUD, group,
+                                self.OUTPUT_FILES)
+

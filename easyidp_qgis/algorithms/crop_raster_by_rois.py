@@ -1,16 +1,14 @@
 """Processing tool: Crop raster by ROIs (easyidp:croprasterbyrois)."""
-import os
-
-from qgis.core import (QgsProcessingContext, QgsProcessingOutputMultipleLayers,
+from qgis.core import (QgsProcessingOutputMultipleLayers,
                        QgsProcessingOutputNumber, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFolderDestination,
-                       QgsProcessingParameterRasterLayer, QgsProcessing)
+                       QgsProcessingParameterDefinition, QgsProcessingParameterFolderDestination,
+                       QgsProcessingParameterRasterLayer)
+from qgis.PyQt.QtCore import QVariant
 
-from ..layers import crs_string, geotiff_source, rois_from_source
+from .. import presentation
+from ..layers import (add_index_parameter, add_roi_parameters, crs_string, geotiff_source,
+                     rois_from_source, write_index)
 from .base import EasyIDPAlgorithm
-
-MAX_LAYERS_TO_LOAD = 100
 
 
 class CropRasterByROIs(EasyIDPAlgorithm):
@@ -20,6 +18,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
     ALL_TOUCHED = "ALL_TOUCHED"
     OUTPUT_FOLDER = "OUTPUT_FOLDER"
     OUTPUT_FILES = "OUTPUT_FILES"
+    OUTPUT_INDEX = "OUTPUT_INDEX"
     CROPPED = "CROPPED"
     SKIPPED = "SKIPPED"
 
@@ -40,20 +39,24 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         "multipart polygons are honoured. ROIs in another CRS are reprojected; ROIs outside the "
         "raster are reported and skipped.")
 
+    def shortHelpString(self):  # noqa: N802 (QGIS API)
+        return super().shortHelpString() + "\n\n" + self.tr(
+            "Index of the crops (optional): the ROIs with the file of each ('crop_file', empty "
+            "for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load "
+            "layers on completion' is ticked in batch mode, or it is a model output set to "
+            "open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.")
+
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.INPUT, self.tr("Raster (GeoTIFF: orthomosaic, DSM or multispectral)")))
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         p = QgsProcessingParameterBoolean(
             self.ALL_TOUCHED, self.tr("All touched (include every pixel the ROI touches)"), False)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        add_index_parameter(self, self.tr("Index of the crops (open it to see the crops)"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES, self.tr("Cropped rasters")))
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
@@ -66,8 +69,8 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         raster = geotiff_source(layer, self.tr("Raster"))
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback, layer.crs(),
-                                   context)
+        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
+                                          layer.crs(), context)
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         all_touched = self.parameterAsBool(parameters, self.ALL_TOUCHED, context)
         feedback.pushInfo(self.tr("Cropping {n_rois} ROIs out of {raster} into {folder}").format(
@@ -81,22 +84,25 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         for i, reason in result.skipped.items():
             feedback.pushWarning(self.tr("ROI '{name}' skipped: {reason}").format(
                 name=rois[i].name, reason=reason))
+        file_of = dict(zip(result.rois, result.files))
+        index = write_index(self, parameters, context, source, [
+            (f, [file_of.get(i), "written" if i in file_of else result.skipped.get(i, "")])
+            for i, f in enumerate(features)],
+            [("crop_file", QVariant.String), ("crop_status", QVariant.String)])
+        group = presentation.MapGroup(
+            self.tr("Crops of {raster} ({n})").format(raster=layer.name(), n=len(result.files)),
+            presentation.anchor_id(self, parameters, self.ROIS, context))
+        presentation.present(self, context, index, self.OUTPUT_INDEX, presentation.index_style(),
+                             self.tr("Index of the crops"), group, rank=-1)
+        presentation.load_files(self, context, feedback,
+                                presentation.load_project(parameters, self.OUTPUT_INDEX),
+                                result.files, presentation.stems(result.files),
+                                presentation.RASTER, group, self.OUTPUT_FILES)
         feedback.pushInfo(self.tr("{n_files} GeoTIFFs written, {n_skipped} ROIs skipped.").format(
                               n_files=len(result.files), n_skipped=len(result.skipped)))
-        self._load(result, layer.name(), context, feedback)
-        return {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: result.files,
-                self.CROPPED: len(result.files), self.SKIPPED: len(result.skipped)}
+        out = {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: result.files,
+               self.CROPPED: len(result.files), self.SKIPPED: len(result.skipped)}
+        if index:
+            out[self.OUTPUT_INDEX] = index
+        return out
 
-    def _load(self, result, raster_name, context, feedback):
-        """Queue the crops for loading into the map (the GUI does it; qgis_process ignores it)."""
-        if context.project() is None:
-            return
-        if len(result.files) > MAX_LAYERS_TO_LOAD:
-            feedback.pushInfo(self.tr("More than {limit} crops: they are not loaded "
-                                      "into the map; open them from the output folder.").format(
-                                  limit=MAX_LAYERS_TO_LOAD))
-            return
-        for path, name in zip(result.files, result.names):
-            details = QgsProcessingContext.LayerDetails(f"{raster_name} – {name}", context.project(),
-                                                        self.OUTPUT_FILES)
-            context.addLayerToLoadOnCompletion(os.path.abspath(path), details)

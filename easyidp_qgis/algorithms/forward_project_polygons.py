@@ -1,4 +1,6 @@
 """Processing tool: Forward-project photo polygons to the map (easyidp:forwardprojectpolygons)."""
+import os
+
 from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry,
                        QgsLineString, QgsMultiPolygon, QgsPolygon, QgsProcessing,
                        QgsProcessingException,
@@ -9,6 +11,7 @@ from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeome
                        QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
+from .. import presentation
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from .base import EasyIDPAlgorithm
 
@@ -107,9 +110,9 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             self.MERGE, self.tr("Merge the same object seen in several photos"),
             options=[self.tr("None (one polygon per photo)"), self.tr("Union of the views"),
                      self.tr("Best view")], defaultValue=0))
-        p = QgsProcessingParameterNumber(
+        p = self.decimals(QgsProcessingParameterNumber(
             self.DENSIFY, self.tr("Densify edges: a vertex every … photo pixels (0: off)"),
-            QgsProcessingParameterNumber.Double, 4.0, minValue=0.0, maxValue=1000.0)
+            QgsProcessingParameterNumber.Double, 4.0, minValue=0.0, maxValue=1000.0), 1)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
@@ -191,9 +194,23 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             f.setGeometry(QgsGeometry(geom))
             sink.addFeature(f, QgsFeatureSink.FastInsert)
             written += 1
+        what = layer.sourceName() if layer is not None else os.path.basename((path or folder).rstrip("/\\"))
+        project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
+        presentation.present(self, context, dest, self.OUTPUT, detection_style(),
+                             self.tr("{what} on the map (through {project} onto {dsm})").format(
+                                 what=what, project=project, dsm=dsm_layer.name()))
         feedback.pushInfo(self.tr("{n} polygons from {p} photos written to the map "
                                   "({i} incomplete).").format(n=written, p=len(items), i=incomplete))
         return {self.OUTPUT: dest}
+
+
+def detection_style():
+    """Polygons brought from the photos: magenta outlines over a faint fill, labelled; dashed
+    where a vertex's ray found no DSM (complete = false)."""
+    return presentation.outline_style("#ff00c8", 0.5, dashed_when='NOT "complete"',
+                                      label='"label"', fill_alpha=40,
+                                      tip='<b>[% "label" %]</b><br>[% round("area_m2", 3) %] m², '
+                                          '[% "views" %] view(s)')
 
 
 def _num(v):

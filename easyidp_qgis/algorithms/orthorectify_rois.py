@@ -1,20 +1,19 @@
 """Processing tool: Orthorectify ROIs from raw photos (easyidp:orthorectifyrois)."""
-import os
-
-from qgis.core import (QgsProcessing, QgsProcessingContext, QgsProcessingOutputMultipleLayers,
+from qgis.core import (QgsProcessingOutputMultipleLayers,
                        QgsProcessingOutputNumber,
                        QgsProcessingParameterDefinition,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFile,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
 
-from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
-                     rois_from_source)
+from qgis.PyQt.QtCore import QVariant
+
+from .. import presentation
+from ..layers import (add_index_parameter, add_project_parameters, add_roi_parameters, crs_string,
+                     geotiff_source, open_project_parameter, rois_from_source, write_index)
 from .base import EasyIDPAlgorithm
 
 SELECTIONS = ("best", "all", "photo")
-MAX_LAYERS_TO_LOAD = 100
 
 
 class OrthorectifyROIs(EasyIDPAlgorithm):
@@ -30,6 +29,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     GSD = "GSD"
     OUTPUT_FOLDER = "OUTPUT_FOLDER"
     OUTPUT_FILES = "OUTPUT_FILES"
+    OUTPUT_INDEX = "OUTPUT_INDEX"
     WRITTEN = "WRITTEN"
 
     NAME = "orthorectifyrois"
@@ -52,12 +52,16 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         "alpha. The photos are read from the paths stored in the project, or from the photos "
         "folder when given (matched by file name).")
 
+    def shortHelpString(self):  # noqa: N802 (QGIS API)
+        return super().shortHelpString() + "\n\n" + self.tr(
+            "Index of the images (optional): one feature per image, the ROI with its file "
+            "('image_file'), photo, visible share and pixel size. When it is opened after the run "
+            "(or 'Load layers on completion' is ticked in batch mode, or it is a model output set "
+            "to open), up to 100 images are loaded too, in one collapsed group below the ROI "
+            "layer.")
+
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (default: feature id)"),
-            parentLayerParameterName=self.ROIS, optional=True))
+        add_roi_parameters(self)
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterFile(
@@ -76,6 +80,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
+        add_index_parameter(self, self.tr("Index of the images (open it to see the images)"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
@@ -86,7 +91,8 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
 
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, _ = rois_from_source(source, name_field, self.tr("ROIs"), feedback, context=context)
+        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
+                                          context=context)
         recon = open_project_parameter(self, parameters, context, feedback)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = geotiff_source(layer, self.tr("DSM"))
@@ -101,16 +107,27 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
                                    progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
         for what, why in result.skipped.items():
             feedback.pushWarning(self.tr("{what}: no image ({why}).").format(what=what, why=why))
+        index = write_index(self, parameters, context, source, [
+            (features[r], [path, photo, float(v), float(g)]) for path, r, photo, v, g in
+            zip(result.files, result.indices, result.photos, result.visible, result.gsd)],
+            [("image_file", QVariant.String), ("photo", QVariant.String),
+             ("visible", QVariant.Double), ("gsd", QVariant.Double)])
+        group = presentation.MapGroup(
+            self.tr("{rois} from raw photos ({n})").format(rois=source.sourceName(),
+                                                          n=len(result.files)),
+            presentation.anchor_id(self, parameters, self.ROIS, context))
+        presentation.present(self, context, index, self.OUTPUT_INDEX,
+                             presentation.index_style("image_file"),
+                             self.tr("Index of the images"), group, rank=-1)
+        presentation.load_files(self, context, feedback,
+                                presentation.load_project(parameters, self.OUTPUT_INDEX),
+                                result.files, presentation.stems(result.files), presentation.RASTER,
+                                group, self.OUTPUT_FILES)
         feedback.pushInfo(self.tr("{n} orthorectified ROI images written to {folder}; {s} "
                                   "skipped.").format(n=len(result.files), folder=folder,
                                                      s=len(result.skipped)))
-        if context.project() is not None and len(result.files) <= MAX_LAYERS_TO_LOAD:
-            for path, roi, ph in zip(result.files, result.rois, result.photos):
-                details = QgsProcessingContext.LayerDetails(f"{roi} – {ph}", context.project(),
-                                                            self.OUTPUT_FILES)
-                context.addLayerToLoadOnCompletion(os.path.abspath(path), details)
-        elif context.project() is not None:
-            feedback.pushInfo(self.tr("More than {n} images: they are not loaded into the map; "
-                                      "open them from the output folder.").format(n=MAX_LAYERS_TO_LOAD))
-        return {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: result.files,
-                self.WRITTEN: len(result.files)}
+        out = {self.OUTPUT_FOLDER: folder, self.OUTPUT_FILES: result.files,
+               self.WRITTEN: len(result.files)}
+        if index:
+            out[self.OUTPUT_INDEX] = index
+        return out

@@ -1,6 +1,6 @@
 """Processing tool: Point cloud statistics per ROI (easyidp:pointcloudroistatistics)."""
 import math
-import re
+import os
 
 from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProcessing,
                        QgsProcessingException, QgsProcessingParameterDefinition,
@@ -9,33 +9,15 @@ from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProce
                        QgsProcessingParameterString)
 from qgis.PyQt.QtCore import QVariant
 
+from .. import presentation
 from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
-                      optional_number, qgis_crs, read_point_cloud_parameter, rois_from_source,
-                      z_range)
+                     optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
+                     rois_from_source, z_range)
 from .base import EasyIDPAlgorithm
 
 FIXED_FIELDS = [("count", QVariant.LongLong), ("density", QVariant.Double),
                 ("z_min", QVariant.Double), ("z_mean", QVariant.Double), ("z_max", QVariant.Double),
                 ("ground", QVariant.Double), ("h_mean", QVariant.Double), ("h_max", QVariant.Double)]
-
-
-def parse_percentiles(text: str):
-    """'5, 50 95;99' → [5.0, 50.0, 95.0, 99.0] (order kept, duplicates dropped)."""
-    out = []
-    for token in re.split(r"[,;\s]+", (text or "").strip()):
-        if not token:
-            continue
-        try:
-            q = float(token)
-        except ValueError:
-            q = math.nan
-        if not 0 <= q <= 100:
-            raise QgsProcessingException(
-                f"Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
-                "separated by commas, e.g. 5,50,95,99.")
-        if q not in out:
-            out.append(q)
-    return out
 
 
 def percentile_field(q: float) -> str:
@@ -83,13 +65,13 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.GROUND_DSM, self.tr("Ground: DSM/DTM raster (GeoTIFF; optional)"), optional=True))
-        self.addParameter(QgsProcessingParameterNumber(
+        self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.GROUND_HEIGHT, self.tr("Ground: one height for all ROIs (cloud Z units; optional)"),
-            QgsProcessingParameterNumber.Double, optional=True))
-        p = QgsProcessingParameterNumber(
+            QgsProcessingParameterNumber.Double, optional=True), 3))
+        p = self.decimals(QgsProcessingParameterNumber(
             self.GROUND_PERCENTILE,
             self.tr("Ground without raster or height: this percentile of each ROI's Z"),
-            QgsProcessingParameterNumber.Double, defaultValue=1.0, minValue=0.0, maxValue=100.0)
+            QgsProcessingParameterNumber.Double, defaultValue=1.0, minValue=0.0, maxValue=100.0), 1)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterString(
@@ -104,7 +86,8 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
     def run_tool(self, parameters, context, feedback):
         from ...core.pointcloud import canopy_summary
 
-        percentiles = parse_percentiles(self.parameterAsString(parameters, self.PERCENTILES, context))
+        percentiles = parse_percentiles(self, self.parameterAsString(parameters, self.PERCENTILES,
+                                                                     context))
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback,
@@ -173,13 +156,29 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
                                                  "range.").format(n_rois=len(rois)))
         if empty:
             feedback.pushWarning(self.tr(
-                f"{len(empty)} ROI(s) contain no point (outside the cloud, in a gap, or outside "
-                f"the Z range); their statistics are empty: feature id {', '.join(empty[:50])}"
-                + (" …" if len(empty) > 50 else "") + "."))
-        feedback.pushInfo(self.tr("Statistics of {n_rois} ROIs written, {n} with points.").format(
-                              n_rois=len(rois), n=len(rois) - len(empty)))
+                "{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z "
+                "range); their statistics are empty: feature id {ids}.").format(
+                    n=len(empty), ids=", ".join(empty[:50]) + (" …" if len(empty) > 50 else "")))
+        shown = height_field([name for name, _ in stats])
+        presentation.present(
+            self, context, dest_id, self.OUTPUT,
+            presentation.graduated_style(shown, decimals=2, ramp="Viridis") if shown else None,
+            self.tr("{rois}: point cloud heights of {cloud}").format(
+                rois=source.sourceName(), cloud=os.path.basename(str(cloud.path))))
         feedback.setProgress(100)
+        feedback.pushInfo(self.tr("Statistics of {n_rois} ROIs written, {n} with points{shown}.").format(
+                              n_rois=len(rois), n=len(rois) - len(empty),
+                              shown=self.tr(" (map colours: {field})").format(field=shown)
+                              if shown else ""))
         return {self.OUTPUT: dest_id}
+
+
+def height_field(names):
+    """The height the map is coloured by: the canopy top h_p95 (else h_p99, the highest other
+    percentile, or h_max)."""
+    pct = sorted((n for n in names if n.startswith("h_p")),
+                 key=lambda n: float(n[3:].replace("_", ".")), reverse=True)
+    return presentation.first_field(names, ["h_p95", "h_p99"] + pct + ["h_max"])
 
 
 def _num(v):

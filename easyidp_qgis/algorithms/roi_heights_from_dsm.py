@@ -10,11 +10,12 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsFeatureSink, QgsFi
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
+from .. import presentation
 from ..layers import crs_string, geotiff_source, rois_from_source
-from .base import EasyIDPAlgorithm
+from .base import EasyIDPAlgorithm, translatable
 
-MODES = [("polygon", "Per polygon: one statistic of the DSM pixels inside"),
-         ("vertex", "Per vertex: the DSM height at each vertex")]
+MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
+         ("vertex", translatable("Per vertex: the DSM height at each vertex"))]
 STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]  # core.heights
 SAMPLING = ["bilinear", "nearest"]
 
@@ -57,9 +58,9 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.MODE, self.tr("Mode"), options=[self.tr(m[1]) for m in MODES], defaultValue=0))
         self.addParameter(QgsProcessingParameterEnum(
             self.STATISTIC, self.tr("Statistic"), options=STATS, defaultValue=0))
-        self.addParameter(QgsProcessingParameterNumber(
+        self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.PERCENTILE, self.tr("Percentile (0–100, for the percentile, pmin and pmax statistics)"),
-            QgsProcessingParameterNumber.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0))
+            QgsProcessingParameterNumber.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0), 1))
         self.addParameter(QgsProcessingParameterNumber(
             self.BUFFER, self.tr("Buffer (DSM map units; negative shrinks the polygon)"),
             QgsProcessingParameterNumber.Double, defaultValue=0.0))
@@ -130,7 +131,23 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         for i, reason in missing.items():
             feedback.pushWarning(self.tr("ROI '{name}': {reason}; its height is left empty.").format(
                 name=rois[i].name, reason=reason))
+        what = f"p{pct:g}" if stat == "percentile" else \
+            (f"{stat} {pct:g}" if stat in ("pmin", "pmax") else stat)
+        presentation.present(
+            self, context, dest_id, self.OUTPUT,
+            presentation.graduated_style("height", decimals=2, ramp="Viridis"),
+            self.tr("{rois}: height {what} from {dsm}").format(
+                rois=source.sourceName(), what=what, dsm=layer.name()))
+        values = [h for h, _ in per_feature if not math.isnan(h)]
         feedback.setProgress(100)
+        if values:
+            feedback.pushInfo(self.tr("Heights ({what}) of {n} ROIs: {lo:.3f} to {hi:.3f} (DSM "
+                                      "units), {null} empty (NULL).").format(
+                what=what, n=len(per_feature), lo=min(values), hi=max(values),
+                null=len(per_feature) - len(values)))
+        else:
+            feedback.pushInfo(self.tr("Heights of {n} ROIs: all empty (NULL): the DSM has no valid "
+                                      "pixel under any of them.").format(n=len(per_feature)))
         return {self.OUTPUT: dest_id}
 
 

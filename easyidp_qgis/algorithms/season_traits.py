@@ -1,43 +1,21 @@
 """Processing tool: Plot traits over a season (easyidp:seasontraits)."""
-import math
 import os
-import re
 
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGraduatedSymbolRenderer,
-                       QgsProcessing, QgsProcessingException, QgsProcessingLayerPostProcessorInterface,
+from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
+                       QgsProcessing, QgsProcessingException,
                        QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
-                       QgsProcessingParameterVectorLayer, QgsProviderRegistry, QgsStyle, QgsSymbol,
-                       QgsWkbTypes)
+                       QgsProcessingParameterVectorLayer, QgsProviderRegistry, QgsWkbTypes)
 from qgis.PyQt.QtCore import QDate, QDateTime, Qt, QVariant
 
-from ..layers import crs_string, geotiff_source, rois_from_source
+from .. import presentation
+from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_from_source)
 from .base import EasyIDPAlgorithm
 
 TRAITS = ["height", "cover", "bands", "index", "cloud"]
-_STYLES = []   # post-processors must outlive the algorithm run (QGIS keeps no reference)
-
-
-def parse_percentiles(text: str):
-    """'50, 95;99' → [50.0, 95.0, 99.0]; QgsProcessingException for anything else."""
-    out = []
-    for token in re.split(r"[,;\s]+", (text or "").strip()):
-        if not token:
-            continue
-        try:
-            q = float(token)
-        except ValueError:
-            q = math.nan
-        if not 0 <= q <= 100:
-            raise QgsProcessingException(
-                f"Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
-                "separated by commas, e.g. 50,95,99.")
-        if q not in out:
-            out.append(q)
-    return out or [50.0, 95.0, 99.0]
 
 
 class SeasonTraits(EasyIDPAlgorithm):
@@ -110,10 +88,10 @@ class SeasonTraits(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.GROUND, self.tr("Ground: bare-soil DSM or DTM of the season (optional)"),
             optional=True))
-        p = QgsProcessingParameterNumber(
+        p = self.decimals(QgsProcessingParameterNumber(
             self.GROUND_PERCENTILE,
             self.tr("Ground without a DTM: percentile of each ROI's lowest heights"),
-            QgsProcessingParameterNumber.Double, defaultValue=2.0, minValue=0.0, maxValue=50.0)
+            QgsProcessingParameterNumber.Double, defaultValue=2.0, minValue=0.0, maxValue=50.0), 1)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
         p = QgsProcessingParameterString(
@@ -121,10 +99,10 @@ class SeasonTraits(EasyIDPAlgorithm):
             defaultValue="50,95,99", optional=True)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
-        p = QgsProcessingParameterNumber(
+        p = self.decimals(QgsProcessingParameterNumber(
             self.COVER_THRESHOLD,
             self.tr("Cover threshold on the vegetation index (empty: Otsu per orthomosaic)"),
-            QgsProcessingParameterNumber.Double, optional=True, minValue=-1.0, maxValue=2.0)
+            QgsProcessingParameterNumber.Double, optional=True, minValue=-1.0, maxValue=2.0), 3)
         p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterNumber(
@@ -182,8 +160,8 @@ class SeasonTraits(EasyIDPAlgorithm):
 
         result = run_season(
             table, rois, traits=traits,
-            percentiles=parse_percentiles(self.parameterAsString(parameters, self.PERCENTILES,
-                                                                 context)),
+            percentiles=parse_percentiles(self, self.parameterAsString(
+                parameters, self.PERCENTILES, context), default=(50.0, 95.0, 99.0)),
             ground=ground, ground_crs=crs_string(ground_layer.crs()) if ground_layer else None,
             ground_percentile=self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context),
             cover_threshold=threshold, crops=crops, overwrite=self.overwrite(parameters, context),
@@ -212,7 +190,7 @@ class SeasonTraits(EasyIDPAlgorithm):
             out[self.OUTPUT_CURVES] = curves
         if crops:
             out[self.CROPS] = crops
-        self._style(out[self.OUTPUT_LAYER], result, context)
+        self._present(out, result, context, source)
         feedback.setProgress(100)
         feedback.pushInfo(self.tr("{v} values of {k} traits for {r} ROIs on {d} dates in {s:.0f} s "
                                   "({e}); {p} rows or files left out.").format(
@@ -226,8 +204,10 @@ class SeasonTraits(EasyIDPAlgorithm):
         inputs = [p for p in [table.source, ground, _source_path_of(parameters, self.SURVEYS,
                                                                       self, context)] if p]
         inputs += [p for s in table.surveys for p in (*s.files().values(), s.project) if p]
+        from ..outputs import scratch_context
+        scratch = scratch_context(context)
         for name in (self.OUTPUT_TABLE, self.OUTPUT_LAYER):
-            dest = self.parameterAsOutputLayer(parameters, name, context) or ""
+            dest = self.parameterAsOutputLayer(parameters, name, scratch) or ""
             path = dest.split("|")[0]
             if path.startswith("ogr:"):
                 continue
@@ -275,36 +255,16 @@ class SeasonTraits(EasyIDPAlgorithm):
             sink.addFeature(f, QgsFeatureSink.FastInsert)
         return dest
 
-    def _style(self, dest, result, context):
-        """Style the wide layer by height (graduated, quantiles) when it is loaded."""
+    def _present(self, out, result, context, source):
+        """Name the outputs that are loaded; colour the wide layer by height (graduated)."""
         from ...core.season.curves import main_trait
         attr = main_trait([t for t in result.traits if "height" in t])
-        if attr and context.willLoadLayerOnCompletion(dest):
-            style = HeightStyle(attr)
-            _STYLES.append(style)
-            context.layerToLoadOnCompletionDetails(dest).setPostProcessor(style)
-
-
-class HeightStyle(QgsProcessingLayerPostProcessorInterface):
-    """A graduated renderer (5 quantile classes, Viridis) on one numeric field."""
-
-    def __init__(self, field: str):
-        super().__init__()
-        self.field = field
-
-    def postProcessLayer(self, layer, context, feedback):  # noqa: N802 (QGIS API)
-        from qgis.core import QgsClassificationQuantile, QgsVectorLayer
-        if not isinstance(layer, QgsVectorLayer):
-            return
-        renderer = QgsGraduatedSymbolRenderer(self.field)
-        renderer.setSourceSymbol(QgsSymbol.defaultSymbol(layer.geometryType()))
-        ramp = QgsStyle.defaultStyle().colorRamp("Viridis")
-        if ramp is not None:
-            renderer.setSourceColorRamp(ramp)
-        renderer.setClassificationMethod(QgsClassificationQuantile())
-        renderer.updateClasses(layer, 5)
-        layer.setRenderer(renderer)
-        layer.triggerRepaint()
+        presentation.present(
+            self, context, out[self.OUTPUT_LAYER], self.OUTPUT_LAYER,
+            presentation.graduated_style(attr, decimals=2, ramp="Viridis") if attr else None,
+            self.tr("{rois}: latest traits").format(rois=source.sourceName()))
+        presentation.present(self, context, out[self.OUTPUT_TABLE], self.OUTPUT_TABLE, None,
+                             self.tr("{rois}: traits per date").format(rois=source.sourceName()))
 
 
 def _value_text(v) -> str:

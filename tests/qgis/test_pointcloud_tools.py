@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from plyfile import PlyData
 from qgis.core import (QgsFeature, QgsGeometry, QgsProcessingContext, QgsProcessingException,
-                       QgsProcessingFeedback, QgsProject, QgsVectorLayer)
+                       QgsProcessingFeedback, QgsProcessingOutputLayerDefinition,
+                       QgsProcessingUtils, QgsProject, QgsVectorLayer)
 
 from pc_helpers import winding_inside
 from synthetic import write_tif
@@ -123,8 +124,13 @@ def test_crop_counts_equal_an_independent_count(provider, realdata, autzen, tmp_
     context = QgsProcessingContext()
     context.setProject(QgsProject.instance())
     res = _run(CROP, {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS + [("far", OUTSIDE)]),
-                      "NAME_FIELD": "name", "OUTPUT_FOLDER": str(tmp_path / "o")}, log, context)
+                      "NAME_FIELD": "name", "OUTPUT_FOLDER": str(tmp_path / "o"),
+                      "OUTPUT_INDEX": QgsProcessingOutputLayerDefinition("TEMPORARY_OUTPUT",
+                                                                         QgsProject.instance())},
+               log, context)
     assert (res["CROPPED"], res["EMPTY"], res["MISSED"]) == (3, 0, 1)
+    index = {f["name"]: (f["points"], f["crop_status"]) for f in res["OUTPUT_INDEX"].getFeatures()}
+    assert index["far"] == (0, "missed") and all(index[n][1] == "written" for n, _ in PLOTS)
     assert res["OUTPUT_FOLDER"] == str(tmp_path / "o")
     assert [os.path.basename(f) for f in res["OUTPUT_FILES"]] == ["square.laz", "holed.laz", "parts.laz"]
     for (name, poly), path in zip(PLOTS, res["OUTPUT_FILES"]):
@@ -139,7 +145,7 @@ def test_crop_counts_equal_an_independent_count(provider, realdata, autzen, tmp_
         point_cloud_provider_available
     if not point_cloud_provider_available():        # the log says why nothing was queued
         assert any("no point cloud provider" in i for i in log.infos)
-        assert not context.layersToLoadOnCompletion()
+        assert [d.outputName for d in context.layersToLoadOnCompletion().values()] == ["OUTPUT_INDEX"]
 
 
 def test_crop_queues_las_outputs_where_qgis_has_a_point_cloud_provider(provider, realdata, tmp_path,
@@ -148,10 +154,18 @@ def test_crop_queues_las_outputs_where_qgis_has_a_point_cloud_provider(provider,
     monkeypatch.setattr(module, "point_cloud_provider_available", lambda: True)
     context = QgsProcessingContext()
     context.setProject(QgsProject.instance())
-    _run(CROP, {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS), "NAME_FIELD": "name",
-                "OUTPUT_FOLDER": str(tmp_path / "o")}, context=context)
-    names = sorted(d.name for d in context.layersToLoadOnCompletion().values())
-    assert names == ["autzen_trim – holed", "autzen_trim – parts", "autzen_trim – square"]
+    params = {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS), "NAME_FIELD": "name",
+              "OUTPUT_FOLDER": str(tmp_path / "o")}
+    _run(CROP, params, context=context)
+    assert not context.layersToLoadOnCompletion()          # loading not asked for
+    params.update(OUTPUT_FOLDER=str(tmp_path / "o2"), OUTPUT_INDEX=QgsProcessingOutputLayerDefinition(
+        "TEMPORARY_OUTPUT", QgsProject.instance()))
+    _run(CROP, params, context=context)
+    queued = context.layersToLoadOnCompletion()
+    clouds = {d.name: d.layerTypeHint for d in queued.values() if d.outputName == "OUTPUT_FILES"}
+    assert clouds == {n: QgsProcessingUtils.LayerHint.PointCloud for n in ("holed", "parts", "square")}
+    assert [d.name for d in queued.values() if d.outputName == "OUTPUT_INDEX"] == \
+        ["Index of the point cloud crops"]
 
 
 def test_format_conversion_and_z_range(provider, realdata, autzen, tmp_path):

@@ -57,11 +57,11 @@ def test_model_chaining_both_tools_runs_headless(qp_env, realdata, tmp_path):
     proc = run(["--json", "run", str(MODEL), "--",
                 f"dsm={realdata / 'data-to-science/test.tif'}",
                 f"plots={realdata / 'data-to-science/zones_inside_test_tif.geojson'}",
-                f"heights:plots_with_heights={tmp_path / 'plots.gpkg'}",
-                f"crop:crops={tmp_path / 'crops'}"], qp_env)
+                "name_field=col", f"heights:Plots with heights={tmp_path / 'plots.gpkg'}",
+                f"crop:Crops={tmp_path / 'crops'}"], qp_env)
     assert proc.returncode == 0, proc.stderr
     results = json.loads(proc.stdout)["results"]
-    assert Path(results["heights:plots_with_heights"]).exists()
+    assert Path(results["heights:Plots with heights"]).exists()
     assert len(list((tmp_path / "crops").glob("*.tif"))) == 20
 
 

@@ -68,9 +68,8 @@ def test_season_in_qgis_tables_layer_curves_and_style(provider, season, tmp_path
     assert any("values of" in line and "traits for 6 ROIs on 4 dates" in line for line in log.lines)
     # the wide layer is queued for the map with a graduated style on the height
     details = context.layerToLoadOnCompletionDetails(res["OUTPUT_LAYER"])
-    style = details.postProcessor()
-    assert style is not None and style.field == "height_p99"
-    style.postProcessLayer(wide, context, log)
+    assert details.name == "plots: latest traits"
+    details.postProcessor().postProcessLayer(wide, context, log)
     assert wide.renderer().type() == "graduatedSymbol"
     assert wide.renderer().classAttribute() == "height_p99" and len(wide.renderer().ranges()) == 5
 

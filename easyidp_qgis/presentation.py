@@ -1,0 +1,355 @@
+"""How results land in the map: which outputs load, their names, styles and layer-tree groups.
+
+Only the desktop loads layers (``qgis_process`` never does). Whether a layer is to be loaded is
+the user's choice, and QGIS tells an algorithm only through a *layer* destination (feature sink,
+vector or raster destination): its value is a ``QgsProcessingOutputLayerDefinition`` whose
+``destinationProject`` is set when "Open output file after running algorithm" is ticked (toolbox),
+"Load layers on completion" is ticked (batch), or a model output is set to open (modeler); QGIS
+then queues it (``context.willLoadLayerOnCompletion``). Folder and file destinations carry no such
+flag (their value is a plain path, in every dialog), so a tool that writes many files loads them
+only when its index layer (``OUTPUT_INDEX``) is to be loaded: :func:`load_project`.
+
+API (every tool uses it the same way; new tools too):
+
+- :func:`load_project` (parameters, name): the project a layer destination is to be loaded into,
+  or None.
+- :func:`present` (alg, context, dest, output, style, name, group, rank): when ``dest`` will be
+  loaded, give it a descriptive name (unless a model named it), a style and a place.
+- :func:`load_files` (alg, context, feedback, project, files, names, hint, group): queue many
+  files (rasters, point clouds) with their layer type, into one collapsed :class:`MapGroup`;
+  nothing above :data:`MAX_LAYERS_TO_LOAD`.
+- :class:`MapGroup` (name, anchor_layer_id, expanded): one layer-tree group per run, placed
+  below the anchor (the ROI layer) or at the top.
+- Styles, callables ``style(layer)``: :func:`outline_style`, :func:`points_style`,
+  :func:`graduated_style`, :func:`rank_style`.
+
+Styling and tree changes happen in ``postProcessLayer``, which QGIS runs in the main thread after
+adding the layer to the project; ``processAlgorithm`` (a worker thread) only records what to do.
+"""
+import collections
+import os
+
+from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, QgsFillSymbol,
+                       QgsGraduatedSymbolRenderer, QgsLayerTreeLayer, QgsMarkerSymbol,
+                       QgsPalLayerSettings, QgsProcessingContext,
+                       QgsProcessingLayerPostProcessorInterface,
+                       QgsProcessingOutputLayerDefinition, QgsProcessingUtils, QgsProject,
+                       QgsRendererCategory, QgsRuleBasedRenderer, QgsSingleSymbolRenderer,
+                       QgsStyle, QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
+                       QgsVectorLayerSimpleLabeling, QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
+from qgis.PyQt.QtGui import QColor
+
+MAX_LAYERS_TO_LOAD = 100
+"""Above this many files a run loads none of them (the log says where they are)."""
+
+RASTER = QgsProcessingUtils.LayerHint.Raster
+POINT_CLOUD = QgsProcessingUtils.LayerHint.PointCloud
+VECTOR = QgsProcessingUtils.LayerHint.Vector
+
+# QGIS deletes a post-processor with its context, but the Python side of one must stay
+# referenced until then, or its postProcessLayer is lost (the QGIS cookbook keeps a class
+# attribute). Bounded: one run queues at most MAX_LAYERS_TO_LOAD files plus a few layers.
+_ALIVE = collections.deque(maxlen=4096)
+
+
+# ---- whether and how to load ----------------------------------------------------------------
+
+def load_project(parameters, name: str):
+    """The project the layer destination ``name`` is to be loaded into, or None (not asked, a
+    plain path, or headless)."""
+    value = parameters.get(name)
+    if isinstance(value, QgsProcessingOutputLayerDefinition):
+        return value.destinationProject
+    return None
+
+
+class MapGroup:
+    """One layer-tree group for the layers of one run: created on the first layer, placed just
+    below ``anchor_layer_id`` (the ROI layer) when it is in the tree, else at the top; its
+    layers kept in their rank order; collapsed unless ``expanded``."""
+
+    def __init__(self, name: str, anchor_layer_id: str = None, expanded: bool = False):
+        self.name = name
+        self.anchor_layer_id = anchor_layer_id or None
+        self.expanded = expanded
+        self.node = None
+        self.ranks = {}
+
+    def _create(self, root):
+        anchor = root.findLayer(self.anchor_layer_id) if self.anchor_layer_id else None
+        parent = anchor.parent() if anchor is not None else root
+        index = 0
+        if anchor is not None:
+            index = 1 + next(i for i, ch in enumerate(parent.children())
+                             if isinstance(ch, QgsLayerTreeLayer)
+                             and ch.layerId() == self.anchor_layer_id)
+        self.node = parent.insertGroup(index, self.name)
+        self.node.setExpanded(self.expanded)
+        return self.node
+
+    def add(self, layer, rank: float, project=None, visible: bool = True) -> None:
+        """Move ``layer`` (already in the project's tree) into the group, at its rank."""
+        root = (project or QgsProject.instance()).layerTreeRoot()
+        node = root.findLayer(layer.id())
+        if node is None:
+            return
+        group = self.node if self.node is not None else self._create(root)
+        self.ranks[layer.id()] = rank
+        position = sum(1 for ch in group.children() if isinstance(ch, QgsLayerTreeLayer)
+                       and self.ranks.get(ch.layerId(), rank) < rank)
+        clone = node.clone()
+        clone.setExpanded(False)                 # a raster's bands or a legend stay folded
+        clone.setItemVisibilityChecked(visible)
+        group.insertChildNode(position, clone)
+        node.parent().removeChildNode(node)
+
+
+class _Presenter(QgsProcessingLayerPostProcessorInterface):
+    """Applies a style and a place to a layer QGIS has just added to the project."""
+
+    def __init__(self, style=None, group: MapGroup = None, rank: float = 0, project=None,
+                 visible: bool = True):
+        super().__init__()
+        self.style, self.group, self.rank = style, group, rank
+        self.project, self.visible = project, visible
+
+    def postProcessLayer(self, layer, context, feedback):  # noqa: N802 (QGIS API)
+        if self.style is not None:
+            self.style(layer)
+        if self.group is not None:
+            self.group.add(layer, self.rank, self.project or context.project(), self.visible)
+        layer.triggerRepaint()
+
+
+def _presenter(**kw) -> _Presenter:
+    p = _Presenter(**kw)
+    _ALIVE.append(p)
+    return p
+
+
+def present(alg, context, dest, output: str, style=None, name: str = None,
+            group: MapGroup = None, rank: float = 0) -> bool:
+    """When the output ``dest`` (the id ``parameterAsSink`` returned for the parameter
+    ``output``) will be loaded: name it ``name`` unless a model gave it a name, and style and
+    place it after loading. Returns whether it will be loaded."""
+    if not dest or not context.willLoadLayerOnCompletion(dest):
+        return False
+    details = context.layerToLoadOnCompletionDetails(dest)
+    definition = alg.parameterDefinition(output)
+    named_by_model = definition is not None and details.name not in ("", definition.description())
+    if name and not named_by_model:
+        details.name = name
+    details.setPostProcessor(_presenter(style=style, group=group, rank=rank,
+                                        project=details.project))
+    return True
+
+
+def load_files(alg, context, feedback, project, files, names, hint, group: MapGroup,
+               output: str = "", style=None, limit: int = MAX_LAYERS_TO_LOAD,
+               first_rank: int = 0) -> int:
+    """Queue ``files`` (named ``names``, e.g. :func:`stems`) for loading into ``project`` as
+    layers of type ``hint`` (so QGIS opens a .tif as a raster at once, not first as a vector),
+    into ``group`` in this order (ranks from ``first_rank``). Nothing when ``project`` is None, or above ``limit``
+    files (said in the log). Returns how many were queued."""
+    if project is None or not files:
+        return 0
+    if len(files) > limit:
+        feedback.pushInfo(alg.tr("{n} files are more than the {limit} loaded into the map: open "
+                                 "them from the output folder.").format(n=len(files), limit=limit))
+        return 0
+    for k, (path, name) in enumerate(zip(files, names)):
+        details = QgsProcessingContext.LayerDetails(str(name), project, output)
+        details.layerTypeHint = hint
+        details.forceName = True                 # the ROI's name, not the file's
+        details.setPostProcessor(_presenter(style=style, group=group, rank=first_rank + k,
+                                            project=project))
+        context.addLayerToLoadOnCompletion(os.path.abspath(str(path)), details)
+    return len(files)
+
+
+def stems(files):
+    """Layer names for files: their names without the suffix (unique, as the tools write
+    them, and what the user finds in the folder)."""
+    return [os.path.splitext(os.path.basename(str(f)))[0] for f in files]
+
+
+def anchor_id(alg, parameters, name: str, context) -> str:
+    """The id of the layer given as the parameter ``name`` when it is a layer of the project
+    (the group of a run goes below it), else ''."""
+    try:
+        layer = alg.parameterAsVectorLayer(parameters, name, context)
+    except Exception:          # a parameter that is not a layer (a file, a table): no anchor
+        return ""
+    project = context.project()
+    if layer is None or project is None:
+        return ""
+    if project.mapLayer(layer.id()) is not None:
+        return layer.id()
+    # given by its source (batch mode passes layers so): the project's layer of that source
+    same = [v for v in project.mapLayers().values() if v.source() == layer.source()]
+    return same[0].id() if same else ""
+
+
+# ---- styles: callables that set a renderer (and labels) on a vector layer --------------------
+
+def _label(layer, expression: str, size: float = 8.0, max_scale_denominator: float = 0.0,
+           colour: str = "#111111", halo: str = "#ffffff", priority: int = 5) -> None:
+    """Labels from ``expression`` with a halo (readable over an orthomosaic); with
+    ``max_scale_denominator`` only when zoomed in beyond 1:that; ``priority`` 0–10 decides
+    which label wins where labels of several layers collide (QGIS's default is 5)."""
+    settings = QgsPalLayerSettings()
+    settings.fieldName = expression
+    settings.isExpression = True
+    settings.priority = priority
+    fmt = QgsTextFormat()
+    fmt.setSize(size)
+    fmt.setColor(QColor(colour))
+    buffer = QgsTextBufferSettings()
+    buffer.setEnabled(True)
+    buffer.setSize(0.8)
+    buffer.setColor(QColor(halo))
+    fmt.setBuffer(buffer)
+    settings.setFormat(fmt)
+    if QgsWkbTypes.geometryType(layer.wkbType()) == QgsWkbTypes.PolygonGeometry:
+        settings.placement = QgsPalLayerSettings.OverPoint
+    if max_scale_denominator:
+        settings.scaleVisibility = True
+        settings.minimumScale = max_scale_denominator   # the most zoomed-out scale shown
+        settings.maximumScale = 0.0
+    layer.setLabeling(QgsVectorLayerSimpleLabeling(settings))
+    layer.setLabelsEnabled(True)
+
+
+def _outline_symbol(colour: str, width: float, dashed: bool = False, fill_alpha: int = 0):
+    fill = QColor(colour)
+    fill.setAlpha(fill_alpha)
+    return QgsFillSymbol.createSimple({
+        "color": f"{fill.red()},{fill.green()},{fill.blue()},{fill_alpha}",
+        "style": "solid" if fill_alpha else "no",
+        "outline_color": colour, "outline_width": str(width), "outline_width_unit": "MM",
+        "outline_style": "dash" if dashed else "solid", "joinstyle": "round"})
+
+
+def outline_style(colour: str, width: float = 0.4, dashed_when: str = None, label: str = None,
+                  label_scale: float = 0.0, fill_alpha: int = 0, tip: str = None,
+                  dashed_colour: str = None, label_priority: int = 5):
+    """Polygons as outlines of one colour (no fill, or a faint one with ``fill_alpha``),
+    dashed (in ``dashed_colour``) where the expression ``dashed_when`` holds; optional labels
+    (only when zoomed in beyond 1:``label_scale``) and map tip."""
+    def apply(layer):
+        if not isinstance(layer, QgsVectorLayer):
+            return
+        if dashed_when:
+            root = QgsRuleBasedRenderer.Rule(None)
+            for expression, dashed in ((f"coalesce({dashed_when}, false)", True),
+                                       (f"NOT coalesce({dashed_when}, false)", False)):
+                rule = QgsRuleBasedRenderer.Rule(
+                    _outline_symbol(dashed_colour or colour if dashed else colour, width, dashed,
+                                    fill_alpha), 0, 0, expression)
+                root.appendChild(rule)
+            layer.setRenderer(QgsRuleBasedRenderer(root))
+        else:
+            layer.setRenderer(QgsSingleSymbolRenderer(_outline_symbol(colour, width, False,
+                                                                      fill_alpha)))
+        if label:
+            _label(layer, label, max_scale_denominator=label_scale, priority=label_priority)
+        if tip:
+            layer.setMapTipTemplate(tip)
+    return apply
+
+
+def points_style(colour: str, size: float = 1.8, label: str = None, label_scale: float = 0.0,
+                 tip: str = None):
+    """Small round markers with a white rim; labels only when zoomed in (``label_scale``),
+    and a map tip (shown on hover when map tips are on)."""
+    def apply(layer):
+        if not isinstance(layer, QgsVectorLayer):
+            return
+        layer.setRenderer(QgsSingleSymbolRenderer(QgsMarkerSymbol.createSimple({
+            "name": "circle", "color": colour, "size": str(size), "size_unit": "MM",
+            "outline_color": "255,255,255,255", "outline_width": "0.3"})))
+        if label:
+            _label(layer, label, size=7.0, max_scale_denominator=label_scale)
+        if tip:
+            layer.setMapTipTemplate(tip)
+    return apply
+
+
+def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str = "Viridis",
+                    fill_alpha: int = 150, label: bool = True, unit: str = ""):
+    """Polygons coloured by ``field``, the fill translucent so that the orthomosaic shows
+    through, the outline in the class colour, and the value as label (above other layers'
+    labels). Quantile classes from a colour-blind-safe ramp; a field with no more distinct
+    values than ``classes`` (or an integer field with at most 12: counts) gets one colour per
+    value. NULL: no colour."""
+    def apply(layer):
+        index = layer.fields().indexFromName(field) if isinstance(layer, QgsVectorLayer) else -1
+        if index < 0:
+            return
+        colours = QgsStyle.defaultStyle().colorRamp(ramp)
+        integers = layer.fields().at(index).type() in (QVariant.Int, QVariant.LongLong,
+                                                       QVariant.UInt, QVariant.ULongLong)
+        few = 12 if integers else classes       # counts: a colour per count up to 12
+        values = sorted(v for v in layer.uniqueValues(index, few + 1)
+                        if v is not None and str(v) != "NULL")
+        if not values:
+            return
+        if len(values) <= few:
+            renderer = QgsCategorizedSymbolRenderer(field, [
+                QgsRendererCategory(v, _translucent(colours.color(k / max(len(values) - 1, 1))
+                                                    if colours else QColor("#3182bd"), fill_alpha),
+                                    f"{v:.{decimals}f}" if isinstance(v, float) else str(v))
+                for k, v in enumerate(values)])
+        else:
+            renderer = QgsGraduatedSymbolRenderer(field)
+            renderer.setSourceSymbol(_outline_symbol("#000000", 0.5, False, fill_alpha))
+            if colours is not None:
+                renderer.setSourceColorRamp(colours)
+            method = QgsClassificationQuantile()
+            method.setLabelPrecision(decimals)
+            method.setLabelTrimTrailingZeroes(False)
+            renderer.setClassificationMethod(method)
+            renderer.updateClasses(layer, classes)
+            for i, r in enumerate(renderer.ranges()):
+                renderer.updateRangeSymbol(i, _translucent(r.symbol().color(), fill_alpha))
+        layer.setRenderer(renderer)
+        if label:
+            suffix = f" || ' {unit}'" if unit else ""
+            value = f"format_number(\"{field}\", {decimals}){suffix}"
+            _label(layer, f"if(\"{field}\" IS NULL, '', {value})", priority=8)
+    return apply
+
+
+def _translucent(colour: QColor, fill_alpha: int):
+    """A polygon symbol: ``colour`` as outline, and as fill with ``fill_alpha``."""
+    return _outline_symbol(colour.name(), 0.5, False, fill_alpha)
+
+
+def rank_style(colour_best: str, colour_other: str, field: str = "rank", label: str = None):
+    """Photo-pixel polygons: the best-ranked view (``field`` = 1) bold, the others thin."""
+    def apply(layer):
+        if not isinstance(layer, QgsVectorLayer):
+            return
+        root = QgsRuleBasedRenderer.Rule(None)
+        root.appendChild(QgsRuleBasedRenderer.Rule(_outline_symbol(colour_other, 0.3), 0, 0,
+                                                   f"\"{field}\" <> 1 OR \"{field}\" IS NULL"))
+        root.appendChild(QgsRuleBasedRenderer.Rule(_outline_symbol(colour_best, 0.7), 0, 0,
+                                                   f"\"{field}\" = 1"))
+        layer.setRenderer(QgsRuleBasedRenderer(root))
+        if label:
+            _label(layer, label)
+    return apply
+
+
+def index_style(file_field: str = "crop_file"):
+    """The index of a tool's files: thin dark outlines; ROIs without a file dashed red."""
+    return outline_style("#202020", 0.2, dashed_when=f"\"{file_field}\" IS NULL",
+                         dashed_colour="#e31a1c")
+
+
+def first_field(layer_fields, candidates):
+    """The first of ``candidates`` that is a field name of ``layer_fields`` (QgsFields or
+    names), else None."""
+    names = set(layer_fields.names() if hasattr(layer_fields, "names") else layer_fields)
+    return next((c for c in candidates if c in names), None)

@@ -1,0 +1,409 @@
+"""A user's session in the real QGIS desktop, run inside it by ``desktop_driver.py`` (spec key
+``session``): the demo survey, the tools through their own dialogs, batch mode and a model,
+as a user would; what the map shows is recorded (layers, groups, renderers, the message log)
+and, when asked, screenshots are saved. ``qgis_desktop.run_session`` starts it;
+``make screenshots`` and ``tests/qgis/test_desktop.py`` use it.
+
+Spec: ``work`` (a folder for the survey and outputs), ``model`` (the example model file),
+``shots`` (folder for PNGs, optional).
+"""
+import os
+import shutil
+from collections import Counter
+import time
+import traceback
+
+from qgis.core import (QgsApplication, QgsLayerTreeGroup, QgsMapLayerType,
+                       QgsProcessingModelAlgorithm, QgsProject, QgsRenderContext, QgsVectorLayer,
+                       QgsWkbTypes)
+from qgis.PyQt.QtCore import Qt, QTimer
+from qgis.PyQt.QtWidgets import (QAction, QApplication, QCheckBox, QDockWidget, QMessageBox,
+                                 QTextEdit)
+from qgis.utils import iface
+
+WIDTH, HEIGHT = 1280, 800
+EXTRA_WAIT = 0.3
+
+
+def _pump(seconds: float) -> None:
+    end = time.time() + seconds
+    while time.time() < end:
+        QgsApplication.processEvents()
+        time.sleep(0.02)
+
+
+def _wait(condition, timeout: float) -> bool:
+    end = time.time() + timeout
+    while time.time() < end:
+        QgsApplication.processEvents()
+        if condition():
+            return True
+        time.sleep(0.05)
+    return False
+
+
+# ---- what the user sees ---------------------------------------------------------------------
+
+def _fill_alpha(layer) -> int:
+    """The most opaque fill of a polygon layer's symbols (0: outlines only)."""
+    if QgsWkbTypes.geometryType(layer.wkbType()) != QgsWkbTypes.PolygonGeometry:
+        return -1
+    alphas = []
+    for symbol in layer.renderer().symbols(QgsRenderContext()):
+        for k in range(symbol.symbolLayerCount()):
+            sl = symbol.symbolLayer(k)
+            if hasattr(sl, "fillColor"):
+                no_brush = hasattr(sl, "brushStyle") and int(sl.brushStyle()) == 0
+                alphas.append(0 if no_brush else sl.fillColor().alpha() * symbol.opacity())
+    return int(max(alphas)) if alphas else 0
+
+
+def _layer_entry(node) -> dict:
+    layer = node.layer()
+    kinds = {QgsMapLayerType.VectorLayer: "vector", QgsMapLayerType.RasterLayer: "raster"}
+    entry = {"name": node.name(), "type": kinds.get(layer.type(), str(layer.type())),
+             "provider": layer.providerType(), "visible": node.itemVisibilityChecked(),
+             "expanded": node.isExpanded(), "crs": layer.crs().authid(), "valid": layer.isValid()}
+    if isinstance(layer, QgsVectorLayer):
+        entry.update(renderer=layer.renderer().type(), fill_alpha=_fill_alpha(layer),
+                     labels=layer.labelsEnabled(), features=layer.featureCount(),
+                     geometry=QgsWkbTypes.geometryDisplayString(layer.geometryType()))
+        if entry["renderer"] == "graduatedSymbol":
+            entry["class_attribute"] = layer.renderer().classAttribute()
+    return entry
+
+
+def tree(node=None) -> list:
+    """The layer tree as the Layers panel shows it: groups with their children, layers."""
+    node = node or QgsProject.instance().layerTreeRoot()
+    out = []
+    for ch in node.children():
+        if isinstance(ch, QgsLayerTreeGroup):
+            out.append({"group": ch.name(), "expanded": ch.isExpanded(),
+                        "visible": ch.itemVisibilityChecked(), "children": tree(ch)})
+        else:
+            out.append(_layer_entry(ch))
+    return out
+
+
+class Session:
+    def __init__(self, spec: dict):
+        self.work = spec["work"]
+        self.shots = spec.get("shots")
+        self.model_file = spec.get("model")
+        self.found = {"steps": {}, "log": [], "modal": [], "shots": []}
+        self.survey = os.path.join(self.work, "survey")
+        QgsApplication.messageLog().messageReceived.connect(self._log)
+        self.watchdog = QTimer()
+        self.watchdog.timeout.connect(self._close_modal)
+        self.watchdog.start(300)
+
+    # -- what goes wrong without asking: the message log, modal boxes --
+    def _log(self, message, tag, level):
+        self.found["log"].append([tag, int(level), message])
+
+    def _close_modal(self):
+        w = QApplication.activeModalWidget()
+        if isinstance(w, QMessageBox):
+            self.found["modal"].append(w.text())
+            w.reject() if w.escapeButton() is None else w.escapeButton().click()
+
+    # -- the desktop --
+    def setup(self):
+        from processing.core.ProcessingConfig import ProcessingConfig
+        ProcessingConfig.setSettingValue(ProcessingConfig.KEEP_DIALOG_OPEN, True)
+        window = iface.mainWindow()
+        window.showNormal()
+        window.setGeometry(0, 0, WIDTH, HEIGHT)
+        for dock in window.findChildren(QDockWidget):
+            if dock.objectName() in ("Browser", "Browser2", "LayerOrder", "Overview"):
+                dock.hide()
+        self.toolbox = window.findChild(QDockWidget, "ProcessingToolbox")
+        layers = window.findChild(QDockWidget, "Layers")
+        if layers is not None:
+            window.resizeDocks([layers], [340], Qt.Horizontal)
+        _pump(1.0)
+
+    def shot(self, name: str, widget=None) -> None:
+        iface.messageBar().clearWidgets()
+        if not self.shots:
+            return
+        os.makedirs(self.shots, exist_ok=True)
+        path = os.path.join(self.shots, name)
+        _pump(EXTRA_WAIT)
+        (widget or iface.mainWindow()).grab().save(path)
+        self.found["shots"].append(path)
+
+    def zoom_to(self, layer_name: str, scale: float = 1.1) -> None:
+        layers = QgsProject.instance().mapLayersByName(layer_name)
+        canvas = iface.mapCanvas()
+        if layers:
+            extent = canvas.mapSettings().layerExtentToOutputExtent(layers[0], layers[0].extent())
+            extent.scale(scale)
+            canvas.setExtent(extent)
+        canvas.refreshAllLayers()
+        _wait(lambda: not canvas.isDrawing(), 30)
+        _pump(0.5)
+        _wait(lambda: not canvas.isDrawing(), 30)
+
+    def set_visible(self, names, visible: bool) -> None:
+        root = QgsProject.instance().layerTreeRoot()
+        for layer in QgsProject.instance().mapLayers().values():
+            if layer.name() in names:
+                root.findLayer(layer.id()).setItemVisibilityChecked(visible)
+
+    # -- running tools as a user does --
+    def run_dialog(self, step: str, alg_id: str, params: dict, open_outputs=None, shot=None):
+        """The tool's dialog, filled in, Run clicked; ``open_outputs``: {output: ticked} for
+        "Open output file after running algorithm"."""
+        from processing.gui.AlgorithmDialog import AlgorithmDialog
+        alg = QgsApplication.processingRegistry().createAlgorithmById(alg_id)
+        dlg = AlgorithmDialog(alg, parent=iface.mainWindow())
+        dlg.setParameters(params)
+        _pump(0.2)
+        dlg.setParameters(params)        # fields, once their layer is chosen (as a user does)
+        for name, ticked in (open_outputs or {}).items():
+            for box in dlg.mainWidget().wrappers[name].wrappedWidget().findChildren(QCheckBox):
+                box.setChecked(ticked)
+        dlg.show()
+        _pump(0.5)
+        if shot:
+            dlg.resize(900, 640)          # the user's size for reading the help beside it
+            _pump(0.5)
+            self.shot(shot, dlg)
+        done = {}
+        dlg.algorithmFinished.connect(lambda ok, results: done.update(ok=ok, results=results))
+        before = set(QgsProject.instance().mapLayers())
+        started = time.time()
+        dlg.runAlgorithm()
+        _wait(lambda: bool(done), 600)
+        _pump(0.5)
+        text = dlg.findChild(QTextEdit, "txtLog")
+        log = text.toPlainText() if text is not None else ""
+        added = [QgsProject.instance().mapLayer(i).name()
+                 for i in set(QgsProject.instance().mapLayers()) - before]
+        found = {"ok": done.get("ok", False), "seconds": round(time.time() - started, 1),
+                 "results": {k: str(v) for k, v in (done.get("results") or {}).items()},
+                 "added": sorted(added), "log": log.splitlines(),
+                 "help_url": alg.helpUrl()}
+        self.found["steps"][step] = found
+        dlg.close()
+        dlg.deleteLater()
+        _pump(0.2)
+        return found
+
+    def run_batch(self, step: str, alg_id: str, rows, load: bool):
+        """Batch mode with ``rows`` ({parameter: value}) and "Load layers on completion"."""
+        from processing.gui.BatchAlgorithmDialog import BatchAlgorithmDialog
+        from processing.tools import dataobjects
+        alg = QgsApplication.processingRegistry().createAlgorithmById(alg_id)
+        dlg = BatchAlgorithmDialog(alg, parent=iface.mainWindow())
+        panel = dlg.mainWidget()
+        context = dataobjects.createContext()
+        while panel.batchRowCount() < len(rows):
+            panel.addRow()
+        for row, params in enumerate(rows):
+            for name, value in params.items():
+                column = panel.parameter_to_column[name]
+                if alg.parameterDefinition(name).isDestination():
+                    panel.tblParameters.cellWidget(row + 1, column).setValue(str(value))
+                else:
+                    panel.wrappers[row][column].setParameterValue(value, context)
+        panel.checkLoadLayersOnCompletion.setChecked(load)
+        self.found.setdefault("batch_values", []).append(
+            {k: repr(v) for k, v in panel.parametersForRow(0, warnOnInvalid=False)[0].items()})
+        dlg.show()
+        _pump(0.3)
+        before = set(QgsProject.instance().mapLayers())
+        groups_before = Counter(_group_names())
+        dlg.runAlgorithm()
+        _pump(0.5)
+        added = [QgsProject.instance().mapLayer(i).name()
+                 for i in set(QgsProject.instance().mapLayers()) - before]
+        self.found["steps"][step] = {"added": sorted(added), "load": load,
+                                     "groups": sorted((Counter(_group_names())
+                                                       - groups_before).elements()),
+                                     "written": [sorted(os.listdir(p[k])) for p in rows
+                                                 for k in p if k == "OUTPUT_FOLDER"
+                                                 and os.path.isdir(p[k])]}
+        dlg.close()
+        dlg.deleteLater()
+        _pump(0.2)
+
+    # -- the session --
+    def run(self):
+        self.setup()
+        self.found["plugin_loaded"] = QgsApplication.processingRegistry().providerById("easyidp") is not None
+        s = self.run_dialog("demo", "easyidp:createdemosurvey", {"OUTPUT_FOLDER": self.survey})
+        r = s["results"]
+        self.zoom_to("Demo plots", 1.15)
+        self.found["tree_demo"] = tree()
+        self.toolbox_open()
+        self.shot("desktop_toolbox.png")
+        if self.toolbox is not None:
+            self.toolbox.hide()
+
+        plots = QgsProject.instance().mapLayersByName("Demo plots")[0]
+        ortho = QgsProject.instance().mapLayersByName("Demo orthomosaic")[0]
+        dsm = QgsProject.instance().mapLayersByName("Demo DSM")[0]
+        self.run_dialog("crop", "easyidp:croprasterbyrois", {
+            "INPUT": ortho.id(), "ROIS": plots.id(), "NAME_FIELD": "plot_id",
+            "OUTPUT_FOLDER": os.path.join(self.work, "crops")}, shot="desktop_crop_dialog.png")
+        self.run_dialog("heights", "easyidp:roiheightsfromdsm", {
+            "ROIS": plots.id(), "DSM": dsm.id(), "MODE": 0, "STATISTIC": 4, "PERCENTILE": 95})
+        self.run_dialog("footprints", "easyidp:camerafootprints", {
+            "PROJECT": r["METASHAPE_PROJECT"], "DSM": dsm.id()})
+        self.zoom_to("Demo plots", 1.6)
+        self.found["tree_map"] = tree()
+        self.shot("desktop_map.png")
+
+        self.run_dialog("backward", "easyidp:backprojectrois", {
+            "ROIS": plots.id(), "NAME_FIELD": "plot_id", "PROJECT": r["METASHAPE_PROJECT"],
+            "DSM": dsm.id()})
+        self.raw_photo_view()
+        labelme = os.path.join(self.survey, "labelme")
+        self.run_dialog("forward", "easyidp:forwardprojectpolygons", {
+            "INPUT_FOLDER": labelme, "PROJECT": r["METASHAPE_PROJECT"], "DSM": dsm.id(),
+            "MERGE": 1})
+        hidden = [v.name() for v in QgsProject.instance().mapLayers().values()
+                  if v.name().startswith(("Camera", "Cameras", "Demo plots: height"))]
+        self.set_visible(hidden, False)
+        self.zoom_to("Demo plots", 1.15)
+        self.found["tree_projection"] = tree()
+        self.shot("desktop_projection.png")
+        self.set_visible(hidden, True)
+
+        crop_rows = [{"INPUT": layer.id(), "ROIS": plots.id(), "NAME_FIELD": "plot_id",
+                      "OUTPUT_FOLDER": os.path.join(self.work, f"batch_{k}_{tag}"),
+                      "OUTPUT_INDEX": "TEMPORARY_OUTPUT"}
+                     for tag in ("off", "on") for k, layer in enumerate((ortho, dsm))]
+        self.run_batch("batch_off", "easyidp:croprasterbyrois", crop_rows[:2], load=False)
+        self.run_batch("batch_on", "easyidp:croprasterbyrois", crop_rows[2:], load=True)
+        self.model(plots, dsm)
+        self.found["tree_end"] = tree()
+        self.found["help"] = {a.id(): a.helpUrl() for a in
+                              QgsApplication.processingRegistry().providerById("easyidp").algorithms()}
+
+    def raw_photo_view(self):
+        """The back-projected plots on the raw photo that sees most of them: the photo opened as
+        it is (no georeference: QGIS puts pixel (column, row) at x = column, y = −row), the
+        pixel layer filtered to it; the map layers hidden meanwhile."""
+        from qgis.core import QgsRasterLayer
+        project = QgsProject.instance()
+        pixels = [v for v in project.mapLayers().values() if v.name().endswith("(photo pixels)")]
+        if not pixels:
+            return
+        pixels = pixels[0]
+        counts = Counter(f["photo_path"] for f in pixels.getFeatures())
+        path, n = counts.most_common(1)[0]
+        root = project.layerTreeRoot()
+        shown = [n.layerId() for n in root.findLayers() if n.itemVisibilityChecked()]
+        for node in root.findLayers():
+            node.setItemVisibilityChecked(node.layerId() == pixels.id())
+        photo = QgsRasterLayer(path, os.path.basename(path))
+        project.addMapLayer(photo, False)
+        root.addLayer(photo).setExpanded(False)  # under the ROIs, its bands folded
+        label = os.path.basename(path)
+        pixels.setSubsetString(f"\"photo_path\" = '{path}'")
+        canvas = iface.mapCanvas()
+        extent = photo.extent()
+        extent.scale(1.02)
+        canvas.setExtent(extent)
+        canvas.refreshAllLayers()
+        _wait(lambda: not canvas.isDrawing(), 30)
+        _pump(0.5)
+        self.found["raw_photo"] = {"photo": label, "rois": n, "photo_crs": photo.crs().authid(),
+                                   "extent": [extent.xMinimum(), extent.yMinimum(),
+                                              extent.xMaximum(), extent.yMaximum()],
+                                   "pixels_extent": [pixels.extent().xMinimum(),
+                                                     pixels.extent().yMinimum(),
+                                                     pixels.extent().xMaximum(),
+                                                     pixels.extent().yMaximum()]}
+        self.shot("desktop_raw_photo.png")
+        project.removeMapLayer(photo.id())
+        pixels.setSubsetString("")
+        for node in root.findLayers():
+            node.setItemVisibilityChecked(node.layerId() in shown)
+
+    def toolbox_open(self):
+        """The Processing toolbox with the EasyIDP tools unfolded."""
+        if self.toolbox is None:
+            return
+        self.toolbox.show()
+        from qgis.gui import QgsProcessingToolboxTreeView
+        view = self.toolbox.findChild(QgsProcessingToolboxTreeView)
+        if view is None:
+            return
+        model = view.model()
+        for row in range(model.rowCount()):
+            index = model.index(row, 0)
+            if "EasyIDP" in str(model.data(index)):
+                view.expand(index)
+                for child in range(model.rowCount(index)):
+                    view.expand(model.index(child, 0, index))
+                view.scrollTo(index, view.PositionAtTop)
+        _pump(0.3)
+
+    def model(self, plots, dsm):
+        """The example model from the toolbox (the user's models folder), run with the crop
+        index set to open and not; and opened in the modeler."""
+        source = self.model_file
+        if not source:
+            return
+        folder = os.path.join(QgsApplication.qgisSettingsDirPath(), "processing", "models")
+        os.makedirs(folder, exist_ok=True)
+        shutil.copy(source, folder)
+        QgsApplication.processingRegistry().providerById("model").refreshAlgorithms()
+        alg_id = "model:ROI heights then crop"
+        found = QgsApplication.processingRegistry().algorithmById(alg_id) is not None
+        self.found["model_in_toolbox"] = found
+        if not found:
+            return
+        for tag, ticked in (("model_off", False), ("model_on", True)):
+            self.run_dialog(tag, alg_id, {
+                "plots": plots.id(), "dsm": dsm.id(), "name_field": "plot_id",
+                "crop:Crops": os.path.join(self.work, f"model_crops_{tag}")},
+                open_outputs={"heights:Plots with heights": ticked,
+                              "crop:Index of the crops": ticked})
+        model = QgsProcessingModelAlgorithm()
+        model.fromFile(source)
+        self.found["model_valid"] = list(model.validate())
+        try:
+            from processing.modeler.ModelerDialog import ModelerDialog
+            dlg = ModelerDialog.create(model) if hasattr(ModelerDialog, "create") else ModelerDialog(model)
+            dlg.show()
+            dlg.resize(1100, 620)
+            _pump(0.5)
+            for action in dlg.findChildren(QAction):
+                if action.objectName() == "mActionZoomToItems":
+                    action.trigger()
+            _pump(0.5)
+            from qgis.gui import QgsMessageBarItem
+            self.found["modeler_messages"] = [
+                f"{i.title()}: {i.text()}" for i in dlg.findChildren(QgsMessageBarItem) if i.isVisible()]
+            self.shot("desktop_modeler.png", dlg)
+            dlg.setDirty(False) if hasattr(dlg, "setDirty") else None
+            dlg.close()
+        except Exception:
+            self.found["modeler_error"] = traceback.format_exc()
+
+
+def _group_names(node=None):
+    node = node or QgsProject.instance().layerTreeRoot()
+    out = []
+    for ch in node.children():
+        if isinstance(ch, QgsLayerTreeGroup):
+            out += [ch.name()] + _group_names(ch)
+    return out
+
+
+def run_session(spec: dict) -> dict:
+    session = Session(spec)
+    try:
+        session.run()
+    except Exception:
+        session.found["session_error"] = traceback.format_exc()
+    finally:
+        session.watchdog.stop()
+        QgsApplication.messageLog().messageReceived.disconnect(session._log)
+    return session.found

@@ -1,0 +1,139 @@
+"""What a user sees in the real QGIS desktop (under Xvfb, a fresh profile, this checkout's plugin):
+the session ``make screenshots`` records (``scripts/desktop_session.py``), run headless. The demo
+survey and the tools through their own dialogs, batch mode both ways, the example model from the
+toolbox both ways and in the modeler; asserted: the layers added (names, groups, order, count,
+type), their renderers, the tools' last log line, and a message log free of Python errors and of
+warnings about our outputs."""
+import re
+
+import pytest
+
+from easyidp_toolbox.scripts.qgis_desktop import run_session
+
+
+@pytest.fixture(scope="module")
+def session(tmp_path_factory):
+    found = run_session(str(tmp_path_factory.mktemp("desktop")))
+    return found["session"]
+
+
+def _group(tree, name):
+    for entry in tree:
+        if entry.get("group") == name:
+            return entry
+        if "group" in entry:
+            inner = _group(entry["children"], name)
+            if inner is not None:
+                return inner
+    return None
+
+
+def _layers(tree):
+    for entry in tree:
+        if "group" in entry:
+            yield from _layers(entry["children"])
+        else:
+            yield entry
+
+
+def _layer(tree, name):
+    return next(e for e in _layers(tree) if e["name"] == name)
+
+
+def test_every_run_succeeds_without_a_question_or_an_error(session):
+    assert session["plugin_loaded"]
+    assert session["modal"] == []                       # no message box popped up
+    assert all(step.get("ok", True) for step in session["steps"].values()), session["steps"]
+    bad = [m for m in session["log"] if m[0] == "Python error" or m[1] >= 2
+           or "Traceback" in m[2]]
+    assert bad == []
+    ogr = [m for m in session["log"] if m[0] in ("OGR", "GDAL") and
+           (".tif" in m[2] or "Cannot open" in m[2] or "easyidp" in m[2].lower())]
+    assert ogr == []                                     # no crop was first opened as a vector
+
+
+def test_demo_survey_lands_as_one_group(session):
+    demo = _group(session["tree_demo"], "Demo survey")
+    assert demo is not None and demo["expanded"]
+    assert [(e["name"], e["type"]) for e in demo["children"]] == [
+        ("Demo plots", "vector"), ("Demo orthomosaic", "raster"), ("Demo DSM", "raster")]
+    plots = demo["children"][0]
+    assert plots["fill_alpha"] == 0 and plots["labels"]  # outlines over the orthomosaic
+
+
+def test_crops_in_one_collapsed_group_below_the_plots(session):
+    assert len(session["steps"]["crop"]["added"]) == 41
+    demo = _group(session["tree_map"], "Demo survey")["children"]
+    names = [e.get("name") or e.get("group") for e in demo]
+    at = names.index("Demo plots")
+    assert names[at + 1] == "Crops of Demo orthomosaic (40)"
+    crops = demo[at + 1]
+    assert not crops["expanded"] and len(crops["children"]) == 41
+    index, rasters = crops["children"][0], crops["children"][1:]
+    assert index["name"] == "Index of the crops" and index["fill_alpha"] == 0
+    assert [r["name"] for r in rasters] == [f"{row}{col}" for row in "ABCDE" for col in range(1, 9)]
+    assert all(r["type"] == "raster" and r["provider"] == "gdal" and r["valid"]
+               and not r["expanded"] for r in rasters)
+
+
+def test_heights_and_footprints_read_over_the_orthomosaic(session):
+    tree = session["tree_map"]
+    heights = _layer(tree, "Demo plots: height p95 from Demo DSM")
+    assert heights["renderer"] == "graduatedSymbol" and heights["class_attribute"] == "height"
+    assert 0 < heights["fill_alpha"] < 255 and heights["labels"]
+    footprints = _layer(tree, "Camera footprints of demo_survey.psx")
+    assert footprints["fill_alpha"] == 0 and footprints["features"] == 36   # outlines only
+    cameras = _layer(tree, "Cameras of demo_survey.psx")
+    assert cameras["geometry"] == "Point" and cameras["labels"] and cameras["features"] == 36
+    assert all(e["crs"] == "EPSG:32654" for e in (heights, footprints, cameras))
+
+
+def test_projection_outputs_are_named_and_styled(session):
+    tree = session["tree_projection"]
+    summary = _layer(tree, "Demo plots: photos of demo_survey.psx that see them")
+    assert summary["renderer"] in ("categorizedSymbol", "graduatedSymbol")
+    assert 0 < summary["fill_alpha"] < 255
+    pixels = _layer(tree, "Demo plots in the photos of demo_survey.psx (photo pixels)")
+    assert pixels["crs"] == "" and pixels["renderer"] == "RuleRenderer" and pixels["fill_alpha"] == 0
+    forward = _layer(tree, "labelme on the map (through demo_survey.psx onto Demo DSM)")
+    assert forward["features"] == 16 and forward["crs"] == "EPSG:32654"
+    assert 0 < forward["fill_alpha"] <= 60 and forward["labels"]
+    photo = session["raw_photo"]            # the ROIs lie on the raw photo opened as it is
+    x0, y0, x1, y1 = photo["pixels_extent"]
+    assert photo["rois"] >= 6 and photo["photo_crs"] == ""
+    assert -606 <= y0 and y1 <= 6 and -8 <= x0 and x1 <= 808
+
+
+def test_every_tool_ends_with_a_one_line_summary(session):
+    expected = {"demo": r"^Demo survey written in .* 36 photos, 40 plots",
+                "crop": r"^40 GeoTIFFs written, 0 ROIs skipped\.$",
+                "heights": r"^Heights \(p95\) of 40 ROIs: 9\d\.\d{3} to 9\d\.\d{3} .*0 empty",
+                "footprints": r"^36 cameras and 36 footprints written\.$",
+                "backward": r"ROI × photo pairs for 40 of 40 ROIs",
+                "forward": r"^16 polygons from 4 photos written to the map"}
+    for step, pattern in expected.items():
+        log = session["steps"][step]["log"]
+        last = log[log.index("Results:") - 2]           # QGIS adds the time, then the results
+        assert re.search(pattern, last), (step, last)
+
+
+def test_load_layers_on_completion_is_honoured_in_batch_mode(session):
+    assert session["steps"]["batch_off"]["added"] == []
+    assert all(len(w) == 40 for w in session["steps"]["batch_off"]["written"])  # written anyway
+    on = session["steps"]["batch_on"]
+    assert len(on["added"]) == 2 * 41
+    assert on["groups"] == ["Crops of Demo DSM (40)", "Crops of Demo orthomosaic (40)"]
+
+
+def test_the_model_loads_only_what_is_set_to_open(session):
+    assert session["model_in_toolbox"] and session["model_valid"] == [True, []]
+    assert session["steps"]["model_off"]["added"] == []
+    added = session["steps"]["model_on"]["added"]
+    assert len(added) == 42 and "Plots with heights" in added and "Index of the crops" in added
+    assert "A1" in added                                  # crops named by the name field
+    assert session["modeler_messages"] == [] and "modeler_error" not in session
+
+
+def test_help_buttons_lead_to_the_readme(session):
+    assert len(session["help"]) >= 10
+    assert all(re.search(r"#easyidp-[a-z]+$", url) for url in session["help"].values())
