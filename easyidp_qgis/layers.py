@@ -253,6 +253,117 @@ def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = 
     return recon
 
 
+# ---- backward projection: the heights of the ROI vertices, and the photo-pixel layer
+
+HEIGHT_Z, HEIGHT_DSM, HEIGHT_FIELD, HEIGHT_CONSTANT = range(4)
+
+
+def add_height_parameters(alg):
+    """HEIGHT_SOURCE, DSM (vertex heights and the occlusion test), HEIGHT_FIELD, GROUND_HEIGHT."""
+    from qgis.core import QgsProcessingParameterEnum, QgsProcessingParameterRasterLayer
+    alg.addParameter(QgsProcessingParameterEnum(
+        alg.HEIGHT_SOURCE, alg.tr("Heights of the ROI vertices"),
+        [alg.tr("Geometry Z (3-D polygons)"), alg.tr("DSM, sampled at every vertex"),
+         alg.tr("Attribute (one height per ROI)"), alg.tr("Constant ground height")],
+        defaultValue=HEIGHT_DSM))
+    alg.addParameter(QgsProcessingParameterRasterLayer(
+        alg.DSM, alg.tr("DSM (GeoTIFF): vertex heights and occlusion test"), optional=True))
+    alg.addParameter(QgsProcessingParameterField(
+        alg.HEIGHT_FIELD, alg.tr("Height attribute"), parentLayerParameterName=alg.ROIS,
+        type=QgsProcessingParameterField.Numeric, optional=True))
+    alg.addParameter(alg.decimals(QgsProcessingParameterNumber(
+        alg.GROUND_HEIGHT, alg.tr("Constant ground height (project vertical reference)"),
+        QgsProcessingParameterNumber.Double, optional=True), 3))
+
+
+def dsm_parameter(alg, parameters, context):
+    """The DSM parameter as the core's :class:`DSMHeights` (None when not given)."""
+    from ..core.projection import DSMHeights
+    layer = alg.parameterAsRasterLayer(parameters, alg.DSM, context)
+    if layer is None:
+        return None
+    return DSMHeights(geotiff_source(layer, alg.tr("DSM")), crs_string(layer.crs()))
+
+
+def height_source_parameter(alg, parameters, context, features, dsm):
+    """The core height source chosen by HEIGHT_SOURCE (``features``: the ROI features, for an
+    attribute; ``dsm``: from :func:`dsm_parameter`)."""
+    from ..core.projection import ConstantHeight, GeometryZ, PerROIHeights
+    kind = alg.parameterAsEnum(parameters, alg.HEIGHT_SOURCE, context)
+    if kind == HEIGHT_Z:
+        return GeometryZ()
+    if kind == HEIGHT_DSM:
+        if dsm is None:
+            raise QgsProcessingException(alg.tr(
+                "Heights from the DSM: choose the DSM raster, or another height source."))
+        return dsm
+    if kind == HEIGHT_FIELD:
+        field = alg.parameterAsString(parameters, alg.HEIGHT_FIELD, context)
+        if not field:
+            raise QgsProcessingException(alg.tr(
+                "Heights from an attribute: choose the height attribute of the ROI layer."))
+        return PerROIHeights([f[field] for f in features])
+    h = optional_number(alg, parameters, alg.GROUND_HEIGHT, context)
+    if h is None:
+        raise QgsProcessingException(alg.tr(
+            "Constant ground height: give the height, or choose another height source."))
+    return ConstantHeight(h)
+
+
+def pixel_polygons(geom) -> list:
+    """Photo-pixel polygons [[exterior, hole, …], …] (x = column, y = row) of a geometry of the
+    photo-pixel layer (x = column, y = −row): the inverse of ``pixel_geometry``."""
+    import numpy as np
+    out = []
+    for poly in _polygon_coordinates(geom):
+        rings = []
+        for ring in poly:
+            a = np.array([p[:2] for p in ring], np.float64) * [1.0, -1.0]
+            if len(a) > 1 and np.all(a[0] == a[-1]):
+                a = a[:-1]
+            rings.append(a)
+        out.append(rings)
+    return out
+
+
+def backprojection_from_layer(layer, label: str, roi_names, recon, feedback=None):
+    """A core ``BackProjection`` from the photo-pixel layer of *Back-project ROIs* (its OUTPUT):
+    fields ``roi`` and ``photo`` (and its others when present); photo sizes and paths from the
+    layer, else from the project ``recon``."""
+    from ..core.projection.result import BackProjection
+    names = layer.fields().names()
+    for need in ("roi", "photo"):
+        if need not in names:
+            raise QgsProcessingException(
+                f"{label}: the layer '{layer.sourceName()}' has no field '{need}'. Give the "
+                "photo-pixel layer (OUTPUT) of Back-project ROIs.")
+    records, photos = [], {}
+    for feat in layer.getFeatures():
+        if feedback is not None and feedback.isCanceled():
+            break
+        rec = {k: (None if str(feat[k]) == "NULL" else feat[k]) for k in names}
+        rec["roi"], rec["photo"] = str(rec["roi"]), str(rec["photo"])
+        rec["polygons"] = pixel_polygons(feat.geometry())
+        if not rec["polygons"]:
+            continue
+        records.append(rec)
+        if rec["photo"] not in photos:
+            try:
+                cam = recon.camera(rec["photo"])
+            except Exception:
+                raise QgsProcessingException(
+                    f"{label}: photo '{rec['photo']}' is not a camera of the project "
+                    f"{recon.source}: give the project the back-projection was made with.") from None
+            sensor = recon.sensors[cam.sensor_id]
+            cal = sensor.calibration
+            photos[rec["photo"]] = {
+                "path": rec.get("photo_path") or cam.photo_path,
+                "width": int(rec.get("photo_width") or sensor.width),
+                "height": int(rec.get("photo_height") or sensor.height),
+                "principal_point": (cal.cx, cal.cy) if cal is not None else None}
+    return BackProjection.from_records(list(roi_names), records, photos)
+
+
 # ---- the index layer of a tool that writes one file per ROI ------------------------------------
 
 def add_index_parameter(alg, description: str):
@@ -313,8 +424,8 @@ def parse_percentiles(alg, text: str, default=()):
             q = math.nan
         if not 0 <= q <= 100:
             raise QgsProcessingException(alg.tr(
-                "Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
-                "separated by commas, e.g. 5,50,95,99.").format(token=token))
+                "Percentiles: '{token}' is not a number from 0 to 100. Give percentiles "
+                "separated by commas, e.g. 5,50,95.").format(token=token))
         if q not in out:
             out.append(q)
     return out or list(default)

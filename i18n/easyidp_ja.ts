@@ -40,18 +40,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>ROI</translation>
     </message>
     <message>
-      <source>Heights of the ROI vertices</source>
-      <translation>ROI 頂点の高さ</translation>
-    </message>
-    <message>
-      <source>DSM (GeoTIFF): vertex heights and occlusion test</source>
-      <translation>DSM（GeoTIFF）：頂点の高さと遮蔽の判定</translation>
-    </message>
-    <message>
-      <source>Height attribute</source>
-      <translation>高さの属性</translation>
-    </message>
-    <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>写真フォルダ（写真を移動した場合。ファイル名で照合）</translation>
     </message>
@@ -100,36 +88,12 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>写真から ROI を切り出しています…</translation>
     </message>
     <message>
-      <source>Geometry Z (3-D polygons)</source>
-      <translation>ジオメトリの Z（3 次元ポリゴン）</translation>
-    </message>
-    <message>
-      <source>DSM, sampled at every vertex</source>
-      <translation>DSM（各頂点でサンプリング）</translation>
-    </message>
-    <message>
-      <source>Attribute (one height per ROI)</source>
-      <translation>属性（ROI ごとに 1 つの高さ）</translation>
-    </message>
-    <message>
-      <source>Constant ground height</source>
-      <translation>一定の地面の高さ</translation>
-    </message>
-    <message>
-      <source>Constant ground height (project vertical reference)</source>
-      <translation>一定の地面の高さ（プロジェクトの高さ基準）</translation>
-    </message>
-    <message>
       <source>Clip them to the photo frame</source>
       <translation>写真の枠で切り取る</translation>
     </message>
     <message>
       <source>Drop the photo (whole ROIs only)</source>
       <translation>写真を除外（ROI 全体のみ）</translation>
-    </message>
-    <message>
-      <source>DSM</source>
-      <translation>DSM</translation>
     </message>
     <message>
       <source>Projecting {n} ROIs into {m} photos ({h})</source>
@@ -148,10 +112,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>{n} 個中 {seen} 個の ROI について ROI × 写真の組が {k} 組あります。どの写真にも写らない ROI は {u} 個です。</translation>
     </message>
     <message>
-      <source>Heights from the DSM: choose the DSM raster, or another height source.</source>
-      <translation>DSM から高さを取得：DSM ラスタを選択するか、別の高さの取得元を選択してください。</translation>
-    </message>
-    <message>
       <source>ROI '{name}': {why}</source>
       <translation>ROI '{name}'：{why}</translation>
     </message>
@@ -162,14 +122,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>{n} crops and {p} previews written.</source>
       <translation>切り出し {n} 件とプレビュー {p} 件を書き出しました。</translation>
-    </message>
-    <message>
-      <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
-      <translation>属性から高さを取得：ROI レイヤの高さの属性を選択してください。</translation>
-    </message>
-    <message>
-      <source>Constant ground height: give the height, or choose another height source.</source>
-      <translation>一定の地面の高さ：高さを入力するか、別の高さの取得元を選択してください。</translation>
     </message>
     <message>
       <source>Photo {label} skipped: {why}</source>
@@ -246,6 +198,10 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
     <message>
       <source>Ground height when no DSM is given (project vertical reference)</source>
       <translation>DSM がない場合の地面の高さ（プロジェクトの高さ基準）</translation>
+    </message>
+    <message>
+      <source>DSM</source>
+      <translation>DSM</translation>
     </message>
     <message>
       <source>Give a DSM or a ground height: the footprints are where the photos meet the ground.</source>
@@ -704,6 +660,130 @@ ROI の外、DSM の NoData 値の上、写真の外、または DSM によっ�
       <translation>{what}：画像なし（{why}）。</translation>
     </message>
     <message>
+      <source>Plot statistics from raw photos</source>
+      <translation>元画像からの区画統計</translation>
+    </message>
+    <message>
+      <source>Measures every ROI (plot) in every raw photo that sees it, and gives each ROI one robust value across its views. Raw photos have no ghosting or seamlines and true colour from near-nadir views.
+
+Inputs as Back-project ROIs: the ROI polygons, the photogrammetry project, the heights of the ROI vertices and a DSM; the backward projection runs here, unless its photo-pixel layer (the OUTPUT of Back-project ROIs) is given, which is then used as it is.
+
+Per ROI and photo, the pixels whose centre is inside the ROI's polygon (clipped to the frame) give: per band the mean, median, standard deviation and chosen percentiles, in the photo's own values (8-bit, 16-bit or float; never converted to 8-bit); the vegetation indices ExG, ExGR, VARI, GLI (red, green, blue) and NDVI, NDRE (for multispectral photos, name the bands, e.g. 'blue,green,red,rededge,nir'); the canopy cover (share of pixels whose NDVI, else ExG, is at or above the threshold: the one given, or Otsu's over all views); the pixel count and the GSD. With a DSM, pixels whose line of sight meets the surface outside the ROI (hidden by a tree, a neighbour, a wall) are left out and their share is reported.
+
+Across views, per ROI: the median of each statistic (score-weighted if asked), its MAD, minimum and maximum over the views used (visible share at least the minimum; the best ones by score when a maximum is set), their number, each view's deviation from its ROI's value and each ROI's largest (the disagreement; about 1 is typical for the field, several times more flags a shadow, wind, a bad pose). Oblique views see the sides of tall canopy, so cover and indices grow with the view angle: the default keeps the 3 best views.
+
+No vignetting or radiometric correction is applied: the photos are measured as they are stored (correct them first when you need reflectance).
+
+Outputs: a table of every ROI × photo with its statistics; the ROIs with the across-view values; optionally one PNG per ROI with the views used side by side and their values.</source>
+      <translation>ROI（区画）を、それが写っているすべての元画像で計測し、各 ROI についてビュー間で頑健な値を 1 つ求めます。元画像にはゴーストや継ぎ目がなく、天底に近いビューでは色が正確です。
+
+入力は「ROI を元画像へ逆投影」と同じです：ROI ポリゴン、写真測量プロジェクト、ROI 頂点の高さ、DSM。逆投影はここで実行されます。ただし、その写真ピクセルレイヤ（「ROI を元画像へ逆投影」の OUTPUT）が指定された場合はそれをそのまま使います。
+
+ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り取り）内にあるピクセルから次を求めます：バンドごとの平均、中央値、標準偏差、指定したパーセンタイル（写真自身の値のまま：8 ビット、16 ビット、浮動小数点。8 ビットには変換しません）；植生指数 ExG、ExGR、VARI、GLI（赤、緑、青）と NDVI、NDRE（マルチスペクトル写真ではバンド名を指定、例 'blue,green,red,rededge,nir'）；植被率（NDVI、なければ ExG がしきい値以上のピクセルの割合：指定値、または全ビューでの大津のしきい値）；ピクセル数と GSD。DSM があれば、視線が ROI の外で地表に当たるピクセル（木、隣の株、壁に隠れる）を除外し、その割合を報告します。
+
+ビュー間では ROI ごとに：各統計量の中央値（指定すればスコアで重み付け）、その MAD、使用したビュー（可視割合が最小値以上；最大数を設定した場合はスコアの高いもの）での最小値と最大値、ビュー数、各ビューの ROI 値からの偏差、各 ROI の最大偏差（不一致度：圃場で典型的なのは約 1、その数倍なら影、風、誤った姿勢の兆候）。斜めのビューは背の高い群落の側面を見るため、植被率と指数はビュー角とともに大きくなります：既定では最良の 3 ビューを使います。
+
+周辺減光補正や放射補正は行いません：写真は保存された値のまま計測されます（反射率が必要なら先に補正してください）。
+
+出力：ROI × 写真ごとの統計量の表；ビュー間の値を持つ ROI；任意で ROI ごとに 1 枚の PNG（使用したビューとその値を並べて表示）。</translation>
+    </message>
+    <message>
+      <source>Band names of the photos, comma-separated (default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir)</source>
+      <translation>写真のバンド名、カンマ区切り（既定：3 バンドなら red,green,blue；例 blue,green,red,rededge,nir）</translation>
+    </message>
+    <message>
+      <source>Back-projection: the photo-pixel layer of Back-project ROIs (empty: run it here)</source>
+      <translation>逆投影：「ROI を元画像へ逆投影」の写真ピクセルレイヤ（空：ここで実行）</translation>
+    </message>
+    <message>
+      <source>Leave out pixels hidden by the DSM (when a DSM is given)</source>
+      <translation>DSM に隠れるピクセルを除外（DSM 指定時）</translation>
+    </message>
+    <message>
+      <source>Statistics of every band and index</source>
+      <translation>各バンドと指数の統計量</translation>
+    </message>
+    <message>
+      <source>Percentiles (comma-separated, 0–100; empty: none)</source>
+      <translation>パーセンタイル（カンマ区切り、0–100；空：なし）</translation>
+    </message>
+    <message>
+      <source>Vegetation indices (those the bands allow)</source>
+      <translation>植生指数（バンドが許すもの）</translation>
+    </message>
+    <message>
+      <source>Cover threshold on NDVI or ExG (empty: Otsu's)</source>
+      <translation>NDVI または ExG の植被率しきい値（空：大津）</translation>
+    </message>
+    <message>
+      <source>Minimum visible share of a ROI in a view used</source>
+      <translation>使用するビューでの ROI の最小可視割合</translation>
+    </message>
+    <message>
+      <source>Best views used per ROI (0 = all)</source>
+      <translation>ROI ごとに使う最良ビュー数（0 = すべて）</translation>
+    </message>
+    <message>
+      <source>Weight the views by their score (weighted median)</source>
+      <translation>ビューをスコアで重み付け（重み付き中央値）</translation>
+    </message>
+    <message>
+      <source>Statistics of every ROI × photo</source>
+      <translation>ROI × 写真ごとの統計量</translation>
+    </message>
+    <message>
+      <source>ROIs with their across-view statistics</source>
+      <translation>ビュー間統計量付きの ROI</translation>
+    </message>
+    <message>
+      <source>Preview per ROI (the views used, with their values)</source>
+      <translation>ROI ごとのプレビュー（使用したビューとその値）</translation>
+    </message>
+    <message>
+      <source>No DSM given: hidden pixels are not left out.</source>
+      <translation>DSM が指定されていません：隠れたピクセルは除外されません。</translation>
+    </message>
+    <message>
+      <source>Back-projection</source>
+      <translation>逆投影</translation>
+    </message>
+    <message>
+      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
+      <translation>どの写真にも ROI が写っていません：ROI が測量範囲内にあり、正しい CRS であることを確認してください。</translation>
+    </message>
+    <message>
+      <source>Mean</source>
+      <translation>平均</translation>
+    </message>
+    <message>
+      <source>Median</source>
+      <translation>中央値</translation>
+    </message>
+    <message>
+      <source>Standard deviation</source>
+      <translation>標準偏差</translation>
+    </message>
+    <message>
+      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
+      <translation>{m} 枚の写真で {k} 組の ROI × 写真を計測中…</translation>
+    </message>
+    <message>
+      <source>{rois}: plot statistics from the photos of {project}</source>
+      <translation>{rois}：{project} の写真からの区画統計</translation>
+    </message>
+    <message>
+      <source>{rois}: statistics per photo</source>
+      <translation>{rois}：写真ごとの統計量</translation>
+    </message>
+    <message>
+      <source>Back-projection from the layer '{name}': {k} ROI × photo pairs.</source>
+      <translation>レイヤ「{name}」からの逆投影：{k} 組の ROI × 写真。</translation>
+    </message>
+    <message>
+      <source>{n} ROI(s) without a view used: {names}</source>
+      <translation>使用できるビューのない ROI が {n} 個：{names}</translation>
+    </message>
+    <message>
       <source>Point cloud statistics per ROI</source>
       <translation>ROI ごとの点群統計</translation>
     </message>
@@ -1146,6 +1226,50 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
     </message>
     <message>
+      <source>Heights of the ROI vertices</source>
+      <translation>ROI 頂点の高さ</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF): vertex heights and occlusion test</source>
+      <translation>DSM（GeoTIFF）：頂点の高さと遮蔽の判定</translation>
+    </message>
+    <message>
+      <source>Height attribute</source>
+      <translation>高さの属性</translation>
+    </message>
+    <message>
+      <source>Constant ground height: give the height, or choose another height source.</source>
+      <translation>一定の地面の高さ：高さを入力するか、別の高さの取得元を選択してください。</translation>
+    </message>
+    <message>
+      <source>Geometry Z (3-D polygons)</source>
+      <translation>ジオメトリの Z（3 次元ポリゴン）</translation>
+    </message>
+    <message>
+      <source>DSM, sampled at every vertex</source>
+      <translation>DSM（各頂点でサンプリング）</translation>
+    </message>
+    <message>
+      <source>Attribute (one height per ROI)</source>
+      <translation>属性（ROI ごとに 1 つの高さ）</translation>
+    </message>
+    <message>
+      <source>Constant ground height</source>
+      <translation>一定の地面の高さ</translation>
+    </message>
+    <message>
+      <source>Constant ground height (project vertical reference)</source>
+      <translation>一定の地面の高さ（プロジェクトの高さ基準）</translation>
+    </message>
+    <message>
+      <source>Heights from the DSM: choose the DSM raster, or another height source.</source>
+      <translation>DSM から高さを取得：DSM ラスタを選択するか、別の高さの取得元を選択してください。</translation>
+    </message>
+    <message>
+      <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
+      <translation>属性から高さを取得：ROI レイヤの高さの属性を選択してください。</translation>
+    </message>
+    <message>
       <source>Name field (default: feature id)</source>
       <translation>名前フィールド（既定：地物 ID）</translation>
     </message>
@@ -1162,8 +1286,8 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
     </message>
     <message>
-      <source>Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95,99.</source>
-      <translation>高さのパーセンタイル：「{token}」は 0～100 の数値ではありません。パーセンタイルをカンマ区切りで指定してください（例：5,50,95,99）。</translation>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
     </message>
     <message>
       <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>

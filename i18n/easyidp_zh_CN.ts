@@ -40,18 +40,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>感兴趣区</translation>
     </message>
     <message>
-      <source>Heights of the ROI vertices</source>
-      <translation>感兴趣区顶点的高度</translation>
-    </message>
-    <message>
-      <source>DSM (GeoTIFF): vertex heights and occlusion test</source>
-      <translation>DSM（GeoTIFF）：顶点高度与遮挡检测</translation>
-    </message>
-    <message>
-      <source>Height attribute</source>
-      <translation>高度属性</translation>
-    </message>
-    <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>照片文件夹（照片被移动时使用；按文件名匹配）</translation>
     </message>
@@ -100,36 +88,12 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>正在从照片中裁出感兴趣区…</translation>
     </message>
     <message>
-      <source>Geometry Z (3-D polygons)</source>
-      <translation>几何 Z 值（三维多边形）</translation>
-    </message>
-    <message>
-      <source>DSM, sampled at every vertex</source>
-      <translation>DSM，在每个顶点采样</translation>
-    </message>
-    <message>
-      <source>Attribute (one height per ROI)</source>
-      <translation>属性（每个感兴趣区一个高度）</translation>
-    </message>
-    <message>
-      <source>Constant ground height</source>
-      <translation>固定地面高度</translation>
-    </message>
-    <message>
-      <source>Constant ground height (project vertical reference)</source>
-      <translation>固定地面高度（工程高程基准）</translation>
-    </message>
-    <message>
       <source>Clip them to the photo frame</source>
       <translation>裁剪到照片画幅内</translation>
     </message>
     <message>
       <source>Drop the photo (whole ROIs only)</source>
       <translation>舍弃该照片（仅限完整感兴趣区）</translation>
-    </message>
-    <message>
-      <source>DSM</source>
-      <translation>DSM</translation>
     </message>
     <message>
       <source>Projecting {n} ROIs into {m} photos ({h})</source>
@@ -148,10 +112,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>{n} 个感兴趣区中的 {seen} 个共得到 {k} 个感兴趣区 × 照片组合；{u} 个感兴趣区不在任何照片中。</translation>
     </message>
     <message>
-      <source>Heights from the DSM: choose the DSM raster, or another height source.</source>
-      <translation>高度来自 DSM：请选择 DSM 栅格，或选择其他高度来源。</translation>
-    </message>
-    <message>
       <source>ROI '{name}': {why}</source>
       <translation>感兴趣区“{name}”：{why}</translation>
     </message>
@@ -162,14 +122,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>{n} crops and {p} previews written.</source>
       <translation>已写出 {n} 张裁剪图和 {p} 张预览图。</translation>
-    </message>
-    <message>
-      <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
-      <translation>高度来自属性：请选择感兴趣区图层的高度属性。</translation>
-    </message>
-    <message>
-      <source>Constant ground height: give the height, or choose another height source.</source>
-      <translation>固定地面高度：请给出高度，或选择其他高度来源。</translation>
     </message>
     <message>
       <source>Photo {label} skipped: {why}</source>
@@ -246,6 +198,10 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
     <message>
       <source>Ground height when no DSM is given (project vertical reference)</source>
       <translation>未提供 DSM 时的地面高度（工程高程基准）</translation>
+    </message>
+    <message>
+      <source>DSM</source>
+      <translation>DSM</translation>
     </message>
     <message>
       <source>Give a DSM or a ground height: the footprints are where the photos meet the ground.</source>
@@ -704,6 +660,130 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
       <translation>{what}：无图像（{why}）。</translation>
     </message>
     <message>
+      <source>Plot statistics from raw photos</source>
+      <translation>原始照片的小区统计</translation>
+    </message>
+    <message>
+      <source>Measures every ROI (plot) in every raw photo that sees it, and gives each ROI one robust value across its views. Raw photos have no ghosting or seamlines and true colour from near-nadir views.
+
+Inputs as Back-project ROIs: the ROI polygons, the photogrammetry project, the heights of the ROI vertices and a DSM; the backward projection runs here, unless its photo-pixel layer (the OUTPUT of Back-project ROIs) is given, which is then used as it is.
+
+Per ROI and photo, the pixels whose centre is inside the ROI's polygon (clipped to the frame) give: per band the mean, median, standard deviation and chosen percentiles, in the photo's own values (8-bit, 16-bit or float; never converted to 8-bit); the vegetation indices ExG, ExGR, VARI, GLI (red, green, blue) and NDVI, NDRE (for multispectral photos, name the bands, e.g. 'blue,green,red,rededge,nir'); the canopy cover (share of pixels whose NDVI, else ExG, is at or above the threshold: the one given, or Otsu's over all views); the pixel count and the GSD. With a DSM, pixels whose line of sight meets the surface outside the ROI (hidden by a tree, a neighbour, a wall) are left out and their share is reported.
+
+Across views, per ROI: the median of each statistic (score-weighted if asked), its MAD, minimum and maximum over the views used (visible share at least the minimum; the best ones by score when a maximum is set), their number, each view's deviation from its ROI's value and each ROI's largest (the disagreement; about 1 is typical for the field, several times more flags a shadow, wind, a bad pose). Oblique views see the sides of tall canopy, so cover and indices grow with the view angle: the default keeps the 3 best views.
+
+No vignetting or radiometric correction is applied: the photos are measured as they are stored (correct them first when you need reflectance).
+
+Outputs: a table of every ROI × photo with its statistics; the ROIs with the across-view values; optionally one PNG per ROI with the views used side by side and their values.</source>
+      <translation>在每张看到它的原始照片中测量每个 ROI（小区），并为每个 ROI 给出跨视图的一个稳健值。原始照片没有重影或拼接线，近天底视图的颜色真实。
+
+输入与“将感兴趣区反投影到原始照片”相同：ROI 多边形、摄影测量工程、ROI 顶点高度和 DSM；反投影在此运行，除非给出其照片像素图层（“将感兴趣区反投影到原始照片”的 OUTPUT），此时按原样使用。
+
+对每个 ROI 和照片，像素中心位于 ROI 多边形内（裁剪到画幅）的像素给出：每个波段的均值、中位数、标准差和所选百分位数，采用照片自身的数值（8 位、16 位或浮点；从不转换为 8 位）；植被指数 ExG、ExGR、VARI、GLI（红、绿、蓝）以及 NDVI、NDRE（多光谱照片请命名波段，例如 'blue,green,red,rededge,nir'）；冠层覆盖度（NDVI，否则 ExG，大于或等于阈值的像素比例：给定的阈值，或所有视图上的 Otsu 阈值）；像素数和 GSD。给出 DSM 时，视线在 ROI 之外碰到地表的像素（被树木、相邻植株、墙遮挡）会被排除，并报告其比例。
+
+跨视图，对每个 ROI：各统计量的中位数（如要求则按得分加权）、其 MAD、所用视图上的最小值和最大值（可见比例不低于最小值；设置最大数量时取得分最高者）、视图数、每个视图相对其 ROI 值的偏差以及每个 ROI 的最大偏差（不一致度；约 1 对该田块是典型的，数倍以上则提示阴影、风或错误的位姿）。倾斜视图会看到高冠层的侧面，因此覆盖度和指数随视角增大：默认保留最好的 3 个视图。
+
+不进行暗角或辐射校正：照片按其存储的值测量（需要反射率时请先校正）。
+
+输出：每个 ROI × 照片及其统计量的表；带跨视图值的 ROI；可选地，每个 ROI 一张 PNG，并排显示所用视图及其数值。</translation>
+    </message>
+    <message>
+      <source>Band names of the photos, comma-separated (default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir)</source>
+      <translation>照片的波段名称，逗号分隔（默认：3 个波段为 red,green,blue；例如 blue,green,red,rededge,nir）</translation>
+    </message>
+    <message>
+      <source>Back-projection: the photo-pixel layer of Back-project ROIs (empty: run it here)</source>
+      <translation>反投影：“将感兴趣区反投影到原始照片”的照片像素图层（留空：在此运行）</translation>
+    </message>
+    <message>
+      <source>Leave out pixels hidden by the DSM (when a DSM is given)</source>
+      <translation>排除被 DSM 遮挡的像素（给出 DSM 时）</translation>
+    </message>
+    <message>
+      <source>Statistics of every band and index</source>
+      <translation>每个波段和指数的统计量</translation>
+    </message>
+    <message>
+      <source>Percentiles (comma-separated, 0–100; empty: none)</source>
+      <translation>百分位数（逗号分隔，0–100；留空：无）</translation>
+    </message>
+    <message>
+      <source>Vegetation indices (those the bands allow)</source>
+      <translation>植被指数（波段允许的）</translation>
+    </message>
+    <message>
+      <source>Cover threshold on NDVI or ExG (empty: Otsu's)</source>
+      <translation>NDVI 或 ExG 的覆盖度阈值（留空：Otsu 阈值）</translation>
+    </message>
+    <message>
+      <source>Minimum visible share of a ROI in a view used</source>
+      <translation>所用视图中 ROI 的最小可见比例</translation>
+    </message>
+    <message>
+      <source>Best views used per ROI (0 = all)</source>
+      <translation>每个 ROI 使用的最佳视图数（0 = 全部）</translation>
+    </message>
+    <message>
+      <source>Weight the views by their score (weighted median)</source>
+      <translation>按得分对视图加权（加权中位数）</translation>
+    </message>
+    <message>
+      <source>Statistics of every ROI × photo</source>
+      <translation>每个 ROI × 照片的统计量</translation>
+    </message>
+    <message>
+      <source>ROIs with their across-view statistics</source>
+      <translation>带跨视图统计量的 ROI</translation>
+    </message>
+    <message>
+      <source>Preview per ROI (the views used, with their values)</source>
+      <translation>每个 ROI 的预览（所用视图及其数值）</translation>
+    </message>
+    <message>
+      <source>No DSM given: hidden pixels are not left out.</source>
+      <translation>未给出 DSM：不排除被遮挡的像素。</translation>
+    </message>
+    <message>
+      <source>Back-projection</source>
+      <translation>反投影</translation>
+    </message>
+    <message>
+      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
+      <translation>没有任何照片看到 ROI：请检查 ROI 是否位于测区内且坐标参照系正确。</translation>
+    </message>
+    <message>
+      <source>Mean</source>
+      <translation>均值</translation>
+    </message>
+    <message>
+      <source>Median</source>
+      <translation>中位数</translation>
+    </message>
+    <message>
+      <source>Standard deviation</source>
+      <translation>标准差</translation>
+    </message>
+    <message>
+      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
+      <translation>正在测量 {m} 张照片中的 {k} 个 ROI × 照片对…</translation>
+    </message>
+    <message>
+      <source>{rois}: plot statistics from the photos of {project}</source>
+      <translation>{rois}：来自 {project} 照片的小区统计</translation>
+    </message>
+    <message>
+      <source>{rois}: statistics per photo</source>
+      <translation>{rois}：每张照片的统计量</translation>
+    </message>
+    <message>
+      <source>Back-projection from the layer '{name}': {k} ROI × photo pairs.</source>
+      <translation>来自图层“{name}”的反投影：{k} 个 ROI × 照片对。</translation>
+    </message>
+    <message>
+      <source>{n} ROI(s) without a view used: {names}</source>
+      <translation>{n} 个 ROI 没有可用的视图：{names}</translation>
+    </message>
+    <message>
       <source>Point cloud statistics per ROI</source>
       <translation>按感兴趣区统计点云</translation>
     </message>
@@ -1146,6 +1226,50 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>块（chunk）：Metashape 块（标签或索引）或 OpenSfM 重建索引（存在多个时需要）</translation>
     </message>
     <message>
+      <source>Heights of the ROI vertices</source>
+      <translation>感兴趣区顶点的高度</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF): vertex heights and occlusion test</source>
+      <translation>DSM（GeoTIFF）：顶点高度与遮挡检测</translation>
+    </message>
+    <message>
+      <source>Height attribute</source>
+      <translation>高度属性</translation>
+    </message>
+    <message>
+      <source>Constant ground height: give the height, or choose another height source.</source>
+      <translation>固定地面高度：请给出高度，或选择其他高度来源。</translation>
+    </message>
+    <message>
+      <source>Geometry Z (3-D polygons)</source>
+      <translation>几何 Z 值（三维多边形）</translation>
+    </message>
+    <message>
+      <source>DSM, sampled at every vertex</source>
+      <translation>DSM，在每个顶点采样</translation>
+    </message>
+    <message>
+      <source>Attribute (one height per ROI)</source>
+      <translation>属性（每个感兴趣区一个高度）</translation>
+    </message>
+    <message>
+      <source>Constant ground height</source>
+      <translation>固定地面高度</translation>
+    </message>
+    <message>
+      <source>Constant ground height (project vertical reference)</source>
+      <translation>固定地面高度（工程高程基准）</translation>
+    </message>
+    <message>
+      <source>Heights from the DSM: choose the DSM raster, or another height source.</source>
+      <translation>高度来自 DSM：请选择 DSM 栅格，或选择其他高度来源。</translation>
+    </message>
+    <message>
+      <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
+      <translation>高度来自属性：请选择感兴趣区图层的高度属性。</translation>
+    </message>
+    <message>
       <source>Name field (default: feature id)</source>
       <translation>名称字段（默认：要素 ID）</translation>
     </message>
@@ -1162,8 +1286,8 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>{n} 台相机未对齐，没有位姿：{names}</translation>
     </message>
     <message>
-      <source>Height percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95,99.</source>
-      <translation>高度百分位数：“{token}”不是 0 到 100 之间的数字。请用逗号分隔百分位数，例如 5,50,95,99。</translation>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>百分位数：“{token}”不是 0 到 100 之间的数。请给出以逗号分隔的百分位数，例如 5,50,95。</translation>
     </message>
     <message>
       <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>

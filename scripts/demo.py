@@ -13,6 +13,7 @@ import time
 
 import numpy as np
 
+from .demo_photo_statistics import run_photo_statistics_demo
 from .demo_season import SEASON_DATES, run_season_demo
 from .qgis_process import qgis_process_env, run_algorithm
 
@@ -35,7 +36,8 @@ class Steps:
 def _features(path: str, layer: int = 0):
     from osgeo import ogr
     ds = ogr.Open(path)  # keep the dataset alive while its layer is read
-    return [{**f.items(), "_geom": f.GetGeometryRef().Clone()} for f in ds.GetLayer(layer)]
+    return [{**f.items(), "_geom": f.GetGeometryRef() and f.GetGeometryRef().Clone()}
+            for f in ds.GetLayer(layer)]
 
 
 MARKER = ".easyidp-demo"   # the demo's own output folder: cleared by the next demo run
@@ -96,6 +98,7 @@ def main(out: str) -> int:
     forward = _forward_projection(steps, s, truth, out)
 
     back = _backward_projection(steps, s, out)
+    photo_stats = run_photo_statistics_demo(steps, s, truth, out, _features)
 
     # ---- checks against the truth ----------------------------------------------------------
     crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}
@@ -120,6 +123,8 @@ def main(out: str) -> int:
     print(f"  picture:     {png}")
     print("  raw photos:  plots_in_photos.gpkg (photo pixels: x = column, y = -row), "
           "plots_best_photo.gpkg, back2raw.json, crops_photos/, previews/")
+    print("  statistics:  plots_photo_statistics.gpkg (per plot, across views), "
+          "plots_photo_views.gpkg (every plot × photo), previews_statistics/")
     print("Errors against the truth")
     print(f"  plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "
           f"max {100 * np.max(np.abs(dsm_err)):.1f} cm over {len(dsm_err)} plots")
@@ -136,6 +141,8 @@ def main(out: str) -> int:
     for line in _backward_errors(back, s, truth):
         print(f"  {line}")
     for line in forward:
+        print(line)
+    for line in photo_stats:
         print(line)
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "

@@ -29,11 +29,16 @@ def _literal(node):
     return None
 
 
+def _read(path: str) -> str:
+    with open(path, encoding="utf-8") as fh:
+        return fh.read()
+
+
 def source_strings():
     """The user-facing strings, in source order, without repeats."""
     found = []
     for path in sorted(glob.glob(os.path.join(ROOT, "easyidp_qgis", "**", "*.py"), recursive=True)):
-        for node in ast.walk(ast.parse(open(path, encoding="utf-8").read())):
+        for node in ast.walk(ast.parse(_read(path))):
             value = None
             if isinstance(node, ast.Call) and node.args:
                 name = getattr(node.func, "attr", None) or getattr(node.func, "id", None)
@@ -51,7 +56,7 @@ def untranslatable_calls():
     """``tr()`` calls whose argument the extraction cannot read: (file, line, source)."""
     out = []
     for path in sorted(glob.glob(os.path.join(ROOT, "easyidp_qgis", "**", "*.py"), recursive=True)):
-        src = open(path, encoding="utf-8").read()
+        src = _read(path)
         for node in ast.walk(ast.parse(src)):
             if isinstance(node, ast.Call) and getattr(node.func, "attr", None) == "tr" and node.args:
                 arg = node.args[0]

@@ -26,6 +26,10 @@ GCP_SIZE = 0.6      # m, side of a black-and-white checkerboard target
 BAND_ROWS = 500     # orthomosaic rows textured at once
 CROP_BLOCK = 8      # DSM pixels per side of a surface-top block (16 cm)
 CROP_GROW = 3       # blocks by which block tops are spread (rays cross the crop slanted)
+SOIL_RGB = (122, 96, 72)       # orthomosaic soil colour (times the moisture shade)
+LEAF_RGB = (58, 132, 46)       # leaf colour (times 0.75 + 0.45 · min(height / 0.7 m, 1))
+LEAF_FULL = 0.05    # m of crop height at which a texel is all leaf (blended towards soil below)
+MOISTURE = 0.07     # relative soil brightness change per unit of the smooth moisture field
 
 
 def bilinear_grid(a: np.ndarray, fx: np.ndarray, fy: np.ndarray) -> np.ndarray:
@@ -161,9 +165,9 @@ def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, gcp_xy: np.ndarray, se
     two threads; each band has its own random stream, so the result does not depend on timing."""
     ny, nx = layout.grid_shape(DOM_PIXEL)
     out = np.empty((ny, nx, 3), np.uint8)
-    g = np.random.default_rng([seed, 7]).standard_normal((ny // 100 + 2, nx // 100 + 2))
-    soil_rgb = np.array([122, 96, 72], np.float32)
-    leaf_rgb = np.array([58, 132, 46], np.float32)
+    g = _moisture_grid(layout, seed)
+    soil_rgb = np.array(SOIL_RGB, np.float32)
+    leaf_rgb = np.array(LEAF_RGB, np.float32)
     ratio = round(DSM_PIXEL / DOM_PIXEL)
 
     def band(b0: int):
@@ -177,7 +181,7 @@ def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, gcp_xy: np.ndarray, se
         wr, wc = (r - ri)[:, None], (c - ci)[None, :]
         moist = (g[ri][:, ci] * (1 - wc) + g[ri][:, ci + 1] * wc) * (1 - wr) \
             + (g[ri + 1][:, ci] * (1 - wc) + g[ri + 1][:, ci + 1] * wc) * wr
-        shade4 = (1 + 0.07 * moist + 0.05 * rng.standard_normal(moist.shape)).astype(np.float32)
+        shade4 = (1 + MOISTURE * moist + 0.05 * rng.standard_normal(moist.shape)).astype(np.float32)
         shade = np.repeat(np.repeat(shade4, 4, 0), 4, 1)[b0 - (b0 // 4) * 4:][:rows, :nx]
         grain = rng.integers(-9, 10, (rows, nx), dtype=np.int8)
         tmp = np.empty((rows, nx), np.float32)
@@ -191,7 +195,7 @@ def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, gcp_xy: np.ndarray, se
         h = np.repeat(np.repeat(h2, ratio, 0), ratio, 1)[b0 - (b0 // ratio) * ratio:][:rows]
         rr, cc = np.nonzero(h > 0)
         hv = h[rr, cc].astype(np.float32)
-        leaf = np.clip(hv / 0.05, 0, 1)[:, None]
+        leaf = np.clip(hv / LEAF_FULL, 0, 1)[:, None]
         gr = grain[rr, cc].astype(np.float32)[:, None]
         soil = soil_rgb * shade[rr, cc][:, None] + gr
         green = leaf_rgb * (0.75 + 0.45 * np.clip(hv / 0.7, 0, 1))[:, None] + 1.3 * gr
@@ -209,6 +213,12 @@ def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, gcp_xy: np.ndarray, se
         r0 = int(round((layout.origin[1] - (gy + half)) / DOM_PIXEL))
         out[r0:r0 + n, c0:c0 + n] = target
     return out
+
+
+def _moisture_grid(layout: FieldLayout, seed: int) -> np.ndarray:
+    """The soil moisture field's values at 1 m nodes (bilinear between them)."""
+    ny, nx = layout.grid_shape(DOM_PIXEL)
+    return np.random.default_rng([seed, 7]).standard_normal((ny // 100 + 2, nx // 100 + 2))
 
 
 def surface_cloud(scene: Scene, rng, stride: int = 5):

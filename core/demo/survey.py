@@ -23,6 +23,11 @@ at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
 ``rolling_shutter=True`` makes the drone move during each exposure (:mod:`.rolling_shutter`):
 photos are rendered row by row, the Metashape project carries the motion, the truth follows it,
 and no Pix4D project is written.
+
+The truth gives every plot its colour truth (:mod:`.plot_colour`: mean ExG and canopy cover,
+from the generator's closed-form model). ``ortho_defects=True`` writes an orthomosaic with the
+faults real ones show, ghosting and blur over the plots of two field columns (named in the
+truth's ``ortho_defects``); the photos, and everything else, are those of the default survey.
 """
 import os
 import time
@@ -43,6 +48,7 @@ from .labelme import write_labelme
 from .metashape_writer import write_metashape
 from .odm_writer import write_odm
 from .pix4d_writer import write_pix4d
+from .plot_colour import BLUR_SIGMA, GHOST_OFFSET, add_ortho_defects, plot_colour_truth
 from .render import level_for, packed_level, pixel_rays, render_photo
 from .scene import make_scene, surface_cloud
 from .truth import Truth, observations, plot_visibility, truth_points, write_truth
@@ -51,6 +57,9 @@ PROJECT_NAME = "demo_survey"
 JPEG_QUALITY = 92
 LAS_DATE = (153, 2024)          # file creation day of year and year written in LAS headers
 __all__ = ["make_demo_survey", "DemoSurvey", "SIZES"]
+DEFECTS_NOTE = (f"orthomosaic.tif only (the photos see the true texture): 'ghosting' plots are a "
+                f"50/50 blend with the texture {GHOST_OFFSET[0]:g} m east, {-GHOST_OFFSET[1]:g} m "
+                f"south; 'blur' plots a Gaussian blur of sigma {BLUR_SIGMA:g} m")
 
 
 @dataclass
@@ -92,7 +101,8 @@ SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "
 
 
 def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite: bool = False,
-                     progress=None, is_cancelled=None, rolling_shutter: bool = False) -> DemoSurvey:
+                     progress=None, is_cancelled=None, rolling_shutter: bool = False,
+                     ortho_defects: bool = False) -> DemoSurvey:
     """Write the demo survey into ``folder`` (created if needed) and return its paths.
 
     ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
@@ -101,17 +111,19 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite:
     ``progress(percent)`` and ``is_cancelled()`` are optional callables; on cancellation
     :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey (every
     file in it complete). ``rolling_shutter``: photos taken while the drone moves (see the
-    module docstring).
+    module docstring). ``ortho_defects``: ghosting and blur in the written orthomosaic over
+    some plots (see the module docstring).
     """
     if size not in SIZES:
         raise InputError(f"Demo survey size {size!r}: choose one of {', '.join(SIZES)}.")
     with OutputFolder(folder, overwrite=overwrite, what="Demo survey folder") as out:
         out.claim(SURVEY_ENTRIES)
         return _write_survey(str(out.folder), seed, size, as_progress(progress, is_cancelled),
-                             rolling_shutter)
+                             rolling_shutter, ortho_defects)
 
 
-def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool) -> DemoSurvey:
+def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool,
+                  ortho_defects: bool = False) -> DemoSurvey:
     t0 = time.perf_counter()
     prog.check()
     camera = make_camera(size)
@@ -141,8 +153,11 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
             from .rolling_shutter import render_photo as render
         _write_jpeg(photos[i], render(scene, camera, shots[i], rays, level_img, level))
 
+    ortho, defects = scene.ortho, None
+    if ortho_defects:            # the written orthomosaic only: photos see the true texture
+        ortho, defects = add_ortho_defects(scene.ortho, scene)
     with ThreadPoolExecutor(2) as pool:
-        jobs = [pool.submit(write_geotiff, os.path.join(folder, "orthomosaic.tif"), scene.ortho,
+        jobs = [pool.submit(write_geotiff, os.path.join(folder, "orthomosaic.tif"), ortho,
                             lay.geotransform(DOM_PIXEL), epsg_geo_tags(lay.epsg), rgb=True, tile=256),
                 pool.submit(write_geotiff, os.path.join(folder, "dsm.tif"), scene.dsm,
                             lay.geotransform(DSM_PIXEL), epsg_geo_tags(lay.epsg),
@@ -153,6 +168,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
             # meanwhile, on this thread: vectors, truth, the two projects, LabelMe
             geojson, gpkg = _write_plots(folder, scene)
             truth, ms, p4d = _truth_and_projects(folder, scene, camera, shots, photos, rng)
+            for pid, colour in plot_colour_truth(scene, seed).items():
+                truth.plots[pid].update(colour)
             prog.set(25)
             for k, job in enumerate(as_completed(jobs)):
                 job.result()
@@ -169,6 +186,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"]}
     if rolling_shutter:
         meta["rolling_shutter"] = True
+    if defects is not None:
+        meta["ortho_defects"] = {**defects, "description": DEFECTS_NOTE}
     truth_path = write_truth(os.path.join(folder, "truth.json"), truth, scene, camera, shots, meta)
 
     return DemoSurvey(

@@ -32,7 +32,9 @@ class Truth:
     ``points``: (n, 3); ``point_ids``/``point_kinds``; ``obs_point``/``obs_shot``/``obs_pixel``:
     every (point, photo) pair where the photo sees the point, with its exact pixel;
     ``hidden_point``/``hidden_shot``: pairs in front and inside the frame but hidden by the
-    surface; ``plots``: per plot id, photos that see it whole and photos that see its 4 corners.
+    surface; ``plots``: per plot id, photos that see it whole and photos that see its 4 corners,
+    its crop height and (added by the survey) its colour truth ``exg`` and ``cover``
+    (:mod:`.plot_colour`).
     """
     points: np.ndarray
     point_ids: List[str]
@@ -174,6 +176,9 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
                          "pixel": truth.obs_pixel.tolist()},
         "hidden": {"point": truth.hidden_point.tolist(),
                    "photo": [shots[i].label for i in truth.hidden_shot]},
+        "plot_colour": "exg: mean ExG (2G-R-B)/(R+G+B) of the plot rectangle's texture; cover: "
+                       "share of the rectangle that is mostly leaf (crop height >= 2.5 cm); both "
+                       "from the generator's noise-free colour model on a 5 mm grid",
         "plots": truth.plots,
         "labelme": truth.labelme,
     }

@@ -5,6 +5,9 @@
 * Backward (map → photos, EasyIDP's ``back2raw``): :func:`back_project` finds every ROI in every
   photo that sees it (clipped to the frame, tested for occlusion, ranked); :func:`crop_photos`
   cuts the ROIs out of the photos, each photo decoded once.
+* Plot statistics from the raw photos: :func:`photo_statistics` measures every ROI in every
+  photo (bands, vegetation indices, cover; occluded pixels left out) in the same one-decode pass
+  and gives one robust value per ROI across its views.
 * Forward (photos → map): :func:`forward_project` brings shapes drawn or detected on a photo to
   the map by their rays' first hits on the DSM; :func:`merge_views` merges the same object seen
   in several photos; :mod:`.ortho` orthorectifies ROIs from the raw photos.
@@ -18,12 +21,14 @@ from .forward import ForwardShape, densify_ring, forward_project
 from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
 from .merge import MERGE_MODES, MapPolygon, merge_views
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
-from .photos import read_photo, resolve_photos
+from .photo_stats import PhotoStatistics, photo_statistics
+from .photos import DecodedPhotos, read_photo, resolve_photos
 from .result import PIXEL_CONVENTION, BackProjection, FlatPolygons, read_easyidp_json
 
 __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA",
            "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION",
            "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
-           "resolve_photos", "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
+           "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
+           "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
            "merge_views", "MERGE_MODES"]

@@ -1,8 +1,8 @@
 """Crops of the raw photos for a :class:`BackProjection`, and preview sheets per ROI.
 
-One pass over the photos: each photo is decoded **once** (a pool of threads decodes ahead) and
-every ROI the result keeps in it is cut out; the files are encoded and written by a second
-pool, atomically. Memory holds at most ``workers + 1`` decoded photos, the crops waiting to be
+One pass over the photos (:class:`.photos.DecodedPhotos`, shared with the plot statistics):
+each photo is decoded **once** (a pool of threads decodes ahead) and every ROI the result keeps
+in it is cut out; the files are encoded and written by a second pool, atomically. Memory holds at most ``workers + 1`` decoded photos, the crops waiting to be
 written, and the preview tiles of ROIs whose best views are not all decoded yet (spilled to
 disk beyond ``PREVIEW_CACHE_BYTES``).
 
@@ -35,7 +35,7 @@ from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import rasterize
 from ..naming import unique_names
 from ..progress import as_progress
-from .photos import check_size, photo_stems, read_photo, resolve_photos
+from .photos import DecodedPhotos, photo_stems, resolve_photos
 from .result import PIXEL_CONVENTION, BackProjection
 
 MAX_PENDING_WRITES = 64
@@ -111,7 +111,8 @@ def crop_photos(result: BackProjection, out_folder, photos=None, *, margin: int 
 
 def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, preview_views,
               margin, workers, prog) -> None:
-    """Decode each photo once (threads, ahead of the cutting) and write its crops and previews."""
+    """One pass over the photos (:class:`.photos.DecodedPhotos`: each decoded once, threads
+    ahead of the cutting) writing each photo's crops and previews."""
     stems = dict(zip(result.photo_labels, photo_stems(result.photo_labels)))
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
@@ -135,34 +136,16 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
         else:
             out.previews.append(path)
 
-    with ThreadPoolExecutor(workers, thread_name_prefix="easyidp-decode") as decoders, \
+    paths = [found[result.photo_labels[j]] for j in todo]
+    with DecodedPhotos(paths, result.image_sizes[todo], workers) as photos, \
             ThreadPoolExecutor(workers, thread_name_prefix="easyidp-write") as writers:
-        ahead = {}
-
-        def submit(k):
-            if k < len(todo) and k not in ahead:
-                ahead[k] = decoders.submit(read_photo, found[result.photo_labels[todo[k]]])
         try:
             pending += [("preview", writers.submit(*sheet)) for sheet in early]
-            for k in range(min(workers + 1, len(todo))):
-                submit(k)
-            for k, j in enumerate(todo):
+            for k, img, why in photos:
                 prog.check()
-                label = result.photo_labels[j]
-                try:
-                    img = ahead.pop(k).result()
-                    submit(k + workers + 1)
-                except InputError as exc:
-                    submit(k + workers + 1)
-                    out.skipped_photos[label] = str(exc)
-                    if sheets is not None:
-                        pending += [("preview", writers.submit(*sheet))
-                                    for sheet in sheets.photo_unavailable(by_photo[j])]
-                    continue
-                w, h = (int(v) for v in result.image_sizes[j])
-                why = check_size(img, w, h, found[label])
-                if why:
-                    out.skipped_photos[label] = why
+                j = todo[k]
+                if img is None:
+                    out.skipped_photos[result.photo_labels[j]] = why
                     if sheets is not None:
                         pending += [("preview", writers.submit(*sheet))
                                     for sheet in sheets.photo_unavailable(by_photo[j])]
@@ -170,7 +153,7 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
                 for i in by_photo[j]:
                     if out_folder is not None:
                         job = _crop_job(result, i, img, margin, out_folder, roi_dirs, stems,
-                                        found[label])
+                                        paths[k])
                         if job is None:
                             out.empty += 1
                         else:
@@ -188,8 +171,6 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
             for item in pending:
                 collect(item)
         except BaseException:
-            for fut in ahead.values():
-                fut.cancel()
             for _, fut in pending:
                 fut.cancel()
             for _, fut in pending:

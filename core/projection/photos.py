@@ -9,9 +9,13 @@ Photos are decoded with tifffile (TIFF: 16-bit and multiband, e.g. multispectral
 (JPEG, PNG and the rest), as stored: pixel (0, 0) is the first stored row and column (the EXIF
 orientation tag is not applied, as Metashape and Pix4D do not apply it to their pixel
 coordinates either).
+
+:class:`DecodedPhotos` is the one pass over the photos that every consumer of pixels shares
+(crops and previews, plot statistics): each photo decoded once, by threads running ahead.
 """
 import ntpath
 import os
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple
 
@@ -123,3 +127,62 @@ def photo_stems(labels: List[str]) -> List[str]:
         stem, ext = os.path.splitext(lab)
         stems.append(stem if ext.lower() in PHOTO_EXTENSIONS else lab)
     return unique_names(stems)
+
+
+class DecodedPhotos:
+    """Each photo decoded **once**, in order, by a pool of threads running ``workers`` photos
+    ahead of the consumer (at most ``workers + 1`` decoded photos in memory)::
+
+        with DecodedPhotos(paths, sizes) as photos:
+            for k, img, why in photos:      # img None: why it cannot be used
+
+    ``paths[k]``: the file (None: unavailable, ``why`` given by ``missing[k]``); ``sizes[k]``:
+    (width, height) the camera expects, checked (:func:`check_size`). Leaving the ``with``
+    block (also by an error or a cancel) cancels the decodes not started and waits for the
+    running ones.
+    """
+
+    def __init__(self, paths: Sequence[Optional[str]], sizes, workers: Optional[int] = None,
+                 missing: Optional[Sequence[str]] = None):
+        self.paths = list(paths)
+        self.sizes = [(int(w), int(h)) for w, h in sizes]
+        self.missing = list(missing) if missing is not None else [""] * len(self.paths)
+        self.workers = max(1, workers or min(4, os.cpu_count() or 1))
+        self._pool = None
+        self._ahead = {}
+
+    def __enter__(self) -> "DecodedPhotos":
+        self._pool = ThreadPoolExecutor(self.workers, thread_name_prefix="easyidp-decode")
+        return self
+
+    def __exit__(self, *exc) -> None:
+        for fut in self._ahead.values():
+            fut.cancel()
+        self._ahead.clear()
+        self._pool.shutdown(wait=True)
+
+    def _submit(self, k: int) -> None:
+        if k < len(self.paths) and k not in self._ahead and self.paths[k] is not None:
+            self._ahead[k] = self._pool.submit(read_photo, self.paths[k])
+
+    def __iter__(self):
+        for k in range(min(self.workers + 1, len(self.paths))):
+            self._submit(k)
+        for k, path in enumerate(self.paths):
+            self._submit(k)
+            fut = self._ahead.pop(k, None)
+            self._submit(k + self.workers + 1)
+            if fut is None:
+                yield k, None, self.missing[k] or "not available"
+                continue
+            try:
+                img = fut.result()
+            except InputError as exc:
+                yield k, None, str(exc)
+                continue
+            why = check_size(img, *self.sizes[k], path)
+            if why:
+                yield k, None, why
+                continue
+            yield k, img, ""
+            del img

@@ -226,6 +226,66 @@ class BackProjection:
         write_json(path, d, indent=1)
         return os.fspath(path)
 
+    @classmethod
+    def from_records(cls, roi_names: List[str], records: List[dict], photos: Dict[str, dict],
+                     settings: Optional[dict] = None) -> "BackProjection":
+        """A back-projection rebuilt from plain records, e.g. the features of the *Back-project
+        ROIs* photo-pixel layer. ``records``: dicts with ``roi`` (a name of ``roi_names``),
+        ``photo`` (a key of ``photos``), ``polygons`` ([[exterior, hole, …], …] in our pixel
+        convention) and optionally ``rank``, ``score``, ``view_angle``, ``gsd``,
+        ``visible_fraction``, ``occluded_fraction``, ``centre_distance``, ``clipped``
+        (missing numbers: NaN; missing ranks: by score within each ROI). ``photos``: {label:
+        {"path": …, "width": …, "height": …, "principal_point": (cx, cy) (optional)}}."""
+        from ..errors import EasyIDPError
+        index = {n: k for k, n in enumerate(roi_names)}
+        labels = sorted(photos)
+        pidx = {lab: k for k, lab in enumerate(labels)}
+        bad = sorted({str(r.get("roi")) for r in records if r.get("roi") not in index})
+        if bad:
+            raise EasyIDPError(f"{len(bad)} back-projected ROI name(s) are not among the ROIs "
+                               f"({', '.join(bad[:5])}{' …' if len(bad) > 5 else ''}): give the "
+                               "ROI layer and name field the back-projection was made with.")
+        bad = sorted({str(r.get("photo")) for r in records if r.get("photo") not in pidx})
+        if bad:
+            raise EasyIDPError(f"Photo(s) {', '.join(bad[:5])} of the back-projection are not in "
+                               "the project: give the project it was made with.")
+
+        def num(r, key, default=float("nan")):
+            v = r.get(key)
+            try:
+                return float(v) if v is not None else default
+            except (TypeError, ValueError):
+                return default
+        roi = np.array([index[r["roi"]] for r in records], np.int64)
+        cam = np.array([pidx[r["photo"]] for r in records], np.int64)
+        score = np.array([num(r, "score") for r in records])
+        rank = np.array([num(r, "rank", 0.0) for r in records])
+        if (rank <= 0).any() or not np.isfinite(rank).all():     # by score within each ROI
+            order = np.lexsort((-np.nan_to_num(score, nan=-1.0), roi))
+            rank = np.zeros(len(records))
+            first = np.r_[True, roi[order][1:] != roi[order][:-1]] if len(order) else []
+            start = np.maximum.accumulate(np.where(first, np.arange(len(order)), 0))
+            rank[order] = np.arange(len(order)) - start + 1
+        order = np.lexsort((cam, rank, roi))
+        polys = FlatPolygons.from_lists([records[i]["polygons"] for i in order])
+        sizes = np.array([[photos[lab]["width"], photos[lab]["height"]] for lab in labels], float)
+        pp = np.array([photos[lab].get("principal_point") or
+                       (photos[lab]["width"] / 2, photos[lab]["height"] / 2) for lab in labels], float)
+        col = {k: np.array([num(records[i], k) for i in order]) for k in
+               ("visible_fraction", "occluded_fraction", "view_angle", "gsd", "centre_distance")}
+        return cls(roi_names=list(roi_names), photo_labels=labels,
+                   photo_paths=[photos[lab].get("path") for lab in labels],
+                   image_sizes=sizes.astype(np.int64) if len(labels) else np.zeros((0, 2), np.int64),
+                   principal_points=pp if len(labels) else np.zeros((0, 2)), roi=roi[order],
+                   photo=np.array(labels, dtype=str)[cam[order]] if len(order) else np.zeros(0, str),
+                   photo_index=cam[order], polygons=polys,
+                   visible_fraction=np.nan_to_num(col["visible_fraction"], nan=1.0),
+                   occluded_fraction=col["occluded_fraction"], score=score[order],
+                   view_angle=col["view_angle"], gsd=col["gsd"],
+                   centre_distance=col["centre_distance"], rank=rank[order].astype(np.int32),
+                   clipped=np.array([bool(records[i].get("clipped") or False) for i in order]),
+                   settings=dict(settings or {}))
+
     def summary(self) -> str:
         n = len(self.roi_names)
         seen = int((self.photos_per_roi() > 0).sum())

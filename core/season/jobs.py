@@ -25,6 +25,7 @@ from ..raster.roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_r
 from ..raster.sweep import sweep_windows
 from ..roi import ROISet
 from . import traits as tr
+from .. import indices
 from .ground import Plane, fit_plane, low_plane
 
 KINDS = ("ground", "orthomosaic", "dsm", "point_cloud")
@@ -209,7 +210,7 @@ def _orthomosaic(job: Job, res: JobResult, prog: Progress) -> None:
     tif = open_geotiff(job.path, crs=job.crs)
     names = tr.band_names(tif, job.bands)
     colour = [b for b in range(tif.bands) if b != tif.alpha_band]
-    kind = tr.index_kind(names, tif)
+    kind = indices.cover_kind(names)
     want_cover = "cover" in job.traits and kind is not None
     want_index = "index" in job.traits and kind is not None
     if kind is None and ("cover" in job.traits or "index" in job.traits):
@@ -240,24 +241,24 @@ def _orthomosaic(job: Job, res: JobResult, prog: Progress) -> None:
             means = bands.sum(axis=1) / bands.shape[1]
             out.update({f"mean_{n}": float(m) for n, m in zip(names, means)})
         if want_index or want_cover:
-            idx = tr.vegetation_index(kind, bands, names)
+            idx = indices.compute(kind, bands, names)
             if want_index:
                 finite = idx[np.isfinite(idx)]
                 out[kind] = float(finite.mean()) if len(finite) else float("nan")
             if want_cover:
                 if threshold is None:
-                    hists[p.index] = tr.index_histogram(kind, idx)
+                    hists[p.index] = indices.index_histogram(kind, idx)
                 else:
                     finite = idx[np.isfinite(idx)]
-                    out["cover"] = float(np.mean(finite > threshold)) if len(finite) else float("nan")
+                    out["cover"] = indices.cover(finite, threshold)
         res.values[p.index] = out
 
     sweep_windows(tif, [p.window for p in placed], consume, prog, job.threads)
     if want_cover and threshold is None:
-        total = np.zeros(tr.INDEX_BINS, np.int64)
+        total = np.zeros(indices.INDEX_BINS, np.int64)
         for h in hists.values():
-            tr.add_histogram(total, h)
-        t = tr.otsu_threshold(kind, total)
+            indices.add_histogram(total, h)
+        t = indices.otsu_threshold(kind, total)
         if t is None:
             res.notes.append(f"cover: Otsu's threshold is undefined (the {kind} values of the "
                              "ROIs are all alike); give a threshold")
@@ -265,7 +266,7 @@ def _orthomosaic(job: Job, res: JobResult, prog: Progress) -> None:
             res.notes.append(f"cover threshold {t:.3f} ({kind.upper()}, Otsu over "
                              f"{int(total.sum()):,} pixels)")
             for i, h in hists.items():
-                res.values[i]["cover"] = tr.cover_from_histogram(kind, h, t)
+                res.values[i]["cover"] = indices.cover_from_histogram(kind, h, t)
     _crop_raster(job, res, prog)
 
 

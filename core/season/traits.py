@@ -6,8 +6,9 @@ Traits (names in the long table; heights in the units of the DSM or cloud, usual
 * from an orthomosaic: ``mean_<band>`` (e.g. ``mean_red``; ``mean_b1``… for unnamed bands) in
   the raster's values; ``exg`` (mean excess green 2g − r − b of the chromatic coordinates, RGB)
   or ``ndvi`` (mean (nir − red)/(nir + red), when the bands are named); ``cover``: the share of
-  the ROI's pixels whose index (ExG or NDVI) is above the threshold (0–1), the threshold being
-  given or Otsu's over the histogram of all ROIs' pixels of that raster (scikit-image);
+  the ROI's pixels whose index (ExG or NDVI) is at or above the threshold (0–1), the threshold
+  being given or Otsu's over the histogram of all ROIs' pixels of that raster (the indices,
+  histograms and Otsu's threshold are :mod:`core.indices`, shared with the photo statistics);
 * from a point cloud: ``cloud_height_pNN`` and ``cloud_points`` (the count).
 
 A pixel counts when its centre is inside the ROI and it is valid (not nodata, alpha > 0).
@@ -19,15 +20,13 @@ from typing import Dict, List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..indices import RGB_NAMES
 from ..raster.geotiff import TAG_GDAL_METADATA, GeoTiff
 
 TRAIT_GROUPS = ("height", "cover", "bands", "index", "cloud")
 """What can be asked for: DSM heights, canopy cover, band means, the vegetation index (ExG or
 NDVI), point-cloud heights."""
 DEFAULT_PERCENTILES = (50.0, 95.0, 99.0)
-INDEX_RANGE = {"exg": (-1.0, 2.0), "ndvi": (-1.0, 1.0)}
-INDEX_BINS = 3000     # histogram bins over the index range (ExG: 0.001 per bin)
-RGB_NAMES = ("red", "green", "blue")
 
 
 def check_traits(traits: Optional[Sequence[str]]) -> Tuple[str, ...]:
@@ -89,72 +88,6 @@ def _gdal_descriptions(tif: GeoTiff) -> List[str]:
         if item.get("role") == "description" and item.get("sample") is not None:
             out[int(item.get("sample"))] = (item.text or "").strip()
     return [out.get(k, "") for k in range(max(out) + 1)] if out else []
-
-
-def index_kind(names: Sequence[str], tif: GeoTiff) -> Optional[str]:
-    """'ndvi' when red and nir are named, 'exg' when red, green and blue are, else None."""
-    if "red" in names and "nir" in names:
-        return "ndvi"
-    if all(n in names for n in RGB_NAMES):
-        return "exg"
-    return None
-
-
-def vegetation_index(kind: str, bands: np.ndarray, names: Sequence[str]) -> np.ndarray:
-    """ExG or NDVI of the values ``bands`` (bands, n), float64; NaN where undefined (zero
-    sum)."""
-    v = np.asarray(bands, np.float64)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        if kind == "ndvi":
-            red, nir = v[names.index("red")], v[names.index("nir")]
-            return (nir - red) / (nir + red)
-        r, g, b = (v[names.index(n)] for n in RGB_NAMES)
-        return (2 * g - r - b) / (r + g + b)
-
-
-def index_histogram(kind: str, values: np.ndarray) -> Tuple[int, np.ndarray]:
-    """Counts of the finite index values in :data:`INDEX_BINS` equal bins over the index range,
-    trimmed to the occupied bins: (first bin, counts)."""
-    lo, hi = INDEX_RANGE[kind]
-    v = values[np.isfinite(values)]
-    if not len(v):
-        return 0, np.zeros(0, np.int64)
-    k = np.clip(((v - lo) * (INDEX_BINS / (hi - lo))).astype(np.int64), 0, INDEX_BINS - 1)
-    start = int(k.min())
-    return start, np.bincount(k - start)
-
-
-def add_histogram(total: np.ndarray, hist: Tuple[int, np.ndarray]) -> None:
-    """Add a trimmed histogram into a full one (in place)."""
-    start, counts = hist
-    total[start:start + len(counts)] += counts
-
-
-def bin_centres(kind: str) -> np.ndarray:
-    lo, hi = INDEX_RANGE[kind]
-    return lo + (np.arange(INDEX_BINS) + 0.5) * ((hi - lo) / INDEX_BINS)
-
-
-def otsu_threshold(kind: str, counts: np.ndarray) -> Optional[float]:
-    """Otsu's threshold (scikit-image) of a full histogram of :data:`INDEX_BINS` bins; None
-    when the values do not fill two bins."""
-    from skimage.filters import threshold_otsu
-    nz = np.flatnonzero(counts)
-    if len(nz) < 2:
-        return None
-    sl = slice(nz[0], nz[-1] + 1)   # skimage wants no empty bins at the ends
-    return float(threshold_otsu(hist=(counts[sl], bin_centres(kind)[sl])))
-
-
-def cover_from_histogram(kind: str, hist: Tuple[int, np.ndarray], threshold: float) -> float:
-    """Share of the values above ``threshold`` (the bins whose centre is above it) in a
-    trimmed histogram; NaN when it is empty."""
-    start, counts = hist
-    total = counts.sum()
-    if not total:
-        return float("nan")
-    centres = bin_centres(kind)[start:start + len(counts)]
-    return float(counts[centres > threshold].sum() / total)
 
 
 # ---- heights ----------------------------------------------------------------------------------

@@ -6,10 +6,11 @@ from .crop_point_cloud_by_rois import CropPointCloudByROIs
 from .crop_raster_by_rois import CropRasterByROIs
 from .forward_project_polygons import ForwardProjectPolygons
 from .orthorectify_rois import OrthorectifyROIs
+from .photo_statistics import PhotoStatisticsAlgorithm
 from .point_cloud_roi_statistics import PointCloudROIStatistics
 from .roi_heights_from_dsm import ROIHeightsFromDSM
 from .season_traits import SeasonTraits
 
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
               PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits, BackProjectROIs,
-              ForwardProjectPolygons, OrthorectifyROIs]
+              ForwardProjectPolygons, OrthorectifyROIs, PhotoStatisticsAlgorithm]

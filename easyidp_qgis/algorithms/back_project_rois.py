@@ -7,19 +7,16 @@ from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink,
                        QgsProcessing, QgsProcessingException, QgsProcessingParameterBoolean,
                        QgsProcessingParameterDefinition,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer,
                        QgsProcessingUtils, QgsWkbTypes)
 from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
-from ..layers import (add_project_parameters, add_roi_parameters, crs_string, geotiff_source,
-                     open_project_parameter, optional_number, rois_from_source)
+from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
+                     dsm_parameter, height_source_parameter, open_project_parameter,
+                     rois_from_source)
 from .base import EasyIDPAlgorithm
-
-HEIGHT_Z, HEIGHT_DSM, HEIGHT_FIELD_, HEIGHT_CONSTANT = range(4)
 
 
 class BackProjectROIs(EasyIDPAlgorithm):
@@ -76,19 +73,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_roi_parameters(self)
         add_project_parameters(self)
-        self.addParameter(QgsProcessingParameterEnum(
-            self.HEIGHT_SOURCE, self.tr("Heights of the ROI vertices"),
-            [self.tr("Geometry Z (3-D polygons)"), self.tr("DSM, sampled at every vertex"),
-             self.tr("Attribute (one height per ROI)"), self.tr("Constant ground height")],
-            defaultValue=HEIGHT_DSM))
-        self.addParameter(QgsProcessingParameterRasterLayer(
-            self.DSM, self.tr("DSM (GeoTIFF): vertex heights and occlusion test"), optional=True))
-        self.addParameter(QgsProcessingParameterField(
-            self.HEIGHT_FIELD, self.tr("Height attribute"), parentLayerParameterName=self.ROIS,
-            type=QgsProcessingParameterField.Numeric, optional=True))
-        self.addParameter(self.decimals(QgsProcessingParameterNumber(
-            self.GROUND_HEIGHT, self.tr("Constant ground height (project vertical reference)"),
-            QgsProcessingParameterNumber.Double, optional=True), 3))
+        add_height_parameters(self)
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
             behavior=QgsProcessingParameterFile.Folder, optional=True))
@@ -133,38 +118,15 @@ class BackProjectROIs(EasyIDPAlgorithm):
 
     # --- running ----------------------------------------------------------------------------
     def run_tool(self, parameters, context, feedback):
-        from ...core.projection import (ConstantHeight, DSMHeights, GeometryZ, PerROIHeights,
-                                        back_project, crop_photos, resolve_photos)
+        from ...core.projection import back_project, crop_photos, resolve_photos
 
         recon = open_project_parameter(self, parameters, context, feedback)
         source = self.parameterAsSource(parameters, self.ROIS, context)
         name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
         rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
 
-        dsm_layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
-        dsm = None
-        if dsm_layer is not None:
-            dsm = DSMHeights(geotiff_source(dsm_layer, self.tr("DSM")), crs_string(dsm_layer.crs()))
-        kind = self.parameterAsEnum(parameters, self.HEIGHT_SOURCE, context)
-        if kind == HEIGHT_Z:
-            heights = GeometryZ()
-        elif kind == HEIGHT_DSM:
-            if dsm is None:
-                raise QgsProcessingException(self.tr(
-                    "Heights from the DSM: choose the DSM raster, or another height source."))
-            heights = dsm
-        elif kind == HEIGHT_FIELD_:
-            field = self.parameterAsString(parameters, self.HEIGHT_FIELD, context)
-            if not field:
-                raise QgsProcessingException(self.tr(
-                    "Heights from an attribute: choose the height attribute of the ROI layer."))
-            heights = PerROIHeights([f[field] for f in features])
-        else:
-            h = optional_number(self, parameters, self.GROUND_HEIGHT, context)
-            if h is None:
-                raise QgsProcessingException(self.tr(
-                    "Constant ground height: give the height, or choose another height source."))
-            heights = ConstantHeight(h)
+        dsm = dsm_parameter(self, parameters, context)
+        heights = height_source_parameter(self, parameters, context, features, dsm)
 
         occlusion = self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is not None
         if self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is None:

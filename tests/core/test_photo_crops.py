@@ -18,6 +18,7 @@ from easyidp_toolbox.core import Cancelled, InputError
 from easyidp_toolbox.core.geometry import points_in_rings
 from easyidp_toolbox.core.projection import back_project, crop_photos, draw_previews
 from easyidp_toolbox.core.projection import photo_crops
+from easyidp_toolbox.core.projection import photos as photos_module
 from easyidp_toolbox.core.reconstruction import Calibration, Camera, Reconstruction, Sensor
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
 from easyidp_toolbox.core.roi import ROI, ROISet
@@ -62,16 +63,16 @@ def _scene(tmp_path, ext="png", bands=3, dtype=np.uint8, n_cams=3):
 def test_crops_equal_the_photo_inside_the_polygon(tmp_path):
     recon, res, _ = _scene(tmp_path)
     decoded = []
-    real = photo_crops.read_photo
+    real = photos_module.read_photo
 
     def counting(path):
         decoded.append(path)
         return real(path)
-    photo_crops.read_photo = counting
+    photos_module.read_photo = counting
     try:
         out = crop_photos(res, tmp_path / "crops", margin=3, workers=2)
     finally:
-        photo_crops.read_photo = real
+        photos_module.read_photo = real
     assert len(decoded) == len(set(decoded)) == len(set(res.photo))     # each photo once
     assert len(out.files) == len(res) and not out.skipped_photos and out.empty == 0
     assert (tmp_path / "crops" / "plot_0").is_dir()                       # '/' made safe

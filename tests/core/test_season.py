@@ -25,7 +25,7 @@ from easyidp_toolbox.core.season import (plot_growth_curves, read_survey_table, 
                                          write_season_geopackage)
 from easyidp_toolbox.core.season import executors
 from easyidp_toolbox.core.season.ground import fit_plane, low_plane
-from easyidp_toolbox.core.season.traits import index_histogram, otsu_threshold, INDEX_BINS
+from easyidp_toolbox.core.indices import INDEX_BINS, index_histogram, otsu_threshold
 
 from season_helpers import small_season
 from synthetic import write_tif

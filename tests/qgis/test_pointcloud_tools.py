@@ -334,9 +334,9 @@ def test_statistics_bad_input(provider, realdata, tmp_path):
     res = _run(STATS, {"INPUT": str(realdata / SIMPLE), "INPUT_CRS": CRS, "ROIS": rois,
                        "OUTPUT": "memory:"})
     assert next(res["OUTPUT"].getFeatures())["count"] == _truth(_las(realdata, SIMPLE), SIMPLE_ROI).sum()
-    with pytest.raises(QgsProcessingException, match="Height percentiles: 'abc'"):
+    with pytest.raises(QgsProcessingException, match="Percentiles: 'abc'"):
         _stats(realdata, _rois(PLOTS), PERCENTILES="5,abc")
-    with pytest.raises(QgsProcessingException, match="Height percentiles: '150'"):
+    with pytest.raises(QgsProcessingException, match="Percentiles: '150'"):
         _stats(realdata, _rois(PLOTS), PERCENTILES="150")
     with pytest.raises(QgsProcessingException, match="None of the 1 ROIs contains a point"):
         _stats(realdata, _rois([("far", OUTSIDE)]))

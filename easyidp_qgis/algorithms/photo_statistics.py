@@ -1,0 +1,269 @@
+"""Processing tool: Plot statistics from raw photos (easyidp:photostatistics)."""
+import os
+
+from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProcessing,
+                       QgsProcessingException, QgsProcessingParameterBoolean,
+                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFile,
+                       QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
+                       QgsProcessingParameterString, QgsProcessingParameterVectorLayer,
+                       QgsProcessingUtils, QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
+
+from .. import presentation
+from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
+                      backprojection_from_layer, dsm_parameter, height_source_parameter,
+                      open_project_parameter, optional_number, parse_percentiles,
+                      rois_from_source)
+from .base import EasyIDPAlgorithm
+
+STATISTIC_CHOICES = ("mean", "median", "std")
+INDEX_CHOICES = ("exg", "exgr", "vari", "gli", "ndvi", "ndre")
+
+
+class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
+    ROIS = "ROIS"
+    NAME_FIELD = "NAME_FIELD"
+    PROJECT = "PROJECT"
+    CHUNK = "CHUNK"
+    PROJECT_CRS = "PROJECT_CRS"
+    BACKPROJECTION = "BACKPROJECTION"
+    HEIGHT_SOURCE = "HEIGHT_SOURCE"
+    DSM = "DSM"
+    HEIGHT_FIELD = "HEIGHT_FIELD"
+    GROUND_HEIGHT = "GROUND_HEIGHT"
+    PHOTOS = "PHOTOS"
+    OCCLUSION = "OCCLUSION"
+    STATISTICS = "STATISTICS"
+    PERCENTILES = "PERCENTILES"
+    INDICES = "INDICES"
+    COVER_THRESHOLD = "COVER_THRESHOLD"
+    MIN_VISIBLE = "MIN_VISIBLE"
+    MAX_IMAGES = "MAX_IMAGES"
+    WEIGHTED = "WEIGHTED"
+    BANDS = "BANDS"
+    DISTORTION = "DISTORTION"
+    OUTPUT_VIEWS = "OUTPUT_VIEWS"
+    OUTPUT = "OUTPUT"
+    PREVIEW_FOLDER = "PREVIEW_FOLDER"
+
+    NAME = "photostatistics"
+    DISPLAY = "Plot statistics from raw photos"
+    GROUP = "Projection"
+    GROUP_ID = "projection"
+    HELP = (
+        "Measures every ROI (plot) in every raw photo that sees it, and gives each ROI one "
+        "robust value across its views. Raw photos have no ghosting or seamlines and true "
+        "colour from near-nadir views.\n\n"
+        "Inputs as Back-project ROIs: the ROI polygons, the photogrammetry project, the heights "
+        "of the ROI vertices and a DSM; the backward projection runs here, unless its photo-pixel "
+        "layer (the OUTPUT of Back-project ROIs) is given, which is then used as it is.\n\n"
+        "Per ROI and photo, the pixels whose centre is inside the ROI's polygon (clipped to the "
+        "frame) give: per band the mean, median, standard deviation and chosen percentiles, in "
+        "the photo's own values (8-bit, 16-bit or float; never converted to 8-bit); the "
+        "vegetation indices ExG, ExGR, VARI, GLI (red, green, blue) and NDVI, NDRE (for "
+        "multispectral photos, name the bands, e.g. 'blue,green,red,rededge,nir'); the canopy "
+        "cover (share of pixels whose NDVI, else ExG, is at or above the threshold: the one "
+        "given, or Otsu's over all views); the pixel count and the GSD. With a DSM, pixels "
+        "whose line of sight meets the surface outside the ROI (hidden by a tree, a neighbour, "
+        "a wall) are left out and their share is reported.\n\n"
+        "Across views, per ROI: the median of each statistic (score-weighted if asked), its "
+        "MAD, minimum and maximum over the views used (visible share at least the minimum; "
+        "the best ones by score when a maximum is set), their number, each view's deviation "
+        "from its ROI's value and each ROI's largest (the disagreement; about 1 is typical for "
+        "the field, several times more flags a shadow, wind, a bad pose). "
+        "Oblique views see the sides of tall canopy, so cover and indices grow with the view "
+        "angle: the default keeps the 3 best views.\n\n"
+        "No vignetting or radiometric correction is applied: the photos are measured as they "
+        "are stored (correct them first when you need reflectance).\n\n"
+        "Outputs: a table of every ROI × photo with its statistics; the ROIs with the "
+        "across-view values; optionally one PNG per ROI with the views used side by side and "
+        "their values.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        add_roi_parameters(self)
+        add_project_parameters(self)
+        self.addParameter(QgsProcessingParameterVectorLayer(
+            self.BACKPROJECTION, self.tr("Back-projection: the photo-pixel layer of Back-project "
+                                         "ROIs (empty: run it here)"),
+            [QgsProcessing.TypeVectorPolygon], optional=True))
+        add_height_parameters(self)
+        self.addParameter(QgsProcessingParameterFile(
+            self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
+            behavior=QgsProcessingParameterFile.Folder, optional=True))
+        self.addParameter(QgsProcessingParameterBoolean(
+            self.OCCLUSION, self.tr("Leave out pixels hidden by the DSM (when a DSM is given)"),
+            True))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.STATISTICS, self.tr("Statistics of every band and index"),
+            [self.tr("Mean"), self.tr("Median"), self.tr("Standard deviation")],
+            allowMultiple=True, defaultValue=[0, 1, 2]))
+        self.addParameter(QgsProcessingParameterString(
+            self.PERCENTILES, self.tr("Percentiles (comma-separated, 0–100; empty: none)"),
+            defaultValue="5,95", optional=True))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.INDICES, self.tr("Vegetation indices (those the bands allow)"),
+            ["ExG", "ExGR", "VARI", "GLI", "NDVI", "NDRE"], allowMultiple=True,
+            defaultValue=list(range(len(INDEX_CHOICES)))))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.COVER_THRESHOLD, self.tr("Cover threshold on NDVI or ExG (empty: Otsu's)"),
+            QgsProcessingParameterNumber.Double, optional=True, minValue=-3.0, maxValue=3.0))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.MIN_VISIBLE, self.tr("Minimum visible share of a ROI in a view used"),
+            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0))
+        self.addParameter(QgsProcessingParameterNumber(
+            self.MAX_IMAGES, self.tr("Best views used per ROI (0 = all)"),
+            QgsProcessingParameterNumber.Integer, 3, minValue=0))
+        self.addParameter(QgsProcessingParameterBoolean(
+            self.WEIGHTED, self.tr("Weight the views by their score (weighted median)"), False))
+        p = QgsProcessingParameterString(
+            self.BANDS, self.tr("Band names of the photos, comma-separated (default: red,green,"
+                                "blue for 3 bands; e.g. blue,green,red,rededge,nir)"),
+            optional=True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        p = QgsProcessingParameterBoolean(
+            self.DISTORTION, self.tr("Apply the lens distortion (off for undistorted photos)"), True)
+        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        self.addParameter(p)
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT_VIEWS, self.tr("Statistics of every ROI × photo"),
+            QgsProcessing.TypeVector))
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT, self.tr("ROIs with their across-view statistics"),
+            QgsProcessing.TypeVectorPolygon))
+        self.addParameter(QgsProcessingParameterFolderDestination(
+            self.PREVIEW_FOLDER, self.tr("Preview per ROI (the views used, with their values)"),
+            optional=True, createByDefault=False))
+        self.add_overwrite_parameter()
+
+    # --- running ----------------------------------------------------------------------------
+    def run_tool(self, parameters, context, feedback):
+        from ...core.projection import back_project, photo_statistics
+
+        recon = open_project_parameter(self, parameters, context, feedback)
+        source = self.parameterAsSource(parameters, self.ROIS, context)
+        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
+        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        dsm = dsm_parameter(self, parameters, context)
+        occlusion = self.parameterAsBool(parameters, self.OCCLUSION, context)
+        if occlusion and dsm is None:
+            feedback.pushInfo(self.tr("No DSM given: hidden pixels are not left out."))
+        distortion = self.parameterAsBool(parameters, self.DISTORTION, context)
+        stats = [STATISTIC_CHOICES[k] for k in
+                 self.parameterAsEnums(parameters, self.STATISTICS, context)]
+        percentiles = parse_percentiles(self, self.parameterAsString(parameters, self.PERCENTILES,
+                                                                      context))
+        indices = [INDEX_CHOICES[k] for k in self.parameterAsEnums(parameters, self.INDICES, context)]
+        bands_text = self.parameterAsString(parameters, self.BANDS, context)
+        bands = [b.strip() for b in bands_text.split(",") if b.strip()] if bands_text else None
+        previews = parameters.get(self.PREVIEW_FOLDER)
+        previews = self.parameterAsFileOutput(parameters, self.PREVIEW_FOLDER, context) \
+            if previews not in (None, "") else None
+
+        layer = self.parameterAsVectorLayer(parameters, self.BACKPROJECTION, context)
+        if layer is not None:
+            result = backprojection_from_layer(layer, self.tr("Back-projection"), rois.names,
+                                               recon, feedback)
+            result.settings["distortion"] = distortion
+            feedback.pushInfo(self.tr("Back-projection from the layer '{name}': {k} ROI × photo "
+                                      "pairs.").format(name=layer.name(), k=len(result)))
+        else:
+            heights = height_source_parameter(self, parameters, context, features, dsm)
+            feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
+                n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
+            result = back_project(rois, recon, heights=heights, distortion=distortion,
+                                  occlusion_dsm=dsm, min_visible=0.0,
+                                  progress=lambda p: feedback.setProgress(5 + 25 * p / 100.0),
+                                  is_cancelled=feedback.isCanceled)
+            for note in result.notes:
+                feedback.pushWarning(note)
+        if not len(result):
+            raise QgsProcessingException(self.tr(
+                "No ROI is seen by any photo: check that the ROIs lie in the surveyed area and "
+                "in the right CRS."))
+
+        feedback.pushInfo(self.tr("Measuring {k} ROI × photo pairs in {m} photos…").format(
+            k=len(result), m=len(set(result.photo_index.tolist()))))
+        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
+        stats_result = photo_statistics(
+            result, photos, bands=bands, statistics=stats, percentiles=percentiles,
+            indices=indices, cover_threshold=optional_number(self, parameters,
+                                                             self.COVER_THRESHOLD, context),
+            min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
+            max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
+            weighted=self.parameterAsBool(parameters, self.WEIGHTED, context),
+            recon=recon, rois=rois, occlusion_dsm=dsm if occlusion else None,
+            distortion=distortion, previews_folder=previews,
+            overwrite=self.overwrite(parameters, context),
+            progress=lambda p: feedback.setProgress(30 + 65 * p / 100.0),
+            is_cancelled=feedback.isCanceled)
+        for note in stats_result.notes:
+            feedback.pushInfo(note)
+        for label, why in list(stats_result.skipped_photos.items())[:50]:
+            feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
+        unused = [n for n, v in zip(stats_result.roi_names, stats_result.views) if not v]
+        if unused:
+            feedback.pushWarning(self.tr("{n} ROI(s) without a view used: {names}").format(
+                n=len(unused), names=", ".join(unused[:20]) + (" …" if len(unused) > 20 else "")))
+
+        outputs = {self.OUTPUT_VIEWS: self._write_views(parameters, context, stats_result),
+                   self.OUTPUT: self._write_rois(parameters, context, source, features,
+                                                 stats_result)}
+        project = os.path.basename(
+            self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
+        shown = shown_field(stats_result.roi_fields())
+        presentation.present(
+            self, context, outputs[self.OUTPUT], self.OUTPUT,
+            presentation.graduated_style(shown, decimals=2, ramp="Viridis") if shown else None,
+            self.tr("{rois}: plot statistics from the photos of {project}").format(
+                rois=source.sourceName(), project=project))
+        presentation.present(
+            self, context, outputs[self.OUTPUT_VIEWS], self.OUTPUT_VIEWS, None,
+            self.tr("{rois}: statistics per photo").format(rois=source.sourceName()))
+        if previews:
+            outputs[self.PREVIEW_FOLDER] = previews
+        feedback.setProgress(100)
+        feedback.pushInfo(stats_result.summary())
+        return outputs
+
+    def _write_views(self, parameters, context, st):
+        fields = QgsFields()
+        kinds = {"roi": QVariant.String, "photo": QVariant.String, "rank": QVariant.Int,
+                 "polygon_pixels": QVariant.LongLong, "pixels": QVariant.LongLong,
+                 "used": QVariant.Bool, "why": QVariant.String}
+        names = list(st.VIEW_FIELDS) + list(st.columns)
+        for name in names:
+            fields.append(QgsField(name, kinds.get(name, QVariant.Double)))
+        sink, dest = self.parameterAsSink(parameters, self.OUTPUT_VIEWS, context, fields,
+                                          QgsWkbTypes.NoGeometry)
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_VIEWS))
+        for row in st.view_rows():
+            f = QgsFeature(fields)
+            f.setAttributes([row[n] for n in names])
+            sink.addFeature(f, QgsFeatureSink.FastInsert)
+        return dest
+
+    def _write_rois(self, parameters, context, source, features, st):
+        extra = QgsFields()
+        for name in st.roi_fields():
+            extra.append(QgsField(name, QVariant.Int if name == "views" else QVariant.Double))
+        fields = QgsProcessingUtils.combineFields(source.fields(), extra)
+        sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
+                                          source.wkbType(), source.sourceCrs())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        rows = st.roi_rows()
+        for feat, row in zip(features, rows):
+            f = QgsFeature(fields)
+            f.setGeometry(feat.geometry())
+            f.setAttributes(list(feat.attributes()) + [row[n] for n in st.roi_fields()])
+            sink.addFeature(f, QgsFeatureSink.FastInsert)
+        return dest
+
+
+def shown_field(names):
+    """The field the ROI layer is coloured by: the canopy cover, else mean ExG or NDVI."""
+    return presentation.first_field(names, ["cover", "exg_mean", "ndvi_mean", "exg_median",
+                                            "ndvi_median"])

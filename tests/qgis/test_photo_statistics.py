@@ -1,0 +1,126 @@
+"""Plot statistics from raw photos (easyidp:photostatistics) in real QGIS and through qgis_process.
+
+The values are the core's (tests/core/test_photo_statistics.py checks them against brute force
+and the demo's truth); here: the tool's two routes (running the backward projection itself, or
+taking the photo-pixel layer of Back-project ROIs) give the same values, its outputs, and its
+messages for bad input.
+"""
+import numpy as np
+import pytest
+from qgis.core import QgsProcessingContext, QgsProcessingException, QgsProcessingFeedback, QgsProject
+
+from easyidp_toolbox.scripts.qgis_process import run_algorithm
+
+ALG = "easyidp:photostatistics"
+
+
+@pytest.fixture(scope="module")
+def survey(tmp_path_factory):
+    from easyidp_toolbox.core.demo import make_demo_survey
+    return make_demo_survey(str(tmp_path_factory.mktemp("ps_qgis")), seed=0, size="small")
+
+
+def _run(alg, params):
+    import processing
+    context = QgsProcessingContext()
+    context.setProject(QgsProject.instance())
+    return processing.run(alg, params, context=context, feedback=QgsProcessingFeedback())
+
+
+def _base(survey, **kw):
+    return dict({"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+                 "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 1, "DSM": survey.dsm,
+                 "OUTPUT_VIEWS": "memory:", "OUTPUT": "memory:"}, **kw)
+
+
+def test_statistics_of_the_demo_plots_by_both_routes(provider, survey, tmp_path):
+    res = _run(ALG, _base(survey, PREVIEW_FOLDER=str(tmp_path / "previews")))
+    views, rois = res["OUTPUT_VIEWS"], res["OUTPUT"]
+    assert rois.featureCount() == 40 and rois.crs().authid() == "EPSG:32654"
+    names = rois.fields().names()
+    for f in ("plot_id", "exg_mean", "exg_mean_mad", "exg_mean_min", "exg_mean_max", "cover",
+              "red_p95", "views", "disagreement"):
+        assert f in names, f
+    by_plot = {f["plot_id"]: f for f in rois.getFeatures()}
+    assert all(f["views"] == 3 for f in by_plot.values())         # MAX_IMAGES defaults to 3
+    rows = list(views.getFeatures())
+    assert views.fields().names()[:3] == ["roi", "photo", "rank"] and len(rows) > 120
+    used = [r for r in rows if r["used"]]
+    assert len(used) == 120 and all(r["occluded_share"] == 0.0 for r in used)
+    # the across-view value is the median of the views used
+    a1 = sorted(r["exg_mean"] for r in used if r["roi"] == "A1")
+    assert by_plot["A1"]["exg_mean"] == pytest.approx(a1[1], abs=1e-12)
+    assert len(list((tmp_path / "previews").glob("*.png"))) == 40
+    # the photo-pixel layer of Back-project ROIs as input: the same values
+    bp = _run("easyidp:backprojectrois", {
+        "ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+        "HEIGHT_SOURCE": 1, "DSM": survey.dsm, "MIN_VISIBLE": 0, "OUTPUT": "memory:",
+        "OUTPUT_SUMMARY": "memory:"})
+    again = _run(ALG, _base(survey, BACKPROJECTION=bp["OUTPUT"]))
+    for f in again["OUTPUT"].getFeatures():
+        g = by_plot[f["plot_id"]]
+        for name in ("exg_mean", "cover", "green_median", "views"):
+            assert f[name] == pytest.approx(g[name], abs=1e-9), (f["plot_id"], name)
+
+
+def test_multispectral_band_names_and_bad_input(provider, survey, tmp_path):
+    with pytest.raises(QgsProcessingException, match="3 band\\(s\\) but 5"):
+        _run(ALG, _base(survey, BANDS="blue,green,red,rededge,nir"))
+    with pytest.raises(QgsProcessingException, match="not a number"):
+        _run(ALG, _base(survey, PERCENTILES="5,abc"))
+    with pytest.raises(QgsProcessingException, match="Heights from the DSM"):
+        _run(ALG, _base(survey, DSM=None))
+    bad = tmp_path / "layer.geojson"
+    bad.write_text('{"type": "FeatureCollection", "features": [{"type": "Feature", '
+                   '"properties": {"x": 1}, "geometry": {"type": "Polygon", "coordinates": '
+                   '[[[0, 0], [10, 0], [10, -10], [0, 0]]]}}]}')
+    with pytest.raises(QgsProcessingException, match="no field 'roi'"):
+        _run(ALG, _base(survey, BACKPROJECTION=str(bad)))
+
+
+def test_headless_with_a_given_threshold(qp_env, survey, tmp_path):
+    res = run_algorithm(ALG, {
+        "ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id", "PROJECT": survey.pix4d_project,
+        "HEIGHT_SOURCE": 1, "DSM": survey.dsm, "COVER_THRESHOLD": 0.3, "STATISTICS": "0",
+        "PERCENTILES": "", "INDICES": "0", "MAX_IMAGES": 0,
+        "OUTPUT_VIEWS": str(tmp_path / "views.gpkg"), "OUTPUT": str(tmp_path / "plots.gpkg")},
+        qp_env)
+    from osgeo import ogr
+    ds = ogr.Open(res["OUTPUT"])
+    layer = ds.GetLayer(0)
+    assert layer.GetFeatureCount() == 40
+    names = [layer.GetLayerDefn().GetFieldDefn(k).GetName()
+             for k in range(layer.GetLayerDefn().GetFieldCount())]
+    assert "exg_mean" in names and "cover" in names and "exgr_mean" not in names
+    covers = np.array([f.GetField("cover") for f in layer])
+    assert np.all((covers > 0.2) & (covers < 0.7))
+
+
+def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey):
+    """In the desktop (QGIS's own loader of results): the ROI layer is named after the inputs
+    and coloured by canopy cover over the orthomosaic; the per-photo table is named too."""
+    from processing.gui.Postprocessing import handleAlgorithmResults
+    from qgis.core import QgsApplication, QgsProcessingOutputLayerDefinition
+    project = QgsProject.instance()
+    project.clear()
+    try:
+        context = QgsProcessingContext()
+        context.setProject(project)
+        feedback = QgsProcessingFeedback()
+        params = _base(survey, STATISTICS=[0], PERCENTILES="", INDICES=[0], OCCLUSION=False,
+                       MAX_IMAGES=1)
+        for name in ("OUTPUT", "OUTPUT_VIEWS"):
+            params[name] = QgsProcessingOutputLayerDefinition("TEMPORARY_OUTPUT", project)
+        alg = QgsApplication.processingRegistry().createAlgorithmById(ALG)
+        _, ok = alg.run(params, context, feedback)
+        assert ok, feedback.textLog()
+        assert handleAlgorithmResults(alg, context, feedback, False, params)
+        layers = {v.name(): v for v in project.mapLayers().values()}
+        plots = layers["plots: plot statistics from the photos of "
+                       + survey.metashape_project.rsplit("/", 1)[-1]]
+        renderer = plots.renderer()
+        assert renderer.type() == "graduatedSymbol" and renderer.classAttribute() == "cover"
+        assert plots.labelsEnabled()
+        assert "plots: statistics per photo" in layers
+    finally:
+        project.clear()
