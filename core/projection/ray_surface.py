@@ -404,17 +404,18 @@ def _traverse(surface: DSMSurface, r: _Rays, prog):
         zc = surface.zmax if np.isfinite(surface.zmax) else np.inf
 
         def tile_class(ids, iv, iu, ta, tb, zl, aux):
+            # the slot first: another thread may be reading tiles, and sets a tile's slot
+            # only after its maxima
+            unread = surface.slot[iv, iu] < 0
             top = surface.tile_max[iv, iu]
             top = np.where(surface.tile_nod[iv, iu], np.maximum(top, zc), top)
             c = ((zl <= top) & (tb > ta)).astype(np.int8)
-            c[surface.slot[iv, iu] < 0] = 2
+            c[unread] = 2
             return c
 
         code, tv, tu, ta, tb = _walk(r, active, t_cur[active], r.t1[active], T, zero, tiles_hi,
                                      tile_class, surface.ntu + surface.ntv + 2)
-        ended = (code == 0) & (ta >= r.t1[active])
-        if ended.any():
-            _end_status(surface, r, active[ended], status)
+        ended = (code == 0) & (ta >= r.t1[active])     # MISS or LEFT: decided by _run
         t_cur[active] = ta                               # tile entry, or where the walk stopped
         want = np.flatnonzero(code == 2)
         if want.size:
@@ -456,8 +457,9 @@ def _traverse(surface: DSMSurface, r: _Rays, prog):
                 samples = surface.samples_flat()
 
                 def cell_class(ids, iv, iu, ta_, tb_, zl, ax):
-                    # segments lie in one block: a cell beyond it is a zero-length sliver at
-                    # its edge, where the edge cell's patch (clipped index) is exact
+                    # segments lie in one block: a step beyond it inside the tile is the
+                    # next cell; beyond the tile, a zero-length sliver at its edge, where the
+                    # edge cell's patch (clipped index, also given to the solve) is exact
                     lv = np.clip(iv - ax[:, 1], 0, T - 1)
                     lu = np.clip(iu - ax[:, 2], 0, T - 1)
                     f = ax[:, 0] * (T * T) + lv * T + lu
@@ -473,7 +475,9 @@ def _traverse(surface: DSMSurface, r: _Rays, prog):
                              samples[f + T1].astype(np.float64),
                              samples[f + T1 + 1].astype(np.float64))
                         items = bi[ids[test]]
-                        th = _solve_cells(r, items, iv[test], iu[test], ta_[test], tb_[test], h)
+                        # the solve uses the cell whose corners were read: the clipped one
+                        th = _solve_cells(r, items, lv[test] + ax[test, 1], lu[test] + ax[test, 2],
+                                          ta_[test], tb_[test], h)
                         got = np.isfinite(th)
                         c[test[got]] = 1
                         k = ids[test[got]]
@@ -513,14 +517,6 @@ def _tiles_ahead(surface: DSMSurface, r: _Rays, idx, ta, k: int) -> set:
     return found
 
 
-def _end_status(surface: DSMSurface, r: _Rays, k, status) -> None:
-    """Rays whose range ended without a hit: LEFT when they leave the extent at a height where
-    they could still meet the ground, else MISS."""
-    z_end = r.oz[k] + r.dz[k] * r.t1[k]
-    left = r.at_edge[k] & (z_end <= surface.zmax)
-    status[k] = np.where(left, LEFT, MISS)
-
-
 def _clip_to_extent(surface: DSMSurface, o, d, tmax):
     """Ray parameter range [t0, t1] inside the extent (slab method) and whether t1 is the
     extent's edge (not ``tmax``)."""
@@ -550,6 +546,7 @@ def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
     n = len(o)
     t = np.full(n, np.nan)
     st = np.full(n, MISS, np.uint8)
+    side_entry = np.zeros(n, bool)
 
     def batch(b0: int) -> None:
         sl = slice(b0, min(n, b0 + BATCH))
@@ -559,6 +556,7 @@ def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
         # at all) outside the DSM
         side = (sb_ == HIT) & (tb_ <= r.t0) & (r.t0 > 0)
         sb_[side] = MISS
+        side_entry[sl] = side
         t[sl], st[sl] = tb_, sb_
 
     starts = list(range(0, n, BATCH))
@@ -567,6 +565,12 @@ def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
     else:                      # numpy releases the GIL in its loops: one thread per core
         with ThreadPoolExecutor(min(len(starts), os.cpu_count() or 2)) as pool:
             list(pool.map(batch, starts))
+    # rays whose range ended without a hit: LEFT when they leave the extent at a height where
+    # they could still meet the ground (the highest height the whole run read: not the order
+    # in which threads read tiles), else MISS
+    ended = (st == MISS) & (t0 < t1) & ~side_entry
+    st[ended] = np.where(edge[ended] & (o[ended, 2] + d[ended, 2] * t1[ended] <= surface.zmax),
+                         LEFT, MISS)
     return o, d, t, st, t0, t1
 
 

@@ -182,6 +182,29 @@ def test_geocentric_frame_is_linearised_within_a_millimetre(dsm):
     assert np.abs(exact[:, 2] - h).max() < 2e-3      # on the surface (slopes up to 24 m/m)
 
 
+def test_hits_lie_on_the_surface_across_tile_edges(tmp_path):
+    """Rays entering a tile exactly at its edge (tiles of 8 cells: edges everywhere), on rows
+    of sharp steps, read cold (tile by tile as the rays need them) and warm: every hit lies
+    on the reference surface and both runs agree (independent truth: the surface written here;
+    once a ray entering a tile was solved against the wrong cell at its edge, and a thread
+    could pass over a tile another thread was reading)."""
+    z = make_dsm()
+    z[:, ::4] = np.where(z[:, ::4] == NODATA_VALUE, NODATA_VALUE, z[:, ::4] + 0.6)  # crop rows
+    path = write_tif(str(tmp_path / "rows.tif"), z, origin=ORIGIN, pixel=PIXEL,
+                     nodata=NODATA_VALUE, tile=32)
+    offset = np.array([ORIGIN[0], ORIGIN[1] - 50.0, 100.0])
+    frame = OffsetFrame(CRS.from_epsg(32654), offset)
+    o, d = random_rays(np.random.default_rng(5), 20000, offset)
+    surface = DSMSurface(path, tile=8)
+    cold = first_hits(surface, frame, o, d)
+    warm = first_hits(surface, frame, o, d)
+    assert np.array_equal(cold.status, warm.status)
+    assert np.allclose(cold.distance, warm.distance, atol=1e-9, equal_nan=True)
+    ok = (cold.status == HIT) & (cold.distance > 0)
+    assert ok.sum() > 5000
+    h, _ = reference_surface(z)(cold.xyz[ok, 0], cold.xyz[ok, 1])
+    assert np.abs(cold.xyz[ok, 2] - h).max() < 1e-3
+
 def test_reads_only_the_tiles_along_the_rays(dsm):
     path, _ = dsm
     offset = np.array([ORIGIN[0], ORIGIN[1] - 50.0, 100.0])
