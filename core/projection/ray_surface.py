@@ -19,7 +19,9 @@ below :data:`LINEARISATION_TOLERANCE` (``RayHits.linearisation_error`` reports i
 :data:`BLOCK` cells (a max-mipmap level) and cells. A tile or block is entered only when the
 ray comes down to its highest height; in a cell, the bilinear height along the ray is a
 quadratic in the ray parameter, solved exactly for its smallest root. Every cell crossed by
-the ray's ground track is visited in order, so no ridge can be stepped over.
+the ray's ground track is visited in order, so no ridge can be stepped over. Rays are
+traversed in batches, one thread per core; the tiles they first come down into are read
+before, in two large sweeps (each file block decoded once), and the rest as rays reach them.
 
 **Result** per ray: ``HIT`` (the first point of the ray at or below the surface, from its
 origin), ``MISS`` (it never reaches the surface inside the DSM within ``max_distance``, e.g.
@@ -38,7 +40,7 @@ import numpy as np
 from ..errors import EasyIDPError, InputError
 from ..progress import as_progress
 from ..raster.geotiff import GeoTiff, open_geotiff
-from ..raster.sweep import Window, sweep_windows
+from ..raster.sweep import Window, sweep_windows, thread_pool
 
 HIT, MISS, LEFT, NODATA = 0, 1, 2, 3
 STATUS_NAMES = {HIT: "hit", MISS: "miss", LEFT: "left the DSM", NODATA: "nodata"}
@@ -169,7 +171,16 @@ class DSMSurface:
             self._summarise(ti, tj, s, self._cmax[slot])
             self.slot[ti, tj] = slot
 
-        sweep_windows(tif, wins, prepare, as_progress(progress))
+        try:
+            with thread_pool() as pool:     # copies and maxima beside the decoding
+                jobs = []
+                sweep_windows(tif, wins, lambda k, arr: jobs.append(pool.submit(prepare, k, arr)),
+                              as_progress(progress))
+                for job in jobs:
+                    job.result()
+        except BaseException:               # cancelled or unreadable: forget the partial read
+            self.slot[self.slot >= self._n] = -1
+            raise
         self._n = need
         self.tiles_read += len(todo)
 
@@ -385,6 +396,49 @@ def _solve_cells(r: _Rays, idx, iv, iu, t_in, t_out, h):
     return np.where(np.isfinite(s), t_in + s, np.nan)
 
 
+def _nodata_ceiling(surface: DSMSurface) -> float:
+    """Nodata may hide anything up to the highest height read (anything at all before a read)."""
+    return surface.zmax if np.isfinite(surface.zmax) else np.inf
+
+
+def _tile_walk(surface: DSMSurface, r: _Rays, idx, ta, zc):
+    """Walk the rays ``idx`` from ``ta`` over the tiles to the first one they come down into
+    (code 1) or that is not read yet (code 2); ``_walk``'s (code, iv, iu, t_in, t_out)."""
+    def tile_class(ids, iv, iu, t_in, t_out, zl, aux):
+        # the slot first: another thread may be reading tiles, and sets a tile's slot only
+        # after its maxima
+        unread = surface.slot[iv, iu] < 0
+        top = surface.tile_max[iv, iu]
+        top = np.where(surface.tile_nod[iv, iu], np.maximum(top, zc), top)
+        c = ((zl <= top) & (t_out > t_in)).astype(np.int8)
+        c[unread] = 2
+        return c
+
+    return _walk(r, idx, ta, r.t1[idx], surface.T, np.array([0, 0]),
+                 np.array([surface.ntv - 1, surface.ntu - 1]), tile_class,
+                 surface.ntu + surface.ntv + 2)
+
+
+def _read_wanted(surface: DSMSurface, r: _Rays, idx, tv, tu, ta, prog) -> None:
+    """Read the unread tiles (tv, tu) where the rays ``idx`` stopped at ``ta``, the unread
+    tiles next on their way down, and (for a large job) the holes of the area read, so that
+    file blocks shared by neighbouring tiles are decoded once."""
+    need = set(zip(tv.tolist(), tu.tolist()))
+    if np.isfinite(surface.zmax):
+        need |= _tiles_ahead(surface, r, idx, ta, PREFETCH)
+    if len(need) >= 4:
+        a = np.array(sorted(need))
+        (v0, u0), (v1, u1) = a.min(axis=0), a.max(axis=0)
+        grown = set()
+        for tv_, tu_ in need:
+            for dv_ in (-1, 0, 1):
+                for du_ in (-1, 0, 1):
+                    if v0 <= tv_ + dv_ <= v1 and u0 <= tu_ + du_ <= u1:
+                        grown.add((tv_ + dv_, tu_ + du_))
+        need |= grown
+    surface.load(need, prog)
+
+
 def _traverse(surface: DSMSurface, r: _Rays, prog):
     """First hits of a batch of rays in pixel space → (t (n,), status (n,))."""
     n = len(r.t0)
@@ -395,44 +449,17 @@ def _traverse(surface: DSMSurface, r: _Rays, prog):
     t_cur = r.t0.copy()
     active = np.flatnonzero(r.t0 < r.t1)
     zero = np.array([0, 0])
-    tiles_hi = np.array([surface.ntv - 1, surface.ntu - 1])
     blocks_hi = np.array([surface.ntv * nb - 1, surface.ntu * nb - 1])
     cells_hi = np.array([surface.H, surface.W])
     while active.size:
         prog.check()
-        # nodata may hide anything up to the highest height read
-        zc = surface.zmax if np.isfinite(surface.zmax) else np.inf
-
-        def tile_class(ids, iv, iu, ta, tb, zl, aux):
-            # the slot first: another thread may be reading tiles, and sets a tile's slot
-            # only after its maxima
-            unread = surface.slot[iv, iu] < 0
-            top = surface.tile_max[iv, iu]
-            top = np.where(surface.tile_nod[iv, iu], np.maximum(top, zc), top)
-            c = ((zl <= top) & (tb > ta)).astype(np.int8)
-            c[unread] = 2
-            return c
-
-        code, tv, tu, ta, tb = _walk(r, active, t_cur[active], r.t1[active], T, zero, tiles_hi,
-                                     tile_class, surface.ntu + surface.ntv + 2)
+        zc = _nodata_ceiling(surface)
+        code, tv, tu, ta, tb = _tile_walk(surface, r, active, t_cur[active], zc)
         ended = (code == 0) & (ta >= r.t1[active])     # MISS or LEFT: decided by _run
         t_cur[active] = ta                               # tile entry, or where the walk stopped
         want = np.flatnonzero(code == 2)
         if want.size:
-            need = set(zip(tv[want].tolist(), tu[want].tolist()))
-            if np.isfinite(surface.zmax):   # and the unread tiles next on the way down
-                need |= _tiles_ahead(surface, r, active[want], ta[want], PREFETCH)
-            if len(need) >= 4:              # a large job: fill the holes of the area read, so
-                a = np.array(sorted(need))  # that file blocks shared by tiles decode once
-                (v0, u0), (v1, u1) = a.min(axis=0), a.max(axis=0)
-                grown = set()
-                for tv_, tu_ in need:
-                    for dv_ in (-1, 0, 1):
-                        for du_ in (-1, 0, 1):
-                            if v0 <= tv_ + dv_ <= v1 and u0 <= tu_ + du_ <= u1:
-                                grown.add((tv_ + dv_, tu_ + du_))
-                need |= grown
-            surface.load(need, prog)
+            _read_wanted(surface, r, active[want], tv[want], tu[want], ta[want], prog)
         keep = ~ended
         cand = np.flatnonzero(code == 1)
         if cand.size:
@@ -539,6 +566,19 @@ def _clip_to_extent(surface: DSMSurface, o, d, tmax):
     return t0, t1, edge
 
 
+def _first_wave(surface: DSMSurface, r: _Rays, prog, waves: int = 2) -> None:
+    """Read the tiles all rays come down into first, in a few large sweeps, before threads
+    traverse batches of them: threads that read in turn, tile by tile, would decode the file
+    blocks shared by neighbouring tiles again and again."""
+    idx = np.flatnonzero(r.t0 < r.t1)
+    for _ in range(waves):
+        code, tv, tu, ta, _ = _tile_walk(surface, r, idx, r.t0[idx], _nodata_ceiling(surface))
+        want = np.flatnonzero(code == 2)
+        if not want.size:
+            return
+        _read_wanted(surface, r, idx[want], tv[want], tu[want], ta[want], prog)
+
+
 def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
     o = origins @ aff.M.T + aff.m
     d = directions @ aff.M.T
@@ -563,6 +603,7 @@ def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
     if len(starts) == 1:
         batch(0)
     else:                      # numpy releases the GIL in its loops: one thread per core
+        _first_wave(surface, _Rays(o, d, t0, t1, edge), prog)
         with ThreadPoolExecutor(min(len(starts), os.cpu_count() or 2)) as pool:
             list(pool.map(batch, starts))
     # rays whose range ended without a hit: LEFT when they leave the extent at a height where
