@@ -603,7 +603,6 @@ def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
     if len(starts) == 1:
         batch(0)
     else:                      # numpy releases the GIL in its loops: one thread per core
-        _first_wave(surface, _Rays(o, d, t0, t1, edge), prog)
         with ThreadPoolExecutor(min(len(starts), os.cpu_count() or 2)) as pool:
             list(pool.map(batch, starts))
     # rays whose range ended without a hit: LEFT when they leave the extent at a height where
@@ -652,16 +651,31 @@ def first_hits(surface: DSMSurface, frame, origins, directions, *, max_distance=
     ax, ay = surface.uv_to_map(u, v)
     z_guess = surface.zmax if np.isfinite(surface.zmax) else 0.0
     aff = _Affine(frame, surface, (float(ax), float(ay), z_guess))
-    po, pd, t, status, t0, _ = _run(surface, aff, o, d, tmax, prog)
+    po, pd = o @ aff.M.T + aff.m, d @ aff.M.T
+    t0, t1, edge = _clip_to_extent(surface, po, pd, tmax)
+    _first_wave(surface, _Rays(po, pd, t0, t1, edge), prog)
+    # where the rays cross the heights read: is one linearisation enough there?
     err, regrouped = 0.0, False
     if np.isfinite(surface.zmin):
-        box = _band_box(surface, po, pd, t, status, t0)
-        if box is not None:
-            err = aff.error(*box)
-            if err > tolerance:
-                err, xyz_groups = _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0,
-                                           tolerance, prog)
-                regrouped = True
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_low = np.where(pd[:, 2] < 0, (surface.zmin - po[:, 2]) / pd[:, 2], t1)
+        status = np.where(t0 < t1, HIT, MISS).astype(np.uint8)
+        box = _band_box(surface, po, pd, np.clip(t_low, t0, t1), status, t0)
+        if box is not None and aff.error(*box) > tolerance:    # groups, each traversed once
+            t = np.full(n, np.nan)
+            err, xyz_groups = _regroup(surface, frame, o, d, tmax, np.clip(t_low, t0, t1),
+                                       status, po, pd, t0, tolerance, prog, t)
+            regrouped = True
+    if not regrouped:
+        po, pd, t, status, t0, _ = _run(surface, aff, o, d, tmax, prog)
+        if np.isfinite(surface.zmin):
+            box = _band_box(surface, po, pd, t, status, t0)
+            if box is not None:
+                err = aff.error(*box)
+                if err > tolerance:         # the rays met heights not read before
+                    err, xyz_groups = _regroup(surface, frame, o, d, tmax, t, status, po, pd,
+                                               t0, tolerance, prog, t)
+                    regrouped = True
     xyz = np.full((n, 3), np.nan)
     hit = status == HIT
     if hit.any():
@@ -695,14 +709,15 @@ def _band_box(surface, po, pd, t, status, t0, sel=None):
             surface.zmin, surface.zmax)
 
 
-def _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog):
-    """Re-run the rays in groups by where they meet the surface, each with its own
+def _regroup(surface, frame, o, d, tmax, t_plan, status, po, pd, t0, tolerance, prog, t):
+    """Run the rays in groups by where they meet the surface, each with its own
     linearisation, until each group's measured error is within ``tolerance``. Groups are
-    planned on the first pass's geometry (splitting in four about the medians while the error
-    predicted over a group's box exceeds ``tolerance``), then each is traversed once and its
-    error measured again. Updates ``t`` and ``status`` in place; returns (largest measured
-    error, hit coordinates (n, 3) in the DSM's CRS from each group's own map)."""
-    t_end = np.where(np.isfinite(t), t, t0)
+    planned on a geometry (``t_plan``, ``status``: a first pass's hits, or where the rays
+    cross the heights read), splitting in four about the medians while the error predicted
+    over a group's box exceeds ``tolerance``; then each is traversed once and its error
+    measured again. Writes ``t`` and ``status`` in place; returns (largest measured error, hit
+    coordinates (n, 3) in the DSM's CRS from each group's own map)."""
+    t_end = np.where(np.isfinite(t_plan), t_plan, t0)
     p = po + t_end[:, None] * pd
     x, y = surface.uv_to_map(p[:, 0], p[:, 1])
     zmid = 0.5 * (surface.zmin + surface.zmax)
@@ -721,10 +736,10 @@ def _regroup(surface, frame, o, d, tmax, t, status, po, pd, t0, tolerance, prog)
 
     todo = [np.flatnonzero(status != MISS)]
     planned = []
-    for _ in range(16):                          # plan on the first pass's geometry
+    for _ in range(16):                          # plan on the given geometry
         nxt = []
         for g in todo:
-            box = _band_box(surface, po[g], pd[g], t[g], status[g], t0[g])
+            box = _band_box(surface, po[g], pd[g], t_plan[g], status[g], t0[g])
             if box is None or len(g) == 1 or anchor(g).error(*box) <= 0.8 * tolerance:
                 planned.append(g)
             else:
