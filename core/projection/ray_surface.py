@@ -10,9 +10,10 @@ centres; a cell with a nodata corner is a nodata cell (the surface there is unkn
 mapped to DSM pixel space (u = column + 0.5, v = row + 0.5, z = height in the DSM's vertical
 reference) by an affine map: the model frame linearised at an anchor. The map is exact for
 Pix4D projects in the DSM's CRS and for local frames; otherwise (Metashape's geocentric frame,
-another CRS) its error is *measured* on a lattice over the region where the rays meet the
-surface and rays are re-run in groups, each with its own anchor, until the measured error is
-below :data:`LINEARISATION_TOLERANCE` (``RayHits.linearisation_error`` reports it).
+another CRS) its error is predicted on a lattice over where the rays cross the heights read,
+and the rays are traversed in groups, each with its own anchor, split and re-run until the
+error *measured* where they met the surface is below :data:`LINEARISATION_TOLERANCE`
+(``RayHits.linearisation_error`` reports it).
 
 **Traversal.** A lockstep 2-D DDA (Amanatides & Woo) over three levels: tiles of
 :data:`TILE` cells (the unit read from the file, with their height range), blocks of
