@@ -85,8 +85,8 @@ bench: env env-ref
 screenshots: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.qgis_desktop --screenshots $(ROOT)/docs
 
-package:
-	$(PY_SYS) $(ROOT)/scripts/package.py --output $(ROOT)/dist $(if $(STRICT),--strict)
+package: env
+	$(VENV)/bin/python -m easyidp_toolbox.scripts.package --output $(ROOT)/dist $(if $(STRICT),--strict)
 
 clean:
 	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist

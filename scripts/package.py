@@ -1,6 +1,6 @@
 """Build the plugin zip for *Plugins ▸ Install from ZIP* and plugins.qgis.org, and check it.
 
-    python scripts/package.py [--output DIR] [--strict]      (make package [STRICT=1])
+    python -m easyidp_toolbox.scripts.package [--output DIR] [--strict]   (make package [STRICT=1])
 
 writes ``DIR/easyidp_toolbox-<version>.zip`` (default ``dist/``): the folder ``easyidp_toolbox/``
 with only what runs (``__init__.py``, ``metadata.txt``, ``LICENSE``, the code of ``core/`` and
@@ -11,7 +11,8 @@ tree when it is not a git checkout).
 Checks, as the QGIS plugin repository applies them (qgis/QGIS-Django,
 ``qgis-app/plugins/validator.py``; versions as its ``VersionField`` sorts them), are errors;
 placeholders the repository would accept but that are not real (example.org addresses) are
-warnings, which ``--strict`` turns into errors. Standard library only.
+warnings, which ``--strict`` turns into errors. Writes through the project's one atomic writer
+(``core.files.atomic_output``), so it runs in the plugin's environment (``make env``).
 """
 import argparse
 import configparser

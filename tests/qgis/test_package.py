@@ -1,5 +1,6 @@
 """make package: the zip's tree, and metadata.txt against the plugin repository's checks."""
 import subprocess
+import sys
 import zipfile
 from pathlib import Path
 
@@ -92,3 +93,14 @@ def test_good_metadata_and_missing_files():
     assert any("icon icons/i.svg" in e for e in errors) and any("LICENSE" in e for e in errors)
     _, warnings = package.check_metadata(dict(GOOD, homepage="https://www.example.com/x"), [])
     assert warnings and "homepage" in warnings[0]
+
+
+
+def test_make_package_command_runs(tmp_path):
+    """The command `make package` runs (as the Makefile spells it) and writes only the zip."""
+    assert "-m easyidp_toolbox.scripts.package --output" in (ROOT / "Makefile").read_text()
+    run = subprocess.run([sys.executable, "-m", "easyidp_toolbox.scripts.package", "--output",
+                          str(tmp_path)], capture_output=True, text=True, cwd=ROOT)
+    assert run.returncode == 0, run.stderr
+    version = package.read_metadata((ROOT / "metadata.txt").read_text())["version"]
+    assert [p.name for p in tmp_path.iterdir()] == [f"easyidp_toolbox-{version}.zip"]
