@@ -67,6 +67,20 @@ def is_opensfm_input(p: Path) -> bool:
     return is_odm_folder(p) or (p.is_dir() and (p / RECONSTRUCTION).is_file())
 
 
+def _refuse_split_merge(root: Path) -> None:
+    """A split-merge ODM project (``--split``) has no merged reconstruction: each submodel under
+    ``submodels/`` was adjusted on its own. Say so, and which folder to open instead."""
+    names = sorted({p.parents[1].name for p in root.glob("submodels/submodel_*/opensfm/*.json")
+                    if p.name in (RECONSTRUCTION, TOPOCENTRIC)})
+    if names:
+        raise InputError(
+            f"{root} is a split-merge ODM project: its cameras are in {len(names)} submodels "
+            f"(submodels/{names[0]} … {names[-1]}), each adjusted on its own, and there is no "
+            f"merged {RECONSTRUCTION}. Open one submodel folder as the project (e.g. "
+            f"{root / 'submodels' / names[0]}), for the photos it holds; reading all the "
+            "submodels as one project is not supported yet.")
+
+
 class _Layout:
     """Where things are: the reconstruction file, the OpenSfM dataset folder, the ODM root."""
 
@@ -94,6 +108,7 @@ class _Layout:
             topo, main = self.dataset / TOPOCENTRIC, self.dataset / RECONSTRUCTION
             if not (topo.is_file() or main.is_file()):
                 if self.odm_root is not None:
+                    _refuse_split_merge(self.odm_root)
                     raise InputError(
                         f"{self.odm_root}: {main} is missing. The ODM run may have failed or "
                         "been stopped before its OpenSfM (structure from motion) stage finished; "

@@ -332,6 +332,22 @@ def test_odm_folder_without_reconstruction(tmp_path):
         open_reconstruction(tmp_path)
 
 
+def test_split_merge_project_names_its_submodels(tmp_path):
+    """ODM's split-merge layout: no merged reconstruction at the top, one per submodel. The
+    error says so and names a folder that opens."""
+    (tmp_path / "opensfm").mkdir()
+    (tmp_path / "odm_orthophoto").mkdir()
+    for k in range(3):
+        sub = tmp_path / "submodels" / f"submodel_{k:04d}"
+        (sub / "images").mkdir(parents=True)
+        _dataset(sub / "opensfm", {"cam": CAMERAS["brown"]}, seed=k)
+    with pytest.raises(InputError, match=r"split-merge ODM project: its cameras are in 3 "
+                                         r"submodels \(submodels/submodel_0000 … submodel_0002\)"):
+        open_reconstruction(tmp_path)
+    recon = open_reconstruction(tmp_path / "submodels" / "submodel_0000")
+    assert len(recon.aligned_cameras) == 4
+
+
 def test_empty_and_damaged_files(tmp_path):
     f = tmp_path / "reconstruction.json"
     f.write_text("[]")
