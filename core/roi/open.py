@@ -7,15 +7,18 @@ from ..errors import InputError
 from .cloudcompare import read_cloudcompare
 from .geo_interface import rois_from_geo_interface
 from .geojson import read_geojson
+from .geopackage import read_geopackage
 from .labelme import read_labelme_rois
 from .model import ROISet
 from .shapefile import read_shapefile
 
 
-def open_rois(source, name_field: Optional[str] = None, crs=None, raster=None) -> ROISet:
+def open_rois(source, name_field: Optional[str] = None, crs=None, raster=None,
+              layer: Optional[str] = None) -> ROISet:
     """ROIs from a file or an object, with their CRS.
 
     * ``.shp`` / ``.zip``: ESRI shapefile (CRS from ``.prj``, encoding from ``.cpg``);
+    * ``.gpkg``: a polygon layer of a GeoPackage (``layer``: its name, when it has several);
     * ``.geojson`` / ``.json``: GeoJSON, or a LabelMe file (recognised by its ``shapes``), whose
       pixel polygons are placed on the georeferenced ``raster`` they were drawn on;
     * ``.txt`` / ``.csv``: a CloudCompare point list (one polygon; ``crs`` required);
@@ -32,6 +35,8 @@ def open_rois(source, name_field: Optional[str] = None, crs=None, raster=None) -
         raise InputError(f"ROI file not found: {path}")
     if ext in (".shp", ".zip"):
         return read_shapefile(path, name_field, crs)
+    if ext == ".gpkg":
+        return read_geopackage(path, name_field, crs, layer)
     if ext in (".geojson", ".json"):
         if _is_labelme(path):
             if name_field is not None:
@@ -42,8 +47,9 @@ def open_rois(source, name_field: Optional[str] = None, crs=None, raster=None) -
     if ext in (".txt", ".csv", ".xyz"):
         return read_cloudcompare(path, crs)
     raise InputError(f"{path}: {ext or 'no extension'} is not an ROI format I read. Use a "
-                     "shapefile (.shp), GeoJSON (.geojson), LabelMe (.json) or a CloudCompare "
-                     "point list (.txt), or load the layer in QGIS and use the Processing tools.")
+                     "shapefile (.shp), GeoPackage (.gpkg), GeoJSON (.geojson), LabelMe (.json) "
+                     "or a CloudCompare point list (.txt), or load the layer in QGIS and use the "
+                     "Processing tools.")
 
 
 def _is_labelme(path: str) -> bool:

@@ -1,5 +1,6 @@
-"""open_rois on the files users have: real shapefiles and GeoJSONs (../shared/realdata), LabelMe
-on a georeferenced raster, CloudCompare lists, __geo_interface__ objects; every bad input."""
+"""open_rois on the files users have: real shapefiles and GeoJSONs (../shared/realdata),
+GeoPackages (written by GDAL's ogr2ogr from them), LabelMe on a georeferenced raster,
+CloudCompare lists, __geo_interface__ objects; every bad input."""
 import json
 
 import numpy as np
@@ -93,6 +94,108 @@ def test_shapefile_encoding_from_cpg(tmp_path):
                    encoding="latin-1", cpg="ISO-8859-1")
     assert open_rois(p, name_field="name").names == ["Ölfeld"]
 
+
+
+# ---- GeoPackage ------------------------------------------------------------------------------
+def _ogr2ogr(dst, src, *args):
+    """GDAL's ogr2ogr (gdal-bin): an independent GeoPackage writer."""
+    import subprocess
+    subprocess.run(["ogr2ogr", "-f", "GPKG", *args, str(dst), str(src)], check=True,
+                   capture_output=True)
+    return dst
+
+
+def test_geopackage_written_by_gdal_reads_as_its_source(tmp_path, realdata):
+    """Independent writer: GDAL's ogr2ogr copies the real roi.shp, the real 3-D GeoJSON and a
+    shapefile with holes, several parts and Z into GeoPackages; each reads as its source."""
+    shp = realdata / "easyidp/pix4d_origin/roi/roi.shp"
+    gpkg = open_rois(_ogr2ogr(tmp_path / "roi.gpkg", shp), name_field="id")
+    ref = open_rois(shp, name_field="id")
+    assert gpkg.names == ref.names and gpkg.crs.to_epsg() == ref.crs.to_epsg() == 32654
+    for a, b in zip(gpkg, ref):
+        np.testing.assert_array_equal(a.rings[0][:, :2], b.rings[0][:, :2])
+    zones = realdata / "data-to-science/zones_inside_test_tif.geojson"
+    gz, rz = open_rois(_ogr2ogr(tmp_path / "zones.gpkg", zones)), open_rois(zones)
+    assert len(gz) == len(rz) == 20 and all(r.z is not None for r in gz)
+    for a, b in zip(gz, rz):
+        np.testing.assert_array_equal(a.rings[0], b.rings[0])
+        np.testing.assert_array_equal(a.ring_z[0], b.ring_z[0])
+    outer = [[0, 0], [0, 10], [10, 10], [10, 0], [0, 0]]
+    hole = [[2, 2], [8, 2], [8, 8], [2, 8], [2, 2]]
+    other = [[20, 0], [20, 5], [25, 5], [25, 0], [20, 0]]
+    p = _write_shp(tmp_path / "parts.shp", shapefile.POLYGONZ, [
+        lambda w: w.polyz([[(x, y, 100 + x) for x, y in outer], [(x, y, 1) for x, y in hole],
+                           [(x, y, 7) for x, y in other]])], [["plot é"]])
+    (roi,) = open_rois(_ogr2ogr(tmp_path / "parts.gpkg", p), name_field="name")
+    (want,) = open_rois(p, name_field="name")
+    assert roi.name == "plot é" and roi.area == pytest.approx(want.area) == pytest.approx(89)
+    assert len(roi.parts) == 2 and len(roi.parts[0]) == 2
+    np.testing.assert_array_equal(roi.z[0][0], want.z[0][0])
+
+
+def test_geopackage_blob_big_endian_and_measures():
+    """Truth by construction: a blob with a big-endian ISO PolygonZM and an envelope."""
+    import struct
+    from easyidp_toolbox.core.roi.geopackage import geometry
+    ring = [(0.0, 0.0, 5.0, 9.0), (0.0, 2.0, 6.0, 9.0), (2.0, 2.0, 7.0, 9.0), (0.0, 0.0, 5.0, 9.0)]
+    wkb = struct.pack(">BII", 0, 3003, 1) + struct.pack(">I", len(ring)) + \
+        b"".join(struct.pack(">4d", *v) for v in ring)
+    head = b"GP" + bytes([0, 0b0101]) + struct.pack("<i", 4326) + struct.pack("<6d", *[0.0] * 6)
+    g = geometry(head + wkb, "test")
+    assert g == {"type": "Polygon", "coordinates": [[list(v[:3]) for v in ring]]}
+    assert geometry(b"GP" + bytes([0, 0b10001]) + struct.pack("<i", 0), "test") is None
+    with pytest.raises(InputError, match="truncated"):
+        geometry(head + wkb[:-9], "test")
+
+
+def test_geopackage_from_our_writer_keeps_names_and_attributes(tmp_path):
+    """Consistency only (our writer, our reader): names from a field, other fields kept."""
+    from easyidp_toolbox.core.gpkg import GpkgTable, write_geopackage
+    sq = lambda x: [np.array([[x, 0], [x, 1], [x + 1, 1], [x + 1, 0.0]])]  # noqa: E731
+    path = write_geopackage(str(tmp_path / "ours.gpkg"), [GpkgTable(
+        "plots", [("plot", "TEXT"), ("yield", "REAL")], [("A1", 1.5), ("A2", 2.5)],
+        [[sq(0)], [sq(2), sq(5)]], "EPSG:32654")])
+    rois = open_rois(path, name_field="plot")
+    assert rois.names == ["A1", "A2"] and rois.crs.to_epsg() == 32654
+    assert [r.attributes["yield"] for r in rois] == [1.5, 2.5]
+    assert rois[1].area == pytest.approx(2.0)
+    assert open_rois(path).names == ["1", "2"]                  # the fid by default
+
+
+def test_geopackage_bad_inputs(tmp_path, realdata):
+    import sqlite3
+    from easyidp_toolbox.core.gpkg import GpkgTable, write_geopackage
+    shp = realdata / "easyidp/pix4d_origin/roi/roi.shp"
+    two = _ogr2ogr(tmp_path / "two.gpkg", shp, "-nln", "first")
+    _ogr2ogr(two, shp, "-update", "-nln", "second")
+    with pytest.raises(InputError, match=r"holds 2 feature layers \(first, second\): say which"):
+        open_rois(two)
+    assert len(open_rois(two, layer="second")) == len(open_rois(shp))
+    with pytest.raises(InputError, match="no feature layer 'third'"):
+        open_rois(two, layer="third")
+    pts = tmp_path / "pts.geojson"
+    pts.write_text('{"type": "FeatureCollection", "features": [{"type": "Feature", "properties": '
+                   '{}, "geometry": {"type": "Point", "coordinates": [1, 2]}}]}')
+    with pytest.raises(InputError, match="POINT geometries, not polygons"):
+        open_rois(_ogr2ogr(tmp_path / "pts.gpkg", pts, "-a_srs", "EPSG:32654"))
+    text = tmp_path / "text.gpkg"
+    text.write_text("not a database")
+    with pytest.raises(InputError, match="text.gpkg"):
+        open_rois(text)
+    sqlite3.connect(tmp_path / "plain.gpkg").execute("CREATE TABLE t (a)").connection.commit()
+    with pytest.raises(InputError, match="is not a GeoPackage"):
+        open_rois(tmp_path / "plain.gpkg")
+    nocrs = write_geopackage(str(tmp_path / "nocrs.gpkg"), [GpkgTable(
+        "p", [], [()], [[[np.array([[0, 0], [0, 1], [1, 1.0]])]]], None)])
+    with pytest.raises(InputError, match="its CRS is undefined"):
+        open_rois(nocrs)
+    assert open_rois(nocrs, crs="EPSG:32654").crs.to_epsg() == 32654
+    con = sqlite3.connect(nocrs)
+    con.execute("UPDATE p SET geom = substr(geom, 1, 30)")
+    con.commit()
+    con.close()
+    with pytest.raises(InputError, match=r"nocrs.gpkg, layer 'p', feature 1: the geometry is truncated"):
+        open_rois(nocrs, crs="EPSG:32654")
 
 # ---- LabelMe on a georeferenced raster, CloudCompare, geo_interface ---------------------------
 def test_labelme_real_file_on_a_raster(tmp_path, realdata):
