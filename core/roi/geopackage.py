@@ -6,6 +6,7 @@ dropped), attributes as feature properties, the feature id (``fid``) as the defa
 import os
 import sqlite3
 import struct
+from pathlib import Path
 from typing import List, Optional, Tuple
 
 from pyproj import CRS
@@ -26,7 +27,8 @@ def read_geopackage(path, name_field: Optional[str] = None, crs=None,
     if not os.path.isfile(path):
         raise InputError(f"ROI file not found: {path}")
     try:
-        con = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+        # read-only, through a URI (percent-encoded: names with '#', '?' or spaces open too)
+        con = sqlite3.connect(Path(path).resolve().as_uri() + "?mode=ro", uri=True)
     except sqlite3.Error as exc:
         raise InputError(f"{path} cannot be opened as a GeoPackage ({exc}).") from None
     try:

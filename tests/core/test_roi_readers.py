@@ -152,7 +152,7 @@ def test_geopackage_from_our_writer_keeps_names_and_attributes(tmp_path):
     """Consistency only (our writer, our reader): names from a field, other fields kept."""
     from easyidp_toolbox.core.gpkg import GpkgTable, write_geopackage
     sq = lambda x: [np.array([[x, 0], [x, 1], [x + 1, 1], [x + 1, 0.0]])]  # noqa: E731
-    path = write_geopackage(str(tmp_path / "ours.gpkg"), [GpkgTable(
+    path = write_geopackage(str(tmp_path / "plots #1 é?.gpkg"), [GpkgTable(
         "plots", [("plot", "TEXT"), ("yield", "REAL")], [("A1", 1.5), ("A2", 2.5)],
         [[sq(0)], [sq(2), sq(5)]], "EPSG:32654")])
     rois = open_rois(path, name_field="plot")
