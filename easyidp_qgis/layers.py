@@ -131,6 +131,24 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
     return ROISet(rois, crs_string(out_crs)), features
 
 
+
+def rois_parameter(alg, parameters, context, feedback, crs=None):
+    """The ROIs of a tool's ``ROIS`` parameter, named by its ``NAME_FIELD`` when the tool has
+    one: (source, ROISet, features), as :func:`rois_from_source`; with ``crs`` they are
+    transformed into it with the project's transform context."""
+    source = alg.parameterAsSource(parameters, alg.ROIS, context)
+    name_field = alg.parameterAsString(parameters, alg.NAME_FIELD, context) \
+        if hasattr(alg, "NAME_FIELD") else ""
+    rois, features = rois_from_source(source, name_field, alg.tr("ROIs"), feedback, crs, context)
+    return source, rois, features
+
+
+def optional_destination(alg, parameters, name: str, context):
+    """The path of an optional file or folder output, or None when it was left empty."""
+    if parameters.get(name) in (None, ""):
+        return None
+    return alg.parameterAsFileOutput(parameters, name, context) or None
+
 def _polygon_coordinates(g) -> list:
     """MultiPolygon coordinates [[[(x, y[, z]), …] ring …] polygon …] of a QgsGeometry."""
     if g is None or g.isNull() or g.isEmpty():

@@ -15,7 +15,7 @@ from qgis.PyQt.QtCore import QVariant
 from .. import presentation
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                      dsm_parameter, height_source_parameter, open_project_parameter,
-                     rois_from_source)
+                     optional_destination, rois_parameter)
 from .base import EasyIDPAlgorithm
 
 
@@ -121,9 +121,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
         from ...core.projection import back_project, crop_photos, resolve_photos
 
         recon = open_project_parameter(self, parameters, context, feedback)
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        source, rois, features = rois_parameter(self, parameters, context, feedback)
 
         dsm = dsm_parameter(self, parameters, context)
         heights = height_source_parameter(self, parameters, context, features, dsm)
@@ -132,9 +130,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
         if self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is None:
             feedback.pushInfo(self.tr("No DSM given: occlusion is not tested."))
         photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
-        crops = _optional_destination(self, parameters, self.CROPS_FOLDER, context)
-        previews = _optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
-        json_path = _optional_destination(self, parameters, self.OUTPUT_JSON, context)
+        crops = optional_destination(self, parameters, self.CROPS_FOLDER, context)
+        previews = optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
+        json_path = optional_destination(self, parameters, self.OUTPUT_JSON, context)
         span = 60.0 if (crops or previews) else 95.0
 
         feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
@@ -272,14 +270,6 @@ def pixel_geometry(polys) -> QgsGeometry:
             poly.addInteriorRing(h)
         mp.addGeometry(poly)
     return QgsGeometry(mp)
-
-
-def _optional_destination(alg, parameters, name, context):
-    value = parameters.get(name)
-    if value in (None, ""):
-        return None
-    out = alg.parameterAsFileOutput(parameters, name, context)
-    return out or None
 
 
 def _num(v):

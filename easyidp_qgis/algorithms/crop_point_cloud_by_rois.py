@@ -10,7 +10,7 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import (add_index_parameter, add_point_cloud_parameters, add_roi_parameters,
-                     add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_from_source,
+                     add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_parameter,
                      write_index, z_range)
 from .base import EasyIDPAlgorithm, translatable
 
@@ -94,10 +94,8 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         from ...core.pointcloud import crop_point_cloud
 
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
-                                          qgis_crs(cloud.crs), context)
+        source, rois, features = rois_parameter(self, parameters, context, feedback,
+                                                qgis_crs(cloud.crs))
         z_min, z_max = z_range(self, parameters, context)
         fmt = FORMATS[self.parameterAsEnum(parameters, self.FORMAT, context)][0]
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)

@@ -7,7 +7,7 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import (add_index_parameter, add_roi_parameters, crs_string, geotiff_source,
-                     rois_from_source, write_index)
+                     rois_parameter, write_index)
 from .base import EasyIDPAlgorithm
 
 
@@ -67,10 +67,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
 
         layer = self.parameterAsRasterLayer(parameters, self.INPUT, context)
         raster = geotiff_source(layer, self.tr("Raster"))
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
-                                          layer.crs(), context)
+        source, rois, features = rois_parameter(self, parameters, context, feedback, layer.crs())
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         all_touched = self.parameterAsBool(parameters, self.ALL_TOUCHED, context)
         feedback.pushInfo(self.tr("Cropping {n_rois} ROIs out of {raster} into {folder}").format(

@@ -10,7 +10,7 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import (add_index_parameter, add_project_parameters, add_roi_parameters, crs_string,
-                     geotiff_source, open_project_parameter, rois_from_source, write_index)
+                     geotiff_source, open_project_parameter, rois_parameter, write_index)
 from .base import EasyIDPAlgorithm
 
 SELECTIONS = ("best", "all", "photo")
@@ -89,10 +89,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     def run_tool(self, parameters, context, feedback):
         from ...core.projection.ortho import orthorectify_rois
 
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback,
-                                          context=context)
+        source, rois, features = rois_parameter(self, parameters, context, feedback)
         recon = open_project_parameter(self, parameters, context, feedback)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = geotiff_source(layer, self.tr("DSM"))

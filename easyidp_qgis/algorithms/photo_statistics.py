@@ -13,8 +13,8 @@ from qgis.PyQt.QtCore import QVariant
 from .. import presentation
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                       backprojection_from_layer, dsm_parameter, height_source_parameter,
-                      open_project_parameter, optional_number, parse_percentiles,
-                      rois_from_source)
+                      open_project_parameter, optional_destination, optional_number,
+                      parse_percentiles, rois_parameter)
 from .base import EasyIDPAlgorithm
 
 STATISTIC_CHOICES = ("mean", "median", "std")
@@ -142,9 +142,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         from ...core.projection import back_project, photo_statistics
 
         recon = open_project_parameter(self, parameters, context, feedback)
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
-        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        source, rois, features = rois_parameter(self, parameters, context, feedback)
         dsm = dsm_parameter(self, parameters, context)
         occlusion = self.parameterAsBool(parameters, self.OCCLUSION, context)
         if occlusion and dsm is None:
@@ -157,9 +155,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         indices = [INDEX_CHOICES[k] for k in self.parameterAsEnums(parameters, self.INDICES, context)]
         bands_text = self.parameterAsString(parameters, self.BANDS, context)
         bands = [b.strip() for b in bands_text.split(",") if b.strip()] if bands_text else None
-        previews = parameters.get(self.PREVIEW_FOLDER)
-        previews = self.parameterAsFileOutput(parameters, self.PREVIEW_FOLDER, context) \
-            if previews not in (None, "") else None
+        previews = optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
 
         layer = self.parameterAsVectorLayer(parameters, self.BACKPROJECTION, context)
         if layer is not None:

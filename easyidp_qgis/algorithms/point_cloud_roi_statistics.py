@@ -12,7 +12,7 @@ from qgis.PyQt.QtCore import QVariant
 from .. import presentation
 from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
                      optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
-                     rois_from_source, z_range)
+                     rois_parameter, z_range)
 from .base import EasyIDPAlgorithm
 
 FIXED_FIELDS = [("count", QVariant.LongLong), ("density", QVariant.Double),
@@ -89,9 +89,8 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
         percentiles = parse_percentiles(self, self.parameterAsString(parameters, self.PERCENTILES,
                                                                      context))
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback,
-                                          qgis_crs(cloud.crs), context)
+        source, rois, features = rois_parameter(self, parameters, context, feedback,
+                                                qgis_crs(cloud.crs))
         z_min, z_max = z_range(self, parameters, context)
         layer = self.parameterAsRasterLayer(parameters, self.GROUND_DSM, context)
         height = optional_number(self, parameters, self.GROUND_HEIGHT, context)

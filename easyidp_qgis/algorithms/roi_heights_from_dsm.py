@@ -11,7 +11,7 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsFeatureSink, QgsFi
 from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
-from ..layers import crs_string, geotiff_source, rois_from_source
+from ..layers import crs_string, geotiff_source, rois_parameter
 from .base import EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
@@ -76,12 +76,10 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         from ...core.raster.dsm_heights import roi_heights, vertex_heights
         from ...core.raster.geotiff import open_geotiff
 
-        source = self.parameterAsSource(parameters, self.ROIS, context)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
         # the ROIs on the DSM's CRS, transformed by QGIS; the features keep their own geometry
-        rois, features = rois_from_source(source, "", self.tr("ROIs"), feedback, layer.crs(),
-                                          context)
+        source, rois, features = rois_parameter(self, parameters, context, feedback, layer.crs())
         for note in dsm.notes:
             feedback.pushWarning(note)
         mode = MODES[self.parameterAsEnum(parameters, self.MODE, context)][0]

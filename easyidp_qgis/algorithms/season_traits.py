@@ -12,7 +12,7 @@ from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
 from qgis.PyQt.QtCore import QDate, QDateTime, Qt, QVariant
 
 from .. import presentation
-from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_from_source)
+from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_parameter)
 from .base import EasyIDPAlgorithm
 
 TRAITS = ["height", "cover", "bands", "index", "cloud"]
@@ -137,10 +137,8 @@ class SeasonTraits(EasyIDPAlgorithm):
             raise QgsProcessingException(self.tr("Survey table: no table given, or it could not "
                                                  "be loaded."))
         table = _survey_table(table_layer, context)
-        source = self.parameterAsSource(parameters, self.ROIS, context)
-        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
         group_field = self.parameterAsString(parameters, self.GROUP_FIELD, context)
-        rois, features = rois_from_source(source, name_field, self.tr("ROIs"), feedback)
+        source, rois, features = rois_parameter(self, parameters, context, feedback)
         traits = [TRAITS[i] for i in self.parameterAsEnums(parameters, self.TRAITS, context)]
         if not traits:
             raise QgsProcessingException(self.tr("Traits: choose at least one."))
