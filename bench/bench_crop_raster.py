@@ -26,7 +26,7 @@ import imagecodecs
 import numpy as np
 import tifffile
 
-from .common import ratio, run_child, spread, table, target
+from .common import ratio, run_json_child, spread, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -194,18 +194,8 @@ def measure(tool, raster, rois, tag, every=1):
     out = OUT / "crop_raster" / f"{tool}_{tag}"
     shutil.rmtree(out, ignore_errors=True)
     cmd = [python, str(WORKERS), tool, str(raster), str(rois), str(out)]
-    run = run_child(cmd + (["--every", str(every)] if every > 1 else []), env=env,
-                    timeout=CHILD_TIMEOUT)
-    info = None
-    if run.ok:
-        try:
-            info = json.loads(run.stdout.strip().splitlines()[-1])
-        except (ValueError, IndexError):
-            pass
-    if info is None:
-        tail = "\n      ".join((run.stderr or run.stdout).strip().splitlines()[-6:])
-        print(f"    {tool} FAILED (exit {run.returncode}):\n      {tail}", flush=True)
-    return run, info
+    return run_json_child(cmd + (["--every", str(every)] if every > 1 else []), env=env,
+                          timeout=CHILD_TIMEOUT, label=tool)
 
 
 TITLES = {"ours": "ours", "floor": "floor (decode + encode)", "easyidp": "easyidp 2.0.4",

@@ -36,7 +36,7 @@ import numpy as np
 import tifffile
 
 from .bench_crop_raster import OUT, REF_PYTHON, TILE, geotiff_tags, write_rois
-from .common import ratio, reference_env, run_child, table
+from .common import ratio, reference_env, run_json_child, table
 
 HERE = Path(__file__).resolve().parent
 WORKERS = HERE / "season_workers.py"
@@ -141,17 +141,7 @@ def check_disk(need: float, what: str) -> None:
 # ---------------------------------------------------------------- measuring
 
 def child(cmd, env=None):
-    run = run_child(cmd, env=env, timeout=CHILD_TIMEOUT)
-    info = None
-    if run.ok:
-        try:
-            info = json.loads(run.stdout.strip().splitlines()[-1])
-        except (ValueError, IndexError):
-            pass
-    if info is None:
-        tail = "\n      ".join((run.stderr or run.stdout).strip().splitlines()[-8:])
-        print(f"    FAILED (exit {run.returncode}):\n      {tail}", flush=True)
-    return run, info
+    return run_json_child(cmd, env=env, timeout=CHILD_TIMEOUT)
 
 
 def watched(cmd, env=None):

@@ -15,7 +15,7 @@ import sys
 import tempfile
 import threading
 from dataclasses import dataclass
-from typing import List, Optional, Sequence
+from typing import List, Optional, Sequence, Tuple
 
 # argv: RESULT_FILE COMMAND...; times COMMAND from outside and writes its accounting as JSON.
 _LAUNCHER = r"""
@@ -79,6 +79,24 @@ def run_child(cmd: Sequence[str], env: Optional[dict] = None, cwd: Optional[str]
         return Run(acct["wall"], acct["cpu"], acct["maxrss_kib"] / 1024.0,  # Linux: KiB
                    acct["returncode"], stdout, stderr)
 
+
+
+def run_json_child(cmd: Sequence[str], env: Optional[dict] = None,
+                   timeout: Optional[float] = None, label: str = "") -> Tuple[Run, Optional[dict]]:
+    """:func:`run_child`, and the JSON object the child printed on its last line of output;
+    None (and the tail of its output printed, after ``label``) when it failed."""
+    run = run_child(cmd, env=env, timeout=timeout)
+    info = None
+    if run.ok:
+        try:
+            info = json.loads(run.stdout.strip().splitlines()[-1])
+        except (ValueError, IndexError):
+            pass
+    if info is None:
+        tail = "\n      ".join((run.stderr or run.stdout).strip().splitlines()[-8:])
+        print(f"    {label + ' ' if label else ''}FAILED (exit {run.returncode}):\n      {tail}",
+              flush=True)
+    return run, info
 
 def spread(runs: List[Run]) -> str:
     """'min–max' of the wall times, to show how noisy the machine was."""
