@@ -205,6 +205,34 @@ def test_hits_lie_on_the_surface_across_tile_edges(tmp_path):
     h, _ = reference_surface(z)(cold.xyz[ok, 0], cold.xyz[ok, 1])
     assert np.abs(cold.xyz[ok, 2] - h).max() < 1e-3
 
+
+def test_a_cancelled_read_leaves_the_surface_usable(tmp_path):
+    """Cancelled in the middle of reading tiles, then run again on the same surface: the same
+    hits as on a fresh surface (a partial read must not leave tiles marked as read whose
+    storage the next read reuses)."""
+    from easyidp_toolbox.core.errors import Cancelled
+    rng = np.random.default_rng(2)
+    z = (100.0 + np.cumsum(rng.normal(0, 0.05, (1200, 300)), axis=0)).astype(np.float32)
+    path = write_tif(str(tmp_path / "tall.tif"), z, origin=ORIGIN, pixel=PIXEL, tile=32)
+    offset = np.array([ORIGIN[0], ORIGIN[1] - 150.0, 100.0])
+    frame = OffsetFrame(CRS.from_epsg(32654), offset)
+    n = 4000
+    o = np.column_stack([rng.uniform(0, 300 * PIXEL, n) + ORIGIN[0],
+                         ORIGIN[1] - rng.uniform(0, 1200 * PIXEL, n),
+                         np.full(n, float(z.max()) + 20.0)]) - offset
+    d = np.column_stack([rng.normal(0, 0.2, n), rng.normal(0, 0.2, n), -np.ones(n)])
+    fresh = first_hits(DSMSurface(path, tile=8), frame, o, d)
+    calls = []
+    first_hits(DSMSurface(path, tile=8), frame, o, d, is_cancelled=lambda: calls.append(1))
+    for stop in range(1, len(calls), max(1, len(calls) // 6)):   # cancel at six points
+        surface = DSMSurface(path, tile=8)
+        checks = iter(range(len(calls)))
+        with pytest.raises(Cancelled):
+            first_hits(surface, frame, o, d, is_cancelled=lambda: next(checks) >= stop)
+        again = first_hits(surface, frame, o, d)
+        assert np.array_equal(again.status, fresh.status), stop
+        assert np.allclose(again.distance, fresh.distance, atol=1e-9, equal_nan=True), stop
+
 def test_reads_only_the_tiles_along_the_rays(dsm):
     path, _ = dsm
     offset = np.array([ORIGIN[0], ORIGIN[1] - 50.0, 100.0])
