@@ -29,7 +29,7 @@ from ..raster.geotiff import TAG_GDAL_METADATA
 from ..raster.geotiff_write import write_geotiff
 from ..raster.roi_pixels import rois_in_raster_crs
 from ..roi import ROISet
-from .photos import check_size, read_photo, resolve_photos
+from .photos import DecodedPhotos, resolve_photos
 from .ray_surface import HIT, MISS, DSMSurface, first_hits
 
 SELECTIONS = ("best", "all", "photo")
@@ -143,32 +143,32 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
 
 def _render_all(by_photo, found, missing, pairs, cams, paths, local, names, recon, surface, gsd,
                 occlusion, tol, result, prog) -> None:
-    """Decode each photo once and write the images of the ROIs it was chosen for."""
+    """Decode each photo once (:class:`.photos.DecodedPhotos`, the pass every consumer of
+    pixels shares) and write the images of the ROIs it was chosen for."""
     done = 0
-    for label, ks in by_photo.items():
-        prog.check()
-        cam = cams[label]
-        image = read_photo(found[label]) if label in found else None
-        s = recon.sensors[cam.sensor_id]
-        why = missing.get(label) or check_size(image, s.width, s.height, found[label])
-        if why:
-            for k in ks:
-                result.skipped[f"{names[pairs[k][0]]} / {label}"] = why
+    labels = list(by_photo)
+    sensors = [recon.sensors[cams[label].sensor_id] for label in labels]
+    with DecodedPhotos([found.get(label) for label in labels],
+                       [(s.width, s.height) for s in sensors],
+                       missing=[missing.get(label, "") for label in labels]) as decoded:
+        for i, image, why in decoded:
+            prog.check()
+            label = labels[i]
+            ks = by_photo[label]
+            whys = [why] * len(ks) if why else _render(
+                [(local[pairs[k][0]], paths[k]) for k in ks], recon, cams[label],
+                image[..., None] if image.ndim == 2 else image, surface, gsd, occlusion, tol,
+                result)
+            for k, why_k in zip(ks, whys):
+                r = pairs[k][0]
+                if why_k:
+                    result.skipped[f"{names[r]} / {label}"] = why_k
+                else:
+                    result.rois.append(names[r])
+                    result.indices.append(r)
+                    result.photos.append(label)
             done += len(ks)
-            continue
-        image = image[..., None] if image.ndim == 2 else image
-        jobs = [(local[pairs[k][0]], paths[k]) for k in ks]
-        whys = _render(jobs, recon, cam, image, surface, gsd, occlusion, tol, result)
-        for k, why in zip(ks, whys):
-            r = pairs[k][0]
-            if why:
-                result.skipped[f"{names[r]} / {label}"] = why
-            else:
-                result.rois.append(names[r])
-                result.indices.append(r)
-                result.photos.append(label)
-        done += len(ks)
-        prog.set(10 + 90.0 * done / max(len(pairs), 1))
+            prog.set(10 + 90.0 * done / max(len(pairs), 1))
 
 
 def _render(jobs, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, result):

@@ -172,3 +172,11 @@ def test_selections_and_bad_input(demo, recon, plots, tmp_path):
     with pytest.raises(InputError, match="400×300 px but the camera's sensor is 800×600"):
         orthorectify_rois(ROISet([two[0]], plots.crs), recon, demo.dsm, str(tmp_path / "s"),
                           selection="photo", photo=best.photos[0], photos_folder=str(small))
+    # a damaged photo: named in the error (it is skipped like a missing one, never a traceback)
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / os.path.basename(photo)).write_bytes(b"\xff\xd8\xff" + b"\0" * 100)
+    with pytest.raises(InputError, match=r"No ROI image was written: A1 / .*"
+                                         + os.path.basename(photo).split(".")[0]):
+        orthorectify_rois(ROISet([two[0]], plots.crs), recon, demo.dsm, str(tmp_path / "b"),
+                          selection="photo", photo=best.photos[0], photos_folder=str(broken))
