@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import ratio, reference_env, run_child, table, target
+from .common import ratio, reference_env, run_json_child, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -237,10 +237,8 @@ def synthetic_inputs(quick: bool) -> dict:
 
 # --- running ------------------------------------------------------------------------------------------
 def _child(python, code, args, env):
-    run = run_child([str(python), "-c", code, *map(str, args)], env=env, timeout=TIMEOUT)
-    if not run.ok:
-        raise RuntimeError(f"{python} failed ({run.returncode}):\n{run.stderr[-3000:]}")
-    return run, json.loads(run.stdout.strip().splitlines()[-1])
+    return run_json_child([str(python), "-c", code, *map(str, args)], env=env,
+                          timeout=TIMEOUT, strict=True)
 
 
 def main(argv=None) -> int:

@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from .bench_backward import WHEAT, wheat_inputs
-from .common import ratio, run_child, table
+from .common import ratio, run_json_child, table
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -118,10 +118,8 @@ def photo_folder(quick: bool) -> Path:
 
 
 def _child(code, args, env):
-    run = run_child([sys.executable, "-c", code, *map(str, args)], env=env, timeout=TIMEOUT)
-    if not run.ok:
-        raise RuntimeError(f"child failed ({run.returncode}):\n{run.stderr[-3000:]}")
-    return run, json.loads(run.stdout.strip().splitlines()[-1])
+    return run_json_child([sys.executable, "-c", code, *map(str, args)], env=env,
+                          timeout=TIMEOUT, strict=True)
 
 
 def main(argv=None) -> int:

@@ -82,9 +82,11 @@ def run_child(cmd: Sequence[str], env: Optional[dict] = None, cwd: Optional[str]
 
 
 def run_json_child(cmd: Sequence[str], env: Optional[dict] = None,
-                   timeout: Optional[float] = None, label: str = "") -> Tuple[Run, Optional[dict]]:
+                   timeout: Optional[float] = None, label: str = "",
+                   strict: bool = False) -> Tuple[Run, Optional[dict]]:
     """:func:`run_child`, and the JSON object the child printed on its last line of output;
-    None (and the tail of its output printed, after ``label``) when it failed."""
+    None (and the tail of its output printed, after ``label``) when it failed, or with
+    ``strict`` a RuntimeError."""
     run = run_child(cmd, env=env, timeout=timeout)
     info = None
     if run.ok:
@@ -92,6 +94,8 @@ def run_json_child(cmd: Sequence[str], env: Optional[dict] = None,
             info = json.loads(run.stdout.strip().splitlines()[-1])
         except (ValueError, IndexError):
             pass
+    if info is None and strict:
+        raise RuntimeError(f"{label or cmd[0]} failed ({run.returncode}):\n{run.stderr[-3000:]}")
     if info is None:
         tail = "\n      ".join((run.stderr or run.stdout).strip().splitlines()[-8:])
         print(f"    {label + ' ' if label else ''}FAILED (exit {run.returncode}):\n      {tail}",
