@@ -1,7 +1,9 @@
-# EasyIDP for QGIS: one entry point. Run as root on Debian 12 (apt is used when QGIS is missing).
-#   make demo   build the demo data and run every tool on it through qgis_process
-#   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs;
-#               the comparisons with easyidp 2.0.4 run in its own environment (.venv-ref)
+# EasyIDP for QGIS: one entry point. Run as root on Debian 12 or 13 (apt is used when QGIS is missing).
+#   make demo   build the demo data and run every tool on it through qgis_process (and compare
+#               with easyidp 2.0.4 in its own environment, .venv-ref, built when missing)
+#   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs and the
+#               desktop, on this machine's QGIS and on the other QGIS of the matrix (Debian 12's
+#               3.22, 13's 3.40, sid's 3.44), each in a cached Debian root (.ci/debian_root.sh)
 #   make bench  benchmarks against easyidp 2.0.4 and GDAL (minutes; not part of test)
 #   make package  dist/easyidp_toolbox-<version>.zip for Install from ZIP and plugins.qgis.org
 #               (STRICT=1: refuse metadata placeholders, for a release upload)
@@ -18,11 +20,21 @@ PLUGINS := $(ROOT)/.plugins
 export QT_QPA_PLATFORM := offscreen
 export PROJ_DATA := /usr/share/proj
 export PYTHONDONTWRITEBYTECODE := 1
+# where tests, the demo and the benchmarks find easyidp 2.0.4 (scripts/reference.py)
+export EASYIDP_REF_PYTHON = $(VENV_REF)/bin/python
 DEMO_DIR ?= $(ROOT)/demo_output
 
-.PHONY: env env-ref test test-core test-core-current test-qgis demo bench package screenshots clean
+# The QGIS matrix: one Debian release per QGIS. This machine's is tested here, the others in roots.
+SUITES := bookworm trixie sid
+CODENAME := $(shell . /etc/os-release 2>/dev/null && echo $$VERSION_CODENAME)
+HOST_SUITE := $(if $(filter bookworm trixie,$(CODENAME)),$(CODENAME),sid)
+OTHER_SUITES := $(filter-out $(HOST_SUITE),$(SUITES))
 
-env: apt $(VENV)/.done $(VENV_CORE)/.done
+.PHONY: env env-qgis env-ref test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
+        bench package screenshots clean
+
+env: env-qgis $(VENV_CORE)/.done
+env-qgis: apt $(VENV)/.done
 
 # xvfb, xauth: the QGIS desktop in tests/qgis/test_install_from_zip.py, test_desktop.py and
 # make screenshots (it refuses to start offscreen)
@@ -39,10 +51,13 @@ apt:
 $(PLUGINS)/easyidp_toolbox:
 	mkdir -p $(PLUGINS) && ln -sfn $(ROOT) $@
 
-$(VENV)/.done: requirements/qgis.txt | apt $(PLUGINS)/easyidp_toolbox
-	@echo "== creating $(VENV) (QGIS interpreter, numpy < 2)"
+$(VENV)/.done: requirements/qgis.txt requirements/system_pins.py | apt $(PLUGINS)/easyidp_toolbox
+	@echo "== creating $(VENV) (QGIS interpreter $$($(PY_SYS) -V), Debian $(HOST_SUITE))"
 	@test -x $(VENV)/bin/python || $(PY_SYS) -m venv --system-site-packages $(VENV)
-	$(VENV)/bin/pip install -q --disable-pip-version-check -r requirements/qgis.txt
+	@# what Debian's QGIS ships is pinned to the installed version: pip never replaces it
+	$(PY_SYS) requirements/system_pins.py requirements/qgis.txt > $(VENV)/system-pins.txt
+	$(VENV)/bin/pip install -q --disable-pip-version-check --prefer-binary \
+	    -c $(VENV)/system-pins.txt -r requirements/qgis.txt
 	echo $(PLUGINS) > $$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
 	touch $@
 
@@ -62,7 +77,25 @@ $(VENV_REF)/.done: requirements/reference.txt | apt
 	touch $@
 
 test: env env-ref
-	$(MAKE) --no-print-directory test-core test-core-current test-qgis
+	$(MAKE) --no-print-directory test-core test-core-current test-qgis test-roots
+
+# The other QGIS of the matrix, each in a Debian root built once and cached (.ci/debian_root.sh,
+# under /var/cache/easyidp-roots): the core tests on that root's Python and numpy, the QGIS suite
+# (qgis_process runs and the desktop under Xvfb) and, in Debian 13's, make demo as a first command.
+test-roots:
+	@for s in $(OTHER_SUITES); do bash $(ROOT)/.ci/debian_root.sh $$s || exit 1; done
+	@for s in $(OTHER_SUITES); do echo "== Debian $$s root: $$(bash $(ROOT)/.ci/debian_root.sh $$s run \
+	    'qgis_process.bin --version 2>/dev/null | head -1')"; \
+	    bash $(ROOT)/.ci/debian_root.sh $$s run "make --no-print-directory test-root SUITE=$$s" || exit 1; done
+
+# Inside a root (SUITE=trixie|sid|bookworm): a venv of its own beside the host's.
+ROOT_VARS = VENV=$(ROOT)/.venv-$(SUITE) VENV_REF=$(ROOT)/.venv-ref-$(SUITE) DEMO_DIR=$(ROOT)/demo_output-$(SUITE)
+test-root:
+	$(if $(filter trixie,$(SUITE)),rm -rf $(ROOT)/demo_output-$(SUITE) && $(MAKE) --no-print-directory $(ROOT_VARS) demo)
+	$(MAKE) --no-print-directory $(ROOT_VARS) env-qgis env-ref test-core test-qgis
+
+apt-packages:
+	@echo $(APT_PACKAGES)
 
 test-core:
 	@echo "== core tests, QGIS environment (numpy 1.26)"
@@ -76,7 +109,7 @@ test-qgis:
 	@echo "== QGIS tests (real QGIS offscreen, and qgis_process runs)"
 	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:cacheprovider --qgis_disable_gui tests/qgis
 
-demo: env
+demo: env env-ref
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.demo $(DEMO_DIR)
 
 bench: env env-ref
@@ -89,4 +122,5 @@ package: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.package --output $(ROOT)/dist $(if $(STRICT),--strict)
 
 clean:
-	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist
+	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist \
+	    $(foreach s,$(SUITES),$(ROOT)/.venv-$(s) $(ROOT)/.venv-ref-$(s) $(ROOT)/demo_output-$(s))

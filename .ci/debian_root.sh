@@ -10,7 +10,8 @@ cache=${EASYIDP_ROOTS:-/var/cache/easyidp-roots}
 root=$cache/$suite
 here=$(cd "$(dirname "$0")/.." && pwd)
 parent=$(dirname "$here")
-PACKAGES="qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip xvfb xauth make git ca-certificates"
+# the Makefile's list (what make env installs on a host), and make itself
+PACKAGES="$(make -s -f "$here/Makefile" apt-packages) make ca-certificates"
 
 in_root() {  # in_root CMD...: a private mount namespace, /proc /dev and the work folder bound
     unshare -m --propagation private bash -c '
@@ -30,6 +31,8 @@ if [ ! -f "$root/.easyidp-done" ]; then
         || { tail -20 "$cache/$suite.log"; exit 1; }
     cp /etc/ssl/certs/ca-certificates.crt "$root.part/etc/ssl/certs/ca-certificates.crt" 2>/dev/null || true
     [ -f /etc/pip.conf ] && cp /etc/pip.conf "$root.part/etc/pip.conf"
+    # the registry may serve a dated snapshot of sid, whose Release file has expired
+    echo 'Acquire::Check-Valid-Until "false";' >"$root.part/etc/apt/apt.conf.d/99easyidp-snapshot"
     root_final=$root; root=$root.part
     in_root "apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $PACKAGES >/dev/null" \
         >>"$cache/$suite.log" 2>&1 || { tail -20 "$cache/$suite.log"; exit 1; }
@@ -37,4 +40,8 @@ if [ ! -f "$root/.easyidp-done" ]; then
     cp /etc/ssl/certs/ca-certificates.crt "$root/etc/ssl/certs/ca-certificates.crt" 2>/dev/null || true
     touch "$root/.easyidp-done"; mv "$root" "$root_final"; root=$root_final
 fi
+# a cached root from an older package list gets what is missing
+in_root "dpkg -s $PACKAGES >/dev/null 2>&1 || { apt-get update -qq && DEBIAN_FRONTEND=noninteractive \
+    apt-get install -y -qq --no-install-recommends $PACKAGES >/dev/null; }" >>"$cache/$suite.log" 2>&1 \
+    || { tail -20 "$cache/$suite.log"; exit 1; }
 if [ "${1:-}" = run ]; then shift; in_root "cd '$here' && $*"; fi

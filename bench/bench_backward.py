@@ -24,12 +24,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import ratio, reference_env, run_json_child, table, target
+from .common import REF_PYTHON, ratio, reference_env, run_json_child, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT = ROOT / "bench_output" / "backward"
-REF_PYTHON = ROOT / ".venv-ref" / "bin" / "python"
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
 WHEAT = REALDATA / "easyidp" / "metashape" / "wheat_tanashi.psx"
 GEN_VERSION = 1

@@ -26,13 +26,12 @@ import imagecodecs
 import numpy as np
 import tifffile
 
-from .common import ratio, run_json_child, spread, table, target
+from .common import REF_PYTHON, ratio, run_json_child, spread, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT = ROOT / "bench_output"
 WORKERS = HERE / "crop_workers.py"
-REF_PYTHON = ROOT / ".venv-ref" / "bin" / "python"
 
 GEN_VERSION = 1                       # bump when the generator changes: cached files are rebuilt
 SEED = 20240602

@@ -19,10 +19,10 @@ import time
 
 import numpy as np
 
-from .common import reference_env, table
+from .common import REF_PYTHON, reference_env, table
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-REF_PY = os.path.join(ROOT, ".venv-ref", "bin", "python")
+REF_PY = str(REF_PYTHON)
 
 REF = r"""
 import json, sys, time, warnings

@@ -20,11 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import reference_env
+from .common import REF_PYTHON, reference_env
 
 ROOT = Path(__file__).resolve().parents[1]
 CACHE = ROOT / "bench_output" / "pointcloud"
-REF_PY = ROOT / ".venv-ref" / "bin" / "python"
+REF_PY = REF_PYTHON
 EPSG = 32654
 E0, N0 = 368000.0, 3955000.0
 SPEED_TARGET, MEM_TARGET = 50.0, 0.5

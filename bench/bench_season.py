@@ -35,7 +35,8 @@ import imagecodecs
 import numpy as np
 import tifffile
 
-from .bench_crop_raster import OUT, REF_PYTHON, TILE, geotiff_tags, write_rois
+from .common import REF_PYTHON
+from .bench_crop_raster import OUT, TILE, geotiff_tags, write_rois
 from .common import ratio, reference_env, run_json_child, table
 
 HERE = Path(__file__).resolve().parent

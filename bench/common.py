@@ -17,6 +17,8 @@ import threading
 from dataclasses import dataclass
 from typing import List, Optional, Sequence, Tuple
 
+from ..scripts.reference import REF_PYTHON, reference_env  # noqa: F401 (the benchmarks' one way)
+
 # argv: RESULT_FILE COMMAND...; times COMMAND from outside and writes its accounting as JSON.
 _LAUNCHER = r"""
 import json, os, sys, time
@@ -141,10 +143,3 @@ def target(label: str, value: Optional[float], goal: float, at_least: bool = Tru
     else:
         verdict = "PASS" if (value >= goal if at_least else value <= goal) else "MISS"
     return [label, value, ("≥ " if at_least else "≤ ") + f"{goal:g}", verdict]
-
-
-
-def reference_env(env: Optional[dict] = None) -> dict:
-    """The environment for easyidp 2.0.4's interpreter: without PROJ_DATA / PROJ_LIB, which
-    point its wheels' own PROJ at Debian's data and slow it several times."""
-    return {k: v for k, v in (env or os.environ).items() if k not in ("PROJ_DATA", "PROJ_LIB")}

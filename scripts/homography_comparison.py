@@ -18,8 +18,9 @@ import tempfile
 
 import numpy as np
 
+from .reference import reference_env, require_reference
+
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-REF_PYTHON = os.path.join(ROOT, ".venv-ref", "bin", "python")
 PLOTS, PHOTOS_PER_PLOT = 12, 2
 
 REF_SCRIPT = r"""
@@ -88,15 +89,14 @@ def compare(folder: str) -> dict:
     with open(os.path.join(folder, "truth.json")) as fh:
         truth = json.load(fh)
     cs = cases(truth)
-    if not os.path.exists(REF_PYTHON):
-        raise RuntimeError(f"easyidp 2.0.4's environment not found at {REF_PYTHON} (make env-ref)")
+    ref_python = require_reference()
     with tempfile.TemporaryDirectory() as tmp:
         cpath, out = os.path.join(tmp, "cases.json"), os.path.join(tmp, "ref.json")
         with open(cpath, "w") as fh:
             json.dump(cs, fh)
-        env = {k: v for k, v in os.environ.items() if k not in ("PROJ_DATA", "PROJ_LIB")}
+        env = reference_env()
         env.update(HOME=tmp, XDG_DATA_HOME=tmp)
-        proc = subprocess.run([REF_PYTHON, "-c", REF_SCRIPT, folder, cpath, out],
+        proc = subprocess.run([ref_python, "-c", REF_SCRIPT, folder, cpath, out],
                               capture_output=True, text=True, env=env, timeout=600)
         if proc.returncode:
             raise RuntimeError("easyidp 2.0.4 failed:\n" + proc.stderr[-3000:])

@@ -9,7 +9,6 @@ frame) and never fewer ROIs; the test prints where and why we differ.
 import json
 import os
 import subprocess
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -18,8 +17,8 @@ from pyproj import Transformer
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.roi import ROI, ROISet
+from easyidp_toolbox.scripts.reference import REF_PYTHON
 
-REF_PYTHON = Path(__file__).resolve().parents[2] / ".venv-ref" / "bin" / "python"
 
 EASYIDP_SCRIPT = r"""
 import json, logging, sys, warnings

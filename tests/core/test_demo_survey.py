@@ -25,6 +25,7 @@ import pytest
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.reconstruction import INSIDE
+from easyidp_toolbox.scripts.reference import REF_PYTHON
 
 @pytest.fixture(scope="session")
 def survey(tmp_path_factory):
@@ -278,7 +279,6 @@ def test_same_seed_gives_identical_files(survey, tmp_path):
     assert a == b
 
 
-REF_PYTHON = Path(__file__).resolve().parents[2] / ".venv-ref" / "bin" / "python"
 EASYIDP_SCRIPT = r"""
 import json, sys
 import numpy as np, pyproj
