@@ -109,7 +109,7 @@ test-qgis:
 	@echo "== QGIS tests (real QGIS offscreen, and qgis_process runs)"
 	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:cacheprovider --qgis_disable_gui tests/qgis
 
-demo: env env-ref
+demo: env-qgis env-ref
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.demo $(DEMO_DIR)
 
 bench: env env-ref
