@@ -2,12 +2,12 @@
 translation."""
 import os
 
-from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition)
+from qgis.core import QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean
 from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
+from ..compat import ProcessingParameterFlag
 from ..outputs import check_outputs, check_values
 from ..resources import ICON, help_url
 
@@ -119,7 +119,7 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         p = QgsProcessingParameterBoolean(
             self.OVERWRITE, self.tr("Overwrite existing files (otherwise the tool stops before "
                                     "writing anything when an output already exists)"), False)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
 
     def overwrite(self, parameters, context) -> bool:
