@@ -114,7 +114,7 @@ def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey):
         alg = QgsApplication.processingRegistry().createAlgorithmById(ALG)
         _, ok = alg.run(params, context, feedback)
         assert ok, feedback.textLog()
-        assert handleAlgorithmResults(alg, context, feedback, False, params)
+        assert handleAlgorithmResults(alg, context, feedback, parameters=params)
         layers = {v.name(): v for v in project.mapLayers().values()}
         plots = layers["plots: plot statistics from the photos of "
                        + survey.metashape_project.rsplit("/", 1)[-1]]

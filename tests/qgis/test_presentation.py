@@ -33,7 +33,8 @@ def project():
 
 def _run_and_load(alg_id, params, project):
     """Run as the batch dialog does: a context on the project, ``alg.run``, then QGIS's loader
-    of results."""
+    of results (``parameters`` by keyword: QGIS 3.22 has a ``showResults`` argument before it,
+    3.40 not)."""
     from processing.gui.Postprocessing import handleAlgorithmResults
     context = QgsProcessingContext()
     context.setProject(project)
@@ -42,7 +43,7 @@ def _run_and_load(alg_id, params, project):
     results, ok = alg.run(params, context, feedback)
     assert ok, feedback.textLog()
     queued = {d.outputName for d in context.layersToLoadOnCompletion().values()}
-    assert handleAlgorithmResults(alg, context, feedback, False, params)
+    assert handleAlgorithmResults(alg, context, feedback, parameters=params)
     return results, queued
 
 
