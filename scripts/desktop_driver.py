@@ -207,6 +207,17 @@ def _step(plugin, step: dict) -> dict:
                 os.environ[key] = value
 
 
+def _close_qgis_notices() -> list:
+    """Remove QGIS's own start-up messages from the bar (as a user closes them; e.g. QGIS 3.40's
+    failed download of a font without network, which hides the plugin's message), returning
+    their texts."""
+    bar = iface.messageBar()
+    notices = [i for i in bar.items() if i.title() != "EasyIDP"]
+    for item in notices:
+        bar.popWidget(item)
+    return [f"{i.title()}: {i.text()}" for i in notices]
+
+
 def run() -> None:
     found = FOUND
     try:
@@ -215,6 +226,7 @@ def run() -> None:
         from easyidp_toolbox.easyidp_qgis import dependencies
         bar = plugin.dependency_bar
         _pump(0.5)
+        found["qgis_notices"] = _close_qgis_notices()
         found.update(
             plugin_file=sys.modules[type(plugin).__module__].__file__,
             python=dependencies.python_executable(), packages_dir=dependencies.packages_dir(),
