@@ -7,6 +7,7 @@ and, when asked, screenshots are saved. ``qgis_desktop.run_session`` starts it;
 Spec: ``work`` (a folder for the survey and outputs), ``model`` (the example model file),
 ``shots`` (folder for PNGs, optional).
 """
+import inspect
 import os
 import shutil
 from collections import Counter
@@ -206,8 +207,12 @@ class Session:
                 else:
                     panel.wrappers[row][column].setParameterValue(value, context)
         panel.checkLoadLayersOnCompletion.setChecked(load)
+        # QGIS 3.40 takes the context second (3.22 has destinationProject there)
+        extra = {"context": context} if "context" in inspect.signature(
+            panel.parametersForRow).parameters else {}
         self.found.setdefault("batch_values", []).append(
-            {k: repr(v) for k, v in panel.parametersForRow(0, warnOnInvalid=False)[0].items()})
+            {k: repr(v) for k, v in panel.parametersForRow(0, warnOnInvalid=False,
+                                                           **extra)[0].items()})
         dlg.show()
         _pump(0.3)
         before = set(QgsProject.instance().mapLayers())
