@@ -218,6 +218,9 @@ class Session:
         before = set(QgsProject.instance().mapLayers())
         groups_before = Counter(_group_names())
         dlg.runAlgorithm()
+        # QGIS 3.40 runs a batch in a background task (3.22 in runAlgorithm itself): closing the
+        # dialog before it ends crashes QGIS
+        _wait(lambda: QgsApplication.taskManager().countActiveTasks() == 0, 600)
         _pump(0.5)
         added = [QgsProject.instance().mapLayer(i).name()
                  for i in set(QgsProject.instance().mapLayers()) - before]
