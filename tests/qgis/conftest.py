@@ -44,6 +44,22 @@ def provider(plugin):
     return plugin.provider
 
 
+@pytest.fixture
+def load_results(monkeypatch, qgis_processing):
+    """QGIS's own loader of results, as the toolbox, batch and model dialogs call it after a run
+    (``processing.gui.Postprocessing.handleAlgorithmResults``): the parameters by keyword (QGIS
+    3.22 has a ``showResults`` argument before them, 3.40 not), and no layer tree view
+    (pytest-qgis's iface is a mock, which the C++ loader of QGIS 3.44 refuses), so QGIS adds the
+    layers as it does headless."""
+    from processing.gui import Postprocessing
+    monkeypatch.setattr(Postprocessing, "iface", None, raising=False)   # 3.22: none there
+
+    def load(alg, context, feedback, parameters):
+        return Postprocessing.handleAlgorithmResults(alg, context, feedback,
+                                                     parameters=parameters)
+    return load
+
+
 @pytest.fixture(scope="session")
 def qp_env(tmp_path_factory):
     """Environment for qgis_process.bin with the plugin enabled in an isolated profile."""
