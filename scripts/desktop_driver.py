@@ -15,6 +15,7 @@ ends the run: the findings so far are written, with a ``driver_error`` that says
 done and quotes those dialogs and errors, and QGIS exits. What is known is also kept in
 ``<out>.partial`` while the run goes on, for when the desktop has to be killed.
 """
+import faulthandler
 import json
 import os
 import sys
@@ -31,6 +32,7 @@ from qgis.utils import iface, plugins
 
 SPEC = json.loads(os.environ["EASYIDP_DRIVER"])
 STARTED = time.time()
+faulthandler.enable(all_threads=True)   # a crash of QGIS shows the Python stacks on stderr
 FOUND = {"steps": [], "modal": [], "python_errors": [], "doing": "starting"}
 
 

@@ -128,7 +128,7 @@ def run_desktop(root: str, spec: dict, timeout: float = 600,
             os.killpg(proc.pid, signal.SIGKILL)                        # Xvfb and QGIS too
             stdout, stderr = proc.communicate()
             exit_text = f"killed after {timeout:.0f} s"
-    output = f"{stdout[-3000:]}\n{stderr[-3000:]}"
+    output = f"{stdout[-3000:]}\n{stderr[-8000:]}"     # room for the Python stacks of a crash
     found = _read_json(out) or {}
     partial = _read_json(out + ".partial") or {}
     if not found:
