@@ -35,8 +35,7 @@ ProcessingSourceType = _scoped("ProcessingSourceType", QgsProcessing, "SourceTyp
 ProcessingNumberParameterType = _scoped("ProcessingNumberParameterType",
                                         QgsProcessingParameterNumber, "Type")
 ProcessingParameterFlag = _scoped("ProcessingParameterFlag", QgsProcessingParameterDefinition,
-                                  "Flag", Advanced="FlagAdvanced", Optional="FlagOptional",
-                                  Hidden="FlagHidden")
+                                  "Flag", Advanced="FlagAdvanced")
 ProcessingFileParameterBehavior = _scoped("ProcessingFileParameterBehavior",
                                           QgsProcessingParameterFile, "Behavior")
 ProcessingFieldParameterDataType = _scoped("ProcessingFieldParameterDataType",
@@ -45,9 +44,7 @@ LayerHint = QgsProcessingUtils.LayerHint          # scoped on every version
 FeatureSinkFlag = QgsFeatureSink.Flag
 
 # ---- QGIS: geometry (3.30), labels (3.26), CRS (3.36), messages, tasks
-GeometryType = _scoped("GeometryType", QgsWkbTypes, "GeometryType", Point="PointGeometry",
-                       Line="LineGeometry", Polygon="PolygonGeometry", Unknown="UnknownGeometry",
-                       Null="NullGeometry")
+GeometryType = _scoped("GeometryType", QgsWkbTypes, "GeometryType", Polygon="PolygonGeometry")
 WkbType = _scoped("WkbType", QgsWkbTypes, "Type")
 LabelPlacement = _scoped("LabelPlacement", QgsPalLayerSettings, "Placement")
 CrsWktVariant = _scoped("CrsWktVariant", QgsCoordinateReferenceSystem, "WktVariant",
@@ -61,7 +58,7 @@ if Qgis.versionInt() >= 33800:
 else:
     FieldType = SimpleNamespace(**{n: getattr(QVariant, o) for n, o in dict(
         Bool="Bool", Int="Int", UInt="UInt", LongLong="LongLong", ULongLong="ULongLong",
-        Double="Double", QString="String", QDate="Date", QDateTime="DateTime").items()})
+        Double="Double", QString="String").items()})
 INTEGER_TYPES = (FieldType.Int, FieldType.UInt, FieldType.LongLong, FieldType.ULongLong)
 
 # ---- Qt
