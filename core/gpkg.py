@@ -40,6 +40,12 @@ class GpkgTable:
     crs: object = None
 
 
+def quote_identifier(name: str) -> str:
+    """A table or column name for an SQL statement: in double quotes, each ``"`` in it doubled
+    (SQLite binds values, not names, so this is how a name from a user's file enters SQL)."""
+    return '"' + str(name).replace('"', '""') + '"'
+
+
 def field_type(values) -> str:
     """INTEGER, REAL or TEXT for a column of Python values (None ignored)."""
     kinds = {type(v) for v in values if v is not None}
@@ -91,20 +97,24 @@ def _write(con, tables) -> None:
         CONSTRAINT fk_gc_tn FOREIGN KEY (table_name) REFERENCES gpkg_contents(table_name),
         CONSTRAINT fk_gc_srs FOREIGN KEY (srs_id) REFERENCES gpkg_spatial_ref_sys (srs_id))""")
     for t in tables:
-        cols = "".join(f', "{n}" {ty}' for n, ty in t.fields)
-        names = "".join(f', "{n}"' for n, _ in t.fields)
+        # SQL below (B608 reviewed): names only through quote_identifier, types from SQL_TYPES,
+        # values bound
+        table = quote_identifier(t.name)
+        cols = "".join(f", {quote_identifier(n)} {ty}" for n, ty in t.fields)
+        names = "".join(f", {quote_identifier(n)}" for n, _ in t.fields)
         values = [tuple(_sql(v) for v in row) for row in t.rows]
         if t.geometries is None:
-            c.execute(f'CREATE TABLE "{t.name}" (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL{cols})')
+            c.execute(f"CREATE TABLE {table} (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL{cols})")
             c.execute("INSERT INTO gpkg_contents (table_name, data_type, identifier, last_change) "
                       "VALUES (?,?,?,?)", (t.name, "attributes", t.name, LAST_CHANGE))
             if t.fields:
                 marks = ",".join("?" * len(t.fields))
-                c.executemany(f'INSERT INTO "{t.name}" ({names[2:]}) VALUES ({marks})', values)
+                sql = f"INSERT INTO {table} ({names[2:]}) VALUES ({marks})"  # nosec B608
+                c.executemany(sql, values)
             continue
         srs_id = _srs(t.crs, srs)
-        c.execute(f'CREATE TABLE "{t.name}" (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, '
-                  f'geom MULTIPOLYGON{cols})')
+        c.execute(f"CREATE TABLE {table} (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
+                  f"geom MULTIPOLYGON{cols})")
         pts = [ring for g in t.geometries for part in g for ring in part]
         allxy = np.vstack(pts) if pts else np.zeros((1, 2))
         c.execute("INSERT INTO gpkg_contents VALUES (?,?,?,?,?,?,?,?,?,?)",
@@ -114,8 +124,8 @@ def _write(con, tables) -> None:
         c.execute("INSERT INTO gpkg_geometry_columns VALUES (?,?,?,?,?,?)",
                   (t.name, "geom", "MULTIPOLYGON", srs_id, 0, 0))
         marks = ",".join("?" * (len(t.fields) + 1))
-        c.executemany(f'INSERT INTO "{t.name}" (geom{names}) VALUES ({marks})',
-                      [(_blob(g, srs_id), *row) for g, row in zip(t.geometries, values)])
+        sql = f"INSERT INTO {table} (geom{names}) VALUES ({marks})"  # nosec B608
+        c.executemany(sql, [(_blob(g, srs_id), *row) for g, row in zip(t.geometries, values)])
     c.executemany("INSERT INTO gpkg_spatial_ref_sys VALUES (?,?,?,?,?,?)",
                   [(v[0], k, v[1], v[2], v[3], v[4]) for k, v in sorted(srs.items())])
 

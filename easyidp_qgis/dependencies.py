@@ -13,7 +13,8 @@ code imports has a row).
 Packages go to a folder the plugin owns inside the user's QGIS profile
 (``<profile>/python/easyidp_toolbox_packages/python3.X``), put first on ``sys.path`` when the plugin
 loads. QGIS's own environment is never changed: numpy and GDAL are QGIS's (``PROTECTED``) and are
-never installed by the plugin (``install_packages.py`` pins them to the installed versions).
+never installed by the plugin; pyproj and PyQt (``KEPT``) are never replaced, only installed where
+QGIS has none (``install_packages.py`` pins them all to the installed versions).
 """
 import importlib.metadata
 import importlib.util
@@ -75,6 +76,9 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
 
 # QGIS's own packages: checked, never installed (a plugin must not replace QGIS's numpy or GDAL).
 PROTECTED = ("numpy", "gdal")
+# Also QGIS's: never replaced (a copy that is too old is reported, not shadowed), but installed
+# where this QGIS's Python has none.
+KEPT = ("pyproj", "pyqt5", "pyqt6", "pyqt5-sip", "pyqt6-sip", "sip")
 
 PACKAGES_FOLDER = "easyidp_toolbox_packages"
 INSTALL_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "install_packages.py")
@@ -100,7 +104,9 @@ class Missing:
 
     @property
     def protected(self) -> bool:
-        return canonical(self.dependency.distribution) in PROTECTED
+        """Whether the plugin leaves it to QGIS: numpy, GDAL; pyproj when QGIS has one."""
+        key = canonical(self.dependency.distribution)
+        return key in PROTECTED or (key in KEPT and self.installed is not None)
 
     def describe(self) -> str:
         """The distribution name; with the refused version and the requirement when too old."""
@@ -273,7 +279,7 @@ def _no_window() -> dict:
 # --- the install command and the messages -----------------------------------------------------
 
 def installable(items: Sequence[Missing]) -> List[Missing]:
-    """The packages the plugin may install (not QGIS's numpy or GDAL)."""
+    """The packages the plugin may install (not QGIS's numpy, GDAL or an existing pyproj)."""
     return [m for m in items if not m.protected]
 
 
@@ -300,7 +306,8 @@ def describe(items: Sequence[Missing]) -> str:
 
 
 def protected_message(items: Sequence[Missing]) -> str:
-    """What to say when QGIS's own numpy or GDAL is missing or too old (empty when not)."""
+    """What to say when QGIS's own numpy or GDAL is missing or too old, or its pyproj too old
+    (empty when not)."""
     bad = [m for m in items if m.protected]
     if not bad:
         return ""

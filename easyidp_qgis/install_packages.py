@@ -8,9 +8,12 @@ installed, and it is also run as a plain file (no package imports).
 
 1. **Constraints.** Every distribution this Python already has outside FOLDER is pinned to its
    installed version, except the requested ones (a requested package that is too old is installed
-   anew into FOLDER, which the plugin puts first on ``sys.path``). numpy and GDAL are always
-   pinned: QGIS's GDAL is built against its numpy, and a numpy 2 next to a GDAL built on numpy 1
-   breaks ``osgeo.gdal_array``. Where numpy is absent, ``numpy<2`` unless GDAL is 3.9 or newer.
+   anew into FOLDER, which the plugin puts first on ``sys.path``). QGIS's own packages are always
+   pinned: numpy and GDAL (``PROTECTED``: never installed; QGIS's GDAL is built against its
+   numpy, and a numpy 2 next to a GDAL built on numpy 1 breaks ``osgeo.gdal_array``), pyproj and
+   PyQt (``KEPT``: never replaced; installed only where this Python has none). Where numpy is
+   absent, ``numpy<2`` unless GDAL is 3.9 or newer. So pip picks the releases that fit this
+   Python and its numpy (wheels for this interpreter, ``Requires-Python``, numpy bounds).
 2. **Resolve** with ``pip install --dry-run --report`` against this environment, FOLDER first on
    the path: pip keeps what is installed and satisfies the constraints and reports only what to
    add. (``pip install --target`` alone ignores installed packages: it would resolve and download a
@@ -38,6 +41,7 @@ import tempfile
 import time
 
 PROTECTED = ("numpy", "gdal")
+KEPT = ("pyproj", "pyqt5", "pyqt6", "pyqt5-sip", "pyqt6-sip", "sip")
 STAGING_PREFIX = ".staging-"
 MIN_PIP = (22, 2)  # --dry-run and --report
 COMMON = ("--only-binary=:all:", "--no-input", "--progress-bar", "off", "--root-user-action",
@@ -106,7 +110,7 @@ def constraints(target: str, requested: set) -> list:
     have = installed_distributions()
     pins = []
     for key, (name, version, folder) in sorted(have.items()):
-        if _inside(folder, target) or (key in requested and key not in PROTECTED):
+        if _inside(folder, target) or (key in requested and key not in PROTECTED + KEPT):
             continue
         if _NAME.match(name) and _PEP440.match(version):
             pins.append(f"{name}=={version.strip()}")
@@ -180,7 +184,10 @@ def resolve(target: str, requirements: list, env: dict) -> list:
         with open(report, encoding="utf-8") as fh:
             items = json.load(fh).get("install", [])
     plan = [(i["metadata"]["name"], i["metadata"]["version"]) for i in items]
-    bad = [f"{n} {v}" for n, v in plan if canonical(n) in PROTECTED]
+    have = {k for k, (_, _, folder) in installed_distributions().items()
+            if not _inside(folder, target)}
+    bad = [f"{n} {v}" for n, v in plan if canonical(n) in PROTECTED
+           or (canonical(n) in KEPT and canonical(n) in have)]
     if bad:  # cannot happen with the pins; checked because it must never happen
         raise Failed(f"pip would install {', '.join(bad)} over QGIS's own; nothing was installed.")
     return plan

@@ -12,11 +12,12 @@ import sys
 import threading
 from typing import Callable, List, Optional
 
-from qgis.core import Qgis, QgsApplication, QgsMessageLog, QgsTask
+from qgis.core import QgsApplication, QgsMessageLog, QgsTask
 from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtWidgets import QProgressBar, QPushButton
 
 from . import dependencies
+from .compat import MessageLevel, TaskFlag
 
 LOG_TAG = "EasyIDP"
 
@@ -29,7 +30,7 @@ class InstallTask(QgsTask):
     """
 
     def __init__(self, argv: List[str], description: str, done: Callable[["InstallTask"], None]):
-        super().__init__(description, QgsTask.CanCancel)
+        super().__init__(description, TaskFlag.CanCancel)
         self.argv = list(argv)
         self.done = done
         self.output: List[str] = []
@@ -173,7 +174,7 @@ class DependencyBar:
                                       "packages are not changed."))
             button.clicked.connect(self.install)
             widget.layout().addWidget(button)
-        self._show(widget, Qgis.Warning, text)
+        self._show(widget, MessageLevel.Warning, text)
         return True
 
     def install(self) -> None:
@@ -182,12 +183,12 @@ class DependencyBar:
             return
         items = dependencies.installable(dependencies.missing(include_extras=True))
         if not items:
-            self._report(Qgis.Success, self.tr("Every Python package EasyIDP needs is installed."))
+            self._report(MessageLevel.Success, self.tr("Every Python package EasyIDP needs is installed."))
             return
         argv = dependencies.install_argv(items)
         self.command = dependencies.format_command(argv)
         names = ", ".join(m.dependency.distribution for m in items)
-        QgsMessageLog.logMessage(f"Installing {names}: {self.command}", LOG_TAG, Qgis.Info)
+        QgsMessageLog.logMessage(f"Installing {names}: {self.command}", LOG_TAG, MessageLevel.Info)
         self.task = InstallTask(argv, self.tr("Installing Python packages for EasyIDP"),
                                 self._finished)
         text = self.tr("Installing {packages} …").format(packages=names)
@@ -201,7 +202,7 @@ class DependencyBar:
         cancel.clicked.connect(self.cancel)
         widget.layout().addWidget(cancel)
         self.task.progressChanged.connect(lambda value: progress.setValue(int(value)))
-        self._show(widget, Qgis.Info, text)
+        self._show(widget, MessageLevel.Info, text)
         QgsApplication.taskManager().addTask(self.task)
 
     def cancel(self) -> None:
@@ -220,10 +221,10 @@ class DependencyBar:
         if self.unloaded:
             return
         QgsMessageLog.logMessage("\n".join(task.output), LOG_TAG,
-                                 Qgis.Info if task.ok else Qgis.Warning)
+                                 MessageLevel.Info if task.ok else MessageLevel.Warning)
         if task.cancelled:
             self.result = "cancelled"
-            self._report(Qgis.Info, self.tr("Installation cancelled; nothing was changed. To "
+            self._report(MessageLevel.Info, self.tr("Installation cancelled; nothing was changed. To "
                                             "install later, run:\n{command}").format(
                 command=self.command))
             return
@@ -233,7 +234,7 @@ class DependencyBar:
             reason = task.error or (self.tr("still missing after pip: {packages}").format(
                 packages=dependencies.describe(still)) if still else
                 self.tr("exit status {code}").format(code=task.returncode))
-            self._report(Qgis.Critical, self.tr(
+            self._report(MessageLevel.Critical, self.tr(
                 "Installing the Python packages failed: {reason}. Run this command in a "
                 "terminal to see why:\n{command}").format(reason=reason, command=self.command),
                 details="\n".join(task.output))
@@ -245,7 +246,7 @@ class DependencyBar:
             packages=installed or self.tr("nothing was missing"))
         if _loaded_elsewhere(installed):
             text += " " + self.tr("Restart QGIS to use them: an older copy is already loaded.")
-        self._report(Qgis.Success, text, duration=-1)
+        self._report(MessageLevel.Success, text, duration=-1)
         if self.on_installed is not None:
             self.on_installed()
 

@@ -4,13 +4,16 @@ import os
 import re
 
 from qgis.core import (QgsCoordinateReferenceSystem, QgsCoordinateTransform, QgsCsException,
-                       QgsFeatureRequest, QgsGeometry, QgsProcessing, QgsProcessingException,
-                       QgsProcessingParameterCrs, QgsProcessingParameterDefinition,
-                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
-                       QgsProcessingParameterFile, QgsProcessingParameterNumber,
-                       QgsProcessingParameterString, QgsProject, QgsWkbTypes)
+                       QgsFeatureRequest, QgsGeometry, QgsProcessingException,
+                       QgsProcessingParameterCrs, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterField, QgsProcessingParameterFile,
+                       QgsProcessingParameterNumber, QgsProcessingParameterString, QgsProject,
+                       QgsWkbTypes)
 
 from ..core.roi import ROISet, roi_from_coordinates
+from .compat import (CrsWktVariant, FeatureSinkFlag, GeometryType,
+                     ProcessingFieldParameterDataType, ProcessingFileParameterBehavior,
+                     ProcessingNumberParameterType, ProcessingParameterFlag, ProcessingSourceType)
 
 
 def crs_string(crs: QgsCoordinateReferenceSystem):
@@ -19,7 +22,7 @@ def crs_string(crs: QgsCoordinateReferenceSystem):
         return None
     if crs.authid().upper().startswith("EPSG:"):
         return crs.authid()
-    return crs.toWkt(QgsCoordinateReferenceSystem.WKT_PREFERRED)
+    return crs.toWkt(CrsWktVariant.Preferred)
 
 
 def qgis_crs(crs) -> QgsCoordinateReferenceSystem:
@@ -88,7 +91,7 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
     """
     if source is None:
         raise QgsProcessingException(f"{label}: no ROI layer given, or it could not be loaded.")
-    if QgsWkbTypes.geometryType(source.wkbType()) != QgsWkbTypes.PolygonGeometry:
+    if QgsWkbTypes.geometryType(source.wkbType()) != GeometryType.Polygon:
         kind = QgsWkbTypes.geometryDisplayString(QgsWkbTypes.geometryType(source.wkbType()))
         raise QgsProcessingException(
             f"{label}: the ROI layer '{source.sourceName()}' has {kind} geometries; ROIs must be "
@@ -172,7 +175,7 @@ def add_point_cloud_parameters(alg):
     """INPUT (a .las/.laz/.ply file: no point cloud layers on QGIS without PDAL) and INPUT_CRS."""
     alg.addParameter(QgsProcessingParameterFile(
         alg.INPUT, alg.tr("Point cloud (.las, .laz or .ply)"),
-        behavior=QgsProcessingParameterFile.File, fileFilter=POINT_CLOUD_FILTER))
+        behavior=ProcessingFileParameterBehavior.File, fileFilter=POINT_CLOUD_FILTER))
     alg.addParameter(QgsProcessingParameterCrs(
         alg.INPUT_CRS, alg.tr("Point cloud CRS (needed for PLY and for LAS without a CRS; "
                               "otherwise read from the file)"), optional=True))
@@ -203,9 +206,9 @@ def add_z_range_parameters(alg):
     """Advanced, optional Z_MIN and Z_MAX."""
     for name, label in ((alg.Z_MIN, alg.tr("Lowest Z to keep (cloud Z units; empty: no limit)")),
                         (alg.Z_MAX, alg.tr("Highest Z to keep (cloud Z units; empty: no limit)"))):
-        p = QgsProcessingParameterNumber(name, label, QgsProcessingParameterNumber.Double,
+        p = QgsProcessingParameterNumber(name, label, ProcessingNumberParameterType.Double,
                                          optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         alg.addParameter(p)
 
 
@@ -232,14 +235,14 @@ def add_project_parameters(alg):
     alg.addParameter(QgsProcessingParameterFile(
         alg.PROJECT, alg.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, "
                             "project or params folder; OpenDroneMap folder or reconstruction.json)"),
-        behavior=QgsProcessingParameterFile.File))
+        behavior=ProcessingFileParameterBehavior.File))
     alg.addParameter(QgsProcessingParameterString(
         alg.CHUNK, alg.tr("Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index "
                           "(needed when there are several)"), optional=True))
     p = QgsProcessingParameterCrs(
         alg.PROJECT_CRS, alg.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without "
                                 "OpenDroneMap)"), optional=True)
-    p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+    p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
     alg.addParameter(p)
 
 
@@ -288,10 +291,10 @@ def add_height_parameters(alg):
         alg.DSM, alg.tr("DSM (GeoTIFF): vertex heights and occlusion test"), optional=True))
     alg.addParameter(QgsProcessingParameterField(
         alg.HEIGHT_FIELD, alg.tr("Height attribute"), parentLayerParameterName=alg.ROIS,
-        type=QgsProcessingParameterField.Numeric, optional=True))
+        type=ProcessingFieldParameterDataType.Numeric, optional=True))
     alg.addParameter(alg.decimals(QgsProcessingParameterNumber(
         alg.GROUND_HEIGHT, alg.tr("Constant ground height (project vertical reference)"),
-        QgsProcessingParameterNumber.Double, optional=True), 3))
+        ProcessingNumberParameterType.Double, optional=True), 3))
 
 
 def dsm_parameter(alg, parameters, context):
@@ -387,18 +390,17 @@ def backprojection_from_layer(layer, label: str, roi_names, recon, feedback=None
 def add_index_parameter(alg, description: str):
     """OUTPUT_INDEX (optional, made by default): the ROIs with the file written for each. Loading
     it is the user's choice of loading the files too (see presentation.load_project)."""
-    from qgis.core import QgsProcessing, QgsProcessingParameterFeatureSink
+    from qgis.core import QgsProcessingParameterFeatureSink
     alg.addParameter(QgsProcessingParameterFeatureSink(
-        alg.OUTPUT_INDEX, description, QgsProcessing.TypeVectorPolygon, optional=True,
+        alg.OUTPUT_INDEX, description, ProcessingSourceType.VectorPolygon, optional=True,
         createByDefault=True))
 
 
 def write_index(alg, parameters, context, source, rows, extra):
     """Write OUTPUT_INDEX when it is asked for: one feature per row ``(ROI feature, values)``,
-    the ROI's geometry and attributes followed by the ``extra`` fields ``[(name, QVariant
-    type)]``. Returns the destination id, or None when the output is skipped."""
-    from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
-                           QgsProcessingUtils)
+    the ROI's geometry and attributes followed by the ``extra`` fields ``[(name,
+    compat.FieldType member)]``. Returns the destination id, or None when the output is skipped."""
+    from qgis.core import QgsFeature, QgsField, QgsFields, QgsProcessingUtils
     if parameters.get(alg.OUTPUT_INDEX) in (None, ""):
         return None
     more = QgsFields()
@@ -413,7 +415,7 @@ def write_index(alg, parameters, context, source, rows, extra):
         f = QgsFeature(fields)
         f.setGeometry(feat.geometry())
         f.setAttributes(list(feat.attributes()) + list(values))
-        sink.addFeature(f, QgsFeatureSink.FastInsert)
+        sink.addFeature(f, FeatureSinkFlag.FastInsert)
     return dest
 
 
@@ -422,7 +424,7 @@ def write_index(alg, parameters, context, source, rows, extra):
 def add_roi_parameters(alg, name_field: bool = True):
     """ROIS (a polygon layer) and, with ``name_field``, NAME_FIELD (names files and records)."""
     alg.addParameter(QgsProcessingParameterFeatureSource(
-        alg.ROIS, alg.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+        alg.ROIS, alg.tr("ROIs (polygons)"), [ProcessingSourceType.VectorPolygon]))
     if name_field:
         alg.addParameter(QgsProcessingParameterField(
             alg.NAME_FIELD, alg.tr("Name field (default: feature id)"),

@@ -7,10 +7,11 @@ message bar (``installer.DependencyBar``); under qgis_process nothing is ever in
 import os
 import sys
 
-from qgis.core import Qgis, QgsApplication, QgsMessageLog
+from qgis.core import QgsApplication, QgsMessageLog
 from qgis.PyQt.QtCore import QCoreApplication, QLocale, QSettings, QTranslator
 
 from . import dependencies
+from .compat import MessageLevel
 from .resources import I18N_DIR
 
 
@@ -47,7 +48,7 @@ class EasyIDPPlugin:
             if self.iface is None:  # qgis_process: stderr (stdout would corrupt --json output)
                 sys.stderr.write(self.load_error + "\n")
             else:
-                QgsMessageLog.logMessage(self.load_error, "EasyIDP", Qgis.Critical)
+                QgsMessageLog.logMessage(self.load_error, "EasyIDP", MessageLevel.Critical)
             return
         self.load_error = ""
         self.provider = EasyIDPProvider()

@@ -33,19 +33,20 @@ from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, 
                        QgsGraduatedSymbolRenderer, QgsLayerTreeLayer, QgsMarkerSymbol,
                        QgsPalLayerSettings, QgsProcessingContext,
                        QgsProcessingLayerPostProcessorInterface,
-                       QgsProcessingOutputLayerDefinition, QgsProcessingUtils, QgsProject,
-                       QgsRendererCategory, QgsRuleBasedRenderer, QgsSingleSymbolRenderer,
-                       QgsStyle, QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
+                       QgsProcessingOutputLayerDefinition, QgsProject, QgsRendererCategory,
+                       QgsRuleBasedRenderer, QgsSingleSymbolRenderer, QgsStyle,
+                       QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
                        QgsVectorLayerSimpleLabeling, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
 from qgis.PyQt.QtGui import QColor
+
+from .compat import INTEGER_TYPES, GeometryType, LabelPlacement, LayerHint
 
 MAX_LAYERS_TO_LOAD = 100
 """Above this many files a run loads none of them (the log says where they are)."""
 
-RASTER = QgsProcessingUtils.LayerHint.Raster
-POINT_CLOUD = QgsProcessingUtils.LayerHint.PointCloud
-VECTOR = QgsProcessingUtils.LayerHint.Vector
+RASTER = LayerHint.Raster
+POINT_CLOUD = LayerHint.PointCloud
+VECTOR = LayerHint.Vector
 
 # QGIS deletes a post-processor with its context, but the Python side of one must stay
 # referenced until then, or its postProcessLayer is lost (the QGIS cookbook keeps a class
@@ -211,8 +212,8 @@ def _label(layer, expression: str, size: float = 8.0, max_scale_denominator: flo
     buffer.setColor(QColor(halo))
     fmt.setBuffer(buffer)
     settings.setFormat(fmt)
-    if QgsWkbTypes.geometryType(layer.wkbType()) == QgsWkbTypes.PolygonGeometry:
-        settings.placement = QgsPalLayerSettings.OverPoint
+    if QgsWkbTypes.geometryType(layer.wkbType()) == GeometryType.Polygon:
+        settings.placement = LabelPlacement.OverPoint
     if max_scale_denominator:
         settings.scaleVisibility = True
         settings.minimumScale = max_scale_denominator   # the most zoomed-out scale shown
@@ -288,8 +289,7 @@ def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str =
         if index < 0:
             return
         colours = QgsStyle.defaultStyle().colorRamp(ramp)
-        integers = layer.fields().at(index).type() in (QVariant.Int, QVariant.LongLong,
-                                                       QVariant.UInt, QVariant.ULongLong)
+        integers = layer.fields().at(index).type() in INTEGER_TYPES
         few = 12 if integers else classes       # counts: a colour per count up to 12
         values = sorted(v for v in layer.uniqueValues(index, few + 1)
                         if v is not None and str(v) != "NULL")

@@ -6,21 +6,113 @@ message bar, optional), ``steps`` (optional list of ``{"action": "install" | "ca
 "env": {name: value or null}}``: the environment pip sees during that step; *Install* is clicked,
 and for "cancel" *Cancel* once pip runs), ``session`` (optional: a user's session with the tools,
 see ``desktop_session.py``; its findings go to ``session``). QGIS quits when done; errors go to
-``driver_error``.
+``driver_error``; ``probe`` plants a dialog or a hang (the driver's own test).
+
+Nothing waits for a click that never comes: every modal dialog (a question, QGIS's Python error
+dialog) is closed as soon as it shows, its title and text kept in ``modal``; every message-log
+entry tagged "Python error" is kept in ``python_errors``. ``deadline`` (seconds, from the spec)
+ends the run: the findings so far are written, with a ``driver_error`` that says what was being
+done and quotes those dialogs and errors, and QGIS exits. What is known is also kept in
+``<out>.partial`` while the run goes on, for when the desktop has to be killed.
 """
+import faulthandler
 import json
 import os
 import sys
+import threading
 import time
 import traceback
 
 from qgis.core import QgsApplication
 from qgis.gui import QgsMessageBarItem
 from qgis.PyQt.QtCore import QPoint, QRect, QTimer
-from qgis.PyQt.QtWidgets import QPushButton
+from qgis.PyQt.QtWidgets import (QApplication, QDialog, QLabel, QMessageBox, QPushButton,
+                                 QTextEdit)
 from qgis.utils import iface, plugins
 
 SPEC = json.loads(os.environ["EASYIDP_DRIVER"])
+STARTED = time.time()
+faulthandler.enable(all_threads=True)   # a crash of QGIS shows the Python stacks on stderr
+FOUND = {"steps": [], "modal": [], "python_errors": [], "doing": "starting"}
+
+
+def _write(path: str) -> None:
+    with open(path + ".tmp", "w", encoding="utf-8") as fh:
+        json.dump(FOUND, fh, indent=1, default=str)
+    os.replace(path + ".tmp", path)
+
+
+def doing(what: str) -> None:
+    """Say what the run is doing now (named by a time-out); kept in ``<out>.partial``."""
+    FOUND["doing"] = what
+    _write(SPEC["out"] + ".partial")
+
+
+def _dialog_text(w) -> str:
+    """Title and text of a dialog: a message box's texts, else its labels and text views."""
+    parts = [w.windowTitle()]
+    if isinstance(w, QMessageBox):
+        parts += [w.text(), w.informativeText(), w.detailedText()]
+    else:
+        parts += [label.text() for label in w.findChildren(QLabel)]
+        parts += [view.toPlainText() for view in w.findChildren(QTextEdit)]
+    return "\n".join(p.strip() for p in parts if p and p.strip())
+
+
+def _close_modal() -> None:
+    w = QApplication.activeModalWidget()
+    if w is None:
+        return
+    FOUND["modal"].append(f"{type(w).__name__} while {FOUND['doing']}: {_dialog_text(w)}")
+    _write(SPEC["out"] + ".partial")
+    if isinstance(w, QMessageBox) and w.escapeButton() is not None:
+        w.escapeButton().click()
+    elif isinstance(w, QDialog):
+        w.reject()
+    else:
+        w.close()
+
+
+def _log(message, tag, level) -> None:
+    if tag == "Python error":
+        FOUND["python_errors"].append(message)
+        _write(SPEC["out"] + ".partial")
+
+
+def _deadline() -> None:
+    """A thread's timer: it fires even while the main thread is stuck (in a nested event loop,
+    or in Python that never returns to Qt)."""
+    quoted = "\n".join(FOUND["modal"] + FOUND["python_errors"]) or "no dialog, no Python error"
+    FOUND["driver_error"] = (f"time limit of {SPEC['deadline']:.0f} s reached while "
+                             f"{FOUND['doing']}; seen:\n{quoted}")
+    for _ in range(10):                  # the main thread may be changing FOUND meanwhile
+        try:
+            _write(SPEC["out"])
+            break
+        except RuntimeError:
+            time.sleep(0.05)
+    os._exit(3)
+
+
+def _probe(kind: str) -> None:
+    """What the driver's own test plants (spec ``probe``): a question and a Python error
+    raised in a slot (``dialog``), or a run that never ends (``hang``)."""
+    if kind == "dialog":
+        QTimer.singleShot(0, lambda: 1 / 0)              # QGIS's Python error dialog
+        QMessageBox.question(None, "Planted question", "Replace the planted file?")
+    elif kind == "hang":
+        while True:
+            time.sleep(0.1)
+
+
+WATCHDOG = QTimer()
+WATCHDOG.timeout.connect(_close_modal)
+WATCHDOG.start(300)
+QgsApplication.messageLog().messageReceived.connect(_log)
+if SPEC.get("deadline"):
+    DEADLINE = threading.Timer(SPEC["deadline"], _deadline)
+    DEADLINE.daemon = True               # QGIS's exit does not wait for it
+    DEADLINE.start()
 
 
 def _pump(seconds: float) -> None:
@@ -117,14 +209,26 @@ def _step(plugin, step: dict) -> dict:
                 os.environ[key] = value
 
 
+def _close_qgis_notices() -> list:
+    """Remove QGIS's own start-up messages from the bar (as a user closes them; e.g. QGIS 3.40's
+    failed download of a font without network, which hides the plugin's message), returning
+    their texts."""
+    bar = iface.messageBar()
+    notices = [i for i in bar.items() if i.title() != "EasyIDP"]
+    for item in notices:
+        bar.popWidget(item)
+    return [f"{i.title()}: {i.text()}" for i in notices]
+
+
 def run() -> None:
-    found = {"steps": []}
+    found = FOUND
     try:
         plugin = plugins.get("easyidp_toolbox")
         found["plugin_loaded"] = plugin is not None
         from easyidp_toolbox.easyidp_qgis import dependencies
         bar = plugin.dependency_bar
         _pump(0.5)
+        found["qgis_notices"] = _close_qgis_notices()
         found.update(
             plugin_file=sys.modules[type(plugin).__module__].__file__,
             python=dependencies.python_executable(), packages_dir=dependencies.packages_dir(),
@@ -134,12 +238,17 @@ def run() -> None:
             current=_current(),
             provider=QgsApplication.processingRegistry().providerById("easyidp") is not None,
             folder=_listing(dependencies.packages_dir()))
+        if SPEC.get("probe"):
+            doing(f"the planted {SPEC['probe']}")
+            _probe(SPEC["probe"])
         if SPEC.get("screenshot"):
+            doing("taking the screenshot")
             _screenshot(SPEC["screenshot"])
         if SPEC.get("session"):
             from easyidp_toolbox.scripts.desktop_session import run_session
-            found["session"] = run_session(SPEC["session"])
+            found["session"] = run_session(SPEC["session"], found["modal"], doing)
         for step in SPEC.get("steps", []):
+            doing(f"clicking {step['action']} in the message bar")
             found["steps"].append(_step(plugin, step))
         if found["steps"] and found["steps"][-1]["result"] == "installed":
             import importlib
@@ -149,8 +258,8 @@ def run() -> None:
             found["numpy"] = [numpy.__version__, numpy.__file__]
     except Exception:
         found["driver_error"] = traceback.format_exc()
-    with open(SPEC["out"], "w", encoding="utf-8") as fh:
-        json.dump(found, fh, indent=1)
+    doing("done")
+    _write(SPEC["out"])
     QgsApplication.exit(0)
 
 

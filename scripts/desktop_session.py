@@ -7,6 +7,7 @@ and, when asked, screenshots are saved. ``qgis_desktop.run_session`` starts it;
 Spec: ``work`` (a folder for the survey and outputs), ``model`` (the example model file),
 ``shots`` (folder for PNGs, optional).
 """
+import inspect
 import os
 import shutil
 from collections import Counter
@@ -16,9 +17,8 @@ import traceback
 from qgis.core import (QgsApplication, QgsLayerTreeGroup, QgsMapLayerType,
                        QgsProcessingModelAlgorithm, QgsProject, QgsRenderContext, QgsVectorLayer,
                        QgsWkbTypes)
-from qgis.PyQt.QtCore import Qt, QTimer
-from qgis.PyQt.QtWidgets import (QAction, QApplication, QCheckBox, QDockWidget, QMessageBox,
-                                 QTextEdit)
+from qgis.PyQt.QtCore import Qt
+from qgis.PyQt.QtWidgets import QAction, QCheckBox, QDockWidget, QTextEdit
 from qgis.utils import iface
 
 WIDTH, HEIGHT = 1280, 800
@@ -87,26 +87,21 @@ def tree(node=None) -> list:
 
 
 class Session:
-    def __init__(self, spec: dict):
+    """``modal``: the list the driver keeps the dialogs it closed in; ``doing(what)``: tells the
+    driver what the session is doing (named when its time limit is reached)."""
+
+    def __init__(self, spec: dict, modal: list, doing):
         self.work = spec["work"]
         self.shots = spec.get("shots")
         self.model_file = spec.get("model")
-        self.found = {"steps": {}, "log": [], "modal": [], "shots": []}
+        self.found = {"steps": {}, "log": [], "modal": modal, "shots": []}
+        self.doing = doing
         self.survey = os.path.join(self.work, "survey")
         QgsApplication.messageLog().messageReceived.connect(self._log)
-        self.watchdog = QTimer()
-        self.watchdog.timeout.connect(self._close_modal)
-        self.watchdog.start(300)
 
-    # -- what goes wrong without asking: the message log, modal boxes --
+    # -- what goes wrong without asking: the message log (the driver closes modal dialogs) --
     def _log(self, message, tag, level):
         self.found["log"].append([tag, int(level), message])
-
-    def _close_modal(self):
-        w = QApplication.activeModalWidget()
-        if isinstance(w, QMessageBox):
-            self.found["modal"].append(w.text())
-            w.reject() if w.escapeButton() is None else w.escapeButton().click()
 
     # -- the desktop --
     def setup(self):
@@ -157,6 +152,7 @@ class Session:
         """The tool's dialog, filled in, Run clicked; ``open_outputs``: {output: ticked} for
         "Open output file after running algorithm"."""
         from processing.gui.AlgorithmDialog import AlgorithmDialog
+        self.doing(f"running {alg_id} from its dialog (step {step})")
         alg = QgsApplication.processingRegistry().createAlgorithmById(alg_id)
         dlg = AlgorithmDialog(alg, parent=iface.mainWindow())
         dlg.setParameters(params)
@@ -196,6 +192,7 @@ class Session:
         """Batch mode with ``rows`` ({parameter: value}) and "Load layers on completion"."""
         from processing.gui.BatchAlgorithmDialog import BatchAlgorithmDialog
         from processing.tools import dataobjects
+        self.doing(f"running {alg_id} in batch mode (step {step})")
         alg = QgsApplication.processingRegistry().createAlgorithmById(alg_id)
         dlg = BatchAlgorithmDialog(alg, parent=iface.mainWindow())
         panel = dlg.mainWidget()
@@ -210,13 +207,20 @@ class Session:
                 else:
                     panel.wrappers[row][column].setParameterValue(value, context)
         panel.checkLoadLayersOnCompletion.setChecked(load)
+        # QGIS 3.40 takes the context second (3.22 has destinationProject there)
+        extra = {"context": context} if "context" in inspect.signature(
+            panel.parametersForRow).parameters else {}
         self.found.setdefault("batch_values", []).append(
-            {k: repr(v) for k, v in panel.parametersForRow(0, warnOnInvalid=False)[0].items()})
+            {k: repr(v) for k, v in panel.parametersForRow(0, warnOnInvalid=False,
+                                                           **extra)[0].items()})
         dlg.show()
         _pump(0.3)
         before = set(QgsProject.instance().mapLayers())
         groups_before = Counter(_group_names())
         dlg.runAlgorithm()
+        # QGIS 3.40 runs a batch in a background task (3.22 in runAlgorithm itself): closing the
+        # dialog before it ends crashes QGIS
+        _wait(lambda: QgsApplication.taskManager().countActiveTasks() == 0, 600)
         _pump(0.5)
         added = [QgsProject.instance().mapLayer(i).name()
                  for i in set(QgsProject.instance().mapLayers()) - before]
@@ -365,6 +369,7 @@ class Session:
                 "crop:Crops": os.path.join(self.work, f"model_crops_{tag}")},
                 open_outputs={"heights:Plots with heights": ticked,
                               "crop:Index of the crops": ticked})
+        self.doing("opening the example model in the modeler")
         model = QgsProcessingModelAlgorithm()
         model.fromFile(source)
         self.found["model_valid"] = list(model.validate())
@@ -397,13 +402,13 @@ def _group_names(node=None):
     return out
 
 
-def run_session(spec: dict) -> dict:
-    session = Session(spec)
+def run_session(spec: dict, modal: list, doing) -> dict:
+    """The session; ``modal`` and ``doing``: see :class:`Session`."""
+    session = Session(spec, modal, doing)
     try:
         session.run()
     except Exception:
         session.found["session_error"] = traceback.format_exc()
     finally:
-        session.watchdog.stop()
         QgsApplication.messageLog().messageReceived.disconnect(session._log)
     return session.found

@@ -11,7 +11,10 @@ tree when it is not a git checkout).
 Checks, as the QGIS plugin repository applies them (qgis/QGIS-Django,
 ``qgis-app/plugins/validator.py``; versions as its ``VersionField`` sorts them), are errors;
 placeholders the repository would accept but that are not real (example.org addresses) are
-warnings, which ``--strict`` turns into errors. Writes through the project's one atomic writer
+warnings, which ``--strict`` turns into errors. ``qgisMaximumVersion`` must be there and be a
+QGIS 4 version (4.99): without it QGIS 4 and the repository hide the plugin from QGIS 4 users.
+The zip's contents then go through Bandit, the repository's security scan: any high-severity
+finding is an error. Writes through the project's one atomic writer
 (``core.files.atomic_output``), so it runs in the plugin's environment (``make env``).
 """
 import argparse
@@ -66,10 +69,15 @@ def check_metadata(meta: dict, names: Optional[List[str]] = None) -> Tuple[List[
     if version and not re.fullmatch(r"[0-9]{1,3}(\.[0-9]{1,3}){1,3}", version):
         errors.append(f"metadata.txt: version {version!r} must be 2 to 4 dotted numbers of up to "
                       "3 digits (the repository sorts versions as a.b.c.d)")
-    for key in ("qgisMinimumVersion", "qgisMaximumVersion"):
-        value = meta.get(key, "").strip()
-        if value and not re.fullmatch(r"3\.[0-9]{1,2}(\.[0-9]{1,2})?", value):
-            errors.append(f"metadata.txt: {key} {value!r} must be a QGIS 3 version such as 3.22")
+    value = meta.get("qgisMinimumVersion", "").strip()
+    if value and not re.fullmatch(r"3\.[0-9]{1,2}(\.[0-9]{1,2})?", value):
+        errors.append(f"metadata.txt: qgisMinimumVersion {value!r} must be a QGIS 3 version such "
+                      "as 3.22")
+    value = meta.get("qgisMaximumVersion", "").strip()
+    if not re.fullmatch(r"4\.[0-9]{1,2}(\.[0-9]{1,2})?", value):
+        errors.append(f"metadata.txt: qgisMaximumVersion {value or '(missing)'} must be a QGIS 4 "
+                      "version, 4.99: without it QGIS 4 and plugins.qgis.org hide the plugin "
+                      "from QGIS 4 users")
     if version and not re.search(rf"(?mi)^\s*(version\s*)?v?{re.escape(version)}\b",
                                  meta.get("changelog", "")):
         errors.append(f"metadata.txt: changelog has no entry for version {version} (a line "
@@ -177,7 +185,30 @@ def build(output_dir: str, root: str = ROOT, strict: bool = False) -> Tuple[str,
         problems = check_zip(str(tmp))
         if problems:
             raise ValueError("the zip fails the repository's checks:\n  " + "\n  ".join(problems))
+        high = security_scan(str(tmp))
+        if high:
+            raise ValueError("Bandit (the repository's security scan) finds high-severity "
+                             "problems in the zip:\n  " + "\n  ".join(high))
     return path, warnings
+
+
+def security_scan(path: str) -> List[str]:
+    """Bandit over the zip's contents: its high-severity findings, each ``file:line test_id:
+    text``. Raises ValueError when Bandit cannot run."""
+    import json
+    import tempfile
+    with tempfile.TemporaryDirectory(prefix="easyidp-bandit-") as tmp:
+        with zipfile.ZipFile(path) as zf:
+            zf.extractall(tmp)
+        proc = subprocess.run([sys.executable, "-m", "bandit", "-r", "-q", "-f", "json", tmp],
+                              capture_output=True, text=True)
+        try:
+            results = json.loads(proc.stdout)["results"]
+        except (ValueError, KeyError):
+            raise ValueError(f"Bandit could not scan the zip (pip install bandit; "
+                             f"requirements/qgis.txt has it): {proc.stderr.strip()[-500:]}") from None
+    return [f"{os.path.relpath(r['filename'], tmp)}:{r['line_number']} {r['test_id']}: "
+            f"{r['issue_text']}" for r in results if r["issue_severity"] == "HIGH"]
 
 
 def check_zip(path: str) -> List[str]:

@@ -18,6 +18,7 @@ import configparser
 import json
 import os
 import shutil
+import signal
 import subprocess
 import sys
 import sysconfig
@@ -105,27 +106,50 @@ def run_desktop(root: str, spec: dict, timeout: float = 600,
                 extra_env: Optional[Dict[str, str]] = None) -> dict:
     """Start the QGIS desktop on the profile under Xvfb; the driver follows ``spec`` (see
     desktop_driver.py) and its findings are returned. ``extra_env``: added to a user's
-    environment (e.g. :func:`checkout_env`)."""
+    environment (e.g. :func:`checkout_env`). Within ``timeout`` seconds, or RuntimeError saying
+    what the desktop was doing and quoting the dialogs it closed and the Python errors logged
+    (the driver stops itself 30 s before; QGIS is killed at ``timeout``)."""
     xvfb = shutil.which("xvfb-run")
     if not xvfb:
         raise RuntimeError("xvfb-run is missing: apt-get install xvfb xauth (make env does)")
     fd, out = tempfile.mkstemp(prefix="easyidp-desktop-", suffix=".json")
     os.close(fd)
     os.remove(out)
-    spec = dict(spec, out=out)
+    spec = dict(spec, out=out, deadline=max(timeout - 30, timeout / 2))
     env = clean_env({"EASYIDP_DRIVER": json.dumps(spec), **(extra_env or {})})
     cmd = [xvfb, "-a", "-s", "-screen 0 1280x800x24", QGIS, "--noversioncheck", "--nologo",
            "--profiles-path", root, "--code", DRIVER]
-    proc = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
-    if not os.path.exists(out):
-        raise RuntimeError(f"the QGIS desktop wrote no result (exit {proc.returncode}):\n"
-                           f"{proc.stdout[-3000:]}\n{proc.stderr[-3000:]}")
-    with open(out, encoding="utf-8") as fh:
-        found = json.load(fh)
-    os.remove(out)
+    with subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                          text=True, start_new_session=True) as proc:   # its own process group
+        try:
+            stdout, stderr = proc.communicate(timeout=timeout)
+            exit_text = f"exit {proc.returncode}"
+        except subprocess.TimeoutExpired:
+            os.killpg(proc.pid, signal.SIGKILL)                        # Xvfb and QGIS too
+            stdout, stderr = proc.communicate()
+            exit_text = f"killed after {timeout:.0f} s"
+    output = f"{stdout[-3000:]}\n{stderr[-8000:]}"     # room for the Python stacks of a crash
+    found = _read_json(out) or {}
+    partial = _read_json(out + ".partial") or {}
+    if not found:
+        quoted = "\n".join(partial.get("modal", []) + partial.get("python_errors", []))
+        raise RuntimeError(f"the QGIS desktop wrote no result ({exit_text}) while "
+                           f"{partial.get('doing', 'starting')}; dialogs and Python errors: "
+                           f"{quoted or 'none'}\n{output}")
     if found.get("driver_error"):
         raise RuntimeError("the desktop driver failed:\n" + found["driver_error"])
     return found
+
+
+def _read_json(path: str) -> Optional[dict]:
+    """The JSON object in ``path`` (then removed), or None when there is none."""
+    if not os.path.exists(path):
+        return None
+    with open(path, encoding="utf-8") as fh:
+        found = json.load(fh)
+    os.remove(path)
+    return found
+
 
 
 def run_headless(root: str, args: List[str], timeout: float = 600) -> subprocess.CompletedProcess:

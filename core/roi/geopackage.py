@@ -12,6 +12,7 @@ from typing import List, Optional, Tuple
 from pyproj import CRS
 
 from ..errors import InputError
+from ..gpkg import quote_identifier
 from .features import rois_from_features
 from .model import ROISet
 
@@ -34,7 +35,7 @@ def read_geopackage(path, name_field: Optional[str] = None, crs=None,
     try:
         table, column, srs_id = _layer(con, path, layer)
         layer_crs = _crs(con, path, srs_id)
-        cur = con.execute(f'SELECT * FROM "{table}"')
+        cur = con.execute(f"SELECT * FROM {quote_identifier(table)}")  # nosec B608
         names = [d[0] for d in cur.description]
         pk = _primary_key(con, table)
         features = []
@@ -105,7 +106,8 @@ def _crs(con, path: str, srs_id: int) -> Optional[CRS]:
 
 
 def _primary_key(con, table: str) -> Optional[str]:
-    return next((r[1] for r in con.execute(f'PRAGMA table_info("{table}")') if r[5]), None)
+    return next((r[1] for r in con.execute("SELECT * FROM pragma_table_info(?)", (table,))
+                 if r[5]), None)
 
 
 def geometry(blob: bytes, where: str) -> Optional[dict]:

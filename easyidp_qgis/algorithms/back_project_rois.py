@@ -2,17 +2,18 @@
 import math
 import os
 
-from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
-                       QgsFields, QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPolygon,
-                       QgsProcessing, QgsProcessingException, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
+from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsField, QgsFields, QgsGeometry,
+                       QgsLineString, QgsMultiPolygon, QgsPolygon, QgsProcessingException,
+                       QgsProcessingParameterBoolean, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFile,
+                       QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
-                       QgsProcessingUtils, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
+                       QgsProcessingUtils)
 
 from .. import presentation
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingFileParameterBehavior,
+                      ProcessingNumberParameterType, ProcessingParameterFlag,
+                      ProcessingSourceType, WkbType)
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                      dsm_parameter, height_source_parameter, open_project_parameter,
                      optional_destination, rois_parameter)
@@ -76,7 +77,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
         add_height_parameters(self)
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
-            behavior=QgsProcessingParameterFile.Folder, optional=True))
+            behavior=ProcessingFileParameterBehavior.Folder, optional=True))
         self.addParameter(QgsProcessingParameterEnum(
             self.CLIP, self.tr("ROIs partly outside a photo"),
             [self.tr("Clip them to the photo frame"), self.tr("Drop the photo (whole ROIs only)")],
@@ -85,26 +86,26 @@ class BackProjectROIs(EasyIDPAlgorithm):
             self.OCCLUSION, self.tr("Test occlusion against the DSM (when a DSM is given)"), True))
         p = self.decimals(QgsProcessingParameterNumber(
             self.MIN_VISIBLE, self.tr("Minimum visible, unoccluded share of a ROI in a photo"),
-            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0), 2)
+            ProcessingNumberParameterType.Double, 0.5, minValue=0.0, maxValue=1.0), 2)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterNumber(
             self.MAX_IMAGES, self.tr("Best photos to keep per ROI (0 = all)"),
-            QgsProcessingParameterNumber.Integer, 0, minValue=0))
+            ProcessingNumberParameterType.Integer, 0, minValue=0))
         p = QgsProcessingParameterBoolean(
             self.DISTORTION, self.tr("Apply the lens distortion (off for undistorted photos)"), True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterNumber(
             self.MARGIN, self.tr("Margin around the crops (pixels)"),
-            QgsProcessingParameterNumber.Integer, 0, minValue=0, maxValue=10000)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Integer, 0, minValue=0, maxValue=10000)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("ROIs in photo pixels (x = column, y = −row)"),
-            QgsProcessing.TypeVectorPolygon))
+            ProcessingSourceType.VectorPolygon))
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_SUMMARY, self.tr("ROIs with their photo count and best photo"),
-            QgsProcessing.TypeVectorPolygon))
+            ProcessingSourceType.VectorPolygon))
         self.addParameter(QgsProcessingParameterFileDestination(
             self.OUTPUT_JSON, self.tr("EasyIDP back2raw JSON"), fileFilter="JSON files (*.json)",
             optional=True, createByDefault=False))
@@ -193,16 +194,16 @@ class BackProjectROIs(EasyIDPAlgorithm):
 
     def _write_pixels(self, parameters, context, result, paths):
         fields = QgsFields()
-        for name, kind in (("roi", QVariant.String), ("photo", QVariant.String),
-                           ("photo_path", QVariant.String), ("rank", QVariant.Int),
-                           ("score", QVariant.Double), ("view_angle", QVariant.Double),
-                           ("gsd", QVariant.Double), ("visible_fraction", QVariant.Double),
-                           ("occluded_fraction", QVariant.Double),
-                           ("centre_distance", QVariant.Double), ("clipped", QVariant.Bool),
-                           ("photo_width", QVariant.Int), ("photo_height", QVariant.Int)):
+        for name, kind in (("roi", FieldType.QString), ("photo", FieldType.QString),
+                           ("photo_path", FieldType.QString), ("rank", FieldType.Int),
+                           ("score", FieldType.Double), ("view_angle", FieldType.Double),
+                           ("gsd", FieldType.Double), ("visible_fraction", FieldType.Double),
+                           ("occluded_fraction", FieldType.Double),
+                           ("centre_distance", FieldType.Double), ("clipped", FieldType.Bool),
+                           ("photo_width", FieldType.Int), ("photo_height", FieldType.Int)):
             fields.append(QgsField(name, kind))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          QgsWkbTypes.MultiPolygon, QgsCoordinateReferenceSystem())
+                                          WkbType.MultiPolygon, QgsCoordinateReferenceSystem())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         for i in range(len(result)):
@@ -215,7 +216,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                              _num(result.centre_distance[i]), bool(result.clipped[i]),
                              int(result.image_sizes[j][0]), int(result.image_sizes[j][1])])
             f.setGeometry(pixel_geometry(result.polygons_of(i)))
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
         # a photo opened without georeference has no CRS; QGIS gives memory layers EPSG:4326
         # by default, which would reproject the pixels: make the layer CRS-less like the photo
         layer = QgsProcessingUtils.mapLayerFromString(dest, context)
@@ -225,9 +226,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
 
     def _write_summary(self, parameters, context, source, features, result):
         extra = QgsFields()
-        extra.append(QgsField("photos", QVariant.Int))
-        extra.append(QgsField("best_photo", QVariant.String))
-        extra.append(QgsField("best_score", QVariant.Double))
+        extra.append(QgsField("photos", FieldType.Int))
+        extra.append(QgsField("best_photo", FieldType.QString))
+        extra.append(QgsField("best_score", FieldType.Double))
         fields = QgsProcessingUtils.combineFields(source.fields(), extra)
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT_SUMMARY, context, fields,
                                           source.wkbType(), source.sourceCrs())
@@ -242,7 +243,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
             f.setAttributes(list(feat.attributes()) + [
                 int(counts[k]), None if i is None else str(result.photo[i]),
                 None if i is None else _num(result.score[i])])
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
         return dest
 
 

@@ -1,13 +1,14 @@
 """Base class of the EasyIDP algorithms: naming, help, icon, dependency check, and core error
 translation."""
 import os
+import threading
 
-from qgis.core import (QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition)
+from qgis.core import QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean
 from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
+from ..compat import ProcessingParameterFlag
 from ..outputs import check_outputs, check_values
 from ..resources import ICON, help_url
 
@@ -24,6 +25,26 @@ def __getattr__(name):
     if name == "INSTALL_HINT":
         return dependencies.install_hint()
     raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+_PROJ_CONTEXTS = {}
+"""pyproj's owner of each task thread's PROJ context, kept alive (see :func:`keep_proj_context`)."""
+
+
+def keep_proj_context() -> None:
+    """Keep this thread's pyproj context alive, on pyproj 3.7.0 and 3.7.1 (Debian 13's).
+
+    Those keep a thread's PROJ context in two places: a pointer in the thread's own storage, and
+    its owner in a ``threading.local``, which Python clears when a call from a thread it did not
+    create (a QGIS task thread) returns. The next run in that pooled thread then used the freed
+    context and crashed QGIS (pyproj#1509, fixed in 3.7.2). One context per thread is kept."""
+    import pyproj
+    if not pyproj.__version__.startswith(("3.7.0", "3.7.1")):
+        return
+    from pyproj._context import get_context_manager
+    manager = get_context_manager()
+    if manager is not None:
+        _PROJ_CONTEXTS[threading.get_ident()] = manager
 
 
 class EasyIDPAlgorithm(QgsProcessingAlgorithm):
@@ -111,6 +132,8 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
             raise QgsProcessingException(str(exc)) from None
         except ImportError as exc:  # a package the table does not list for this tool
             raise QgsProcessingException(dependencies.import_error_message(exc)) from None
+        finally:
+            keep_proj_context()
 
     OVERWRITE = "OVERWRITE"
 
@@ -119,7 +142,7 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         p = QgsProcessingParameterBoolean(
             self.OVERWRITE, self.tr("Overwrite existing files (otherwise the tool stops before "
                                     "writing anything when an output already exists)"), False)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
 
     def overwrite(self, parameters, context) -> bool:

@@ -3,15 +3,14 @@ import math
 import os
 
 import numpy as np
-from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsFeatureSink, QgsField,
-                       QgsFields, QgsGeometry, QgsLineString, QgsPoint, QgsPolygon, QgsProcessing,
-                       QgsProcessingException, QgsProcessingParameterCrs,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
+from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsField, QgsFields, QgsGeometry,
+                       QgsLineString, QgsPoint, QgsPolygon, QgsProcessingException,
+                       QgsProcessingParameterCrs, QgsProcessingParameterFeatureSink,
+                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer)
 
 from .. import presentation
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from .base import EasyIDPAlgorithm
 
@@ -64,16 +63,16 @@ class CameraFootprints(EasyIDPAlgorithm):
             self.DSM, self.tr("DSM (GeoTIFF) for the footprints"), optional=True))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.GROUND_HEIGHT, self.tr("Ground height when no DSM is given (project vertical reference)"),
-            QgsProcessingParameterNumber.Double, optional=True), 3))
+            ProcessingNumberParameterType.Double, optional=True), 3))
         p = QgsProcessingParameterCrs(
             self.OUTPUT_CRS, self.tr("Output CRS (default: the DSM's, else the map's, else the "
                                      "photogrammetry project's)"), optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
-            self.OUTPUT_CAMERAS, self.tr("Camera positions"), QgsProcessing.TypeVectorPoint))
+            self.OUTPUT_CAMERAS, self.tr("Camera positions"), ProcessingSourceType.VectorPoint))
         self.addParameter(QgsProcessingParameterFeatureSink(
-            self.OUTPUT_FOOTPRINTS, self.tr("Camera footprints"), QgsProcessing.TypeVectorPolygon))
+            self.OUTPUT_FOOTPRINTS, self.tr("Camera footprints"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
@@ -98,17 +97,17 @@ class CameraFootprints(EasyIDPAlgorithm):
                                    is_cancelled=feedback.isCanceled)
 
         fields = QgsFields()
-        for name, kind in (("label", QVariant.String), ("photo_path", QVariant.String),
-                           ("enabled", QVariant.Bool), ("height_above_ground", QVariant.Double),
-                           ("view_angle", QVariant.Double)):
+        for name, kind in (("label", FieldType.QString), ("photo_path", FieldType.QString),
+                           ("enabled", FieldType.Bool), ("height_above_ground", FieldType.Double),
+                           ("view_angle", FieldType.Double)):
             fields.append(QgsField(name, kind))
         fp_fields = QgsFields(fields)
-        fp_fields.append(QgsField("area", QVariant.Double))
-        fp_fields.append(QgsField("complete", QVariant.Bool))
+        fp_fields.append(QgsField("area", FieldType.Double))
+        fp_fields.append(QgsField("complete", FieldType.Bool))
         cam_sink, cam_id = self.parameterAsSink(parameters, self.OUTPUT_CAMERAS, context, fields,
-                                                QgsWkbTypes.PointZ, qcrs)
+                                                WkbType.PointZ, qcrs)
         fp_sink, fp_id = self.parameterAsSink(parameters, self.OUTPUT_FOOTPRINTS, context, fp_fields,
-                                              QgsWkbTypes.PolygonZ, qcrs)
+                                              WkbType.PolygonZ, qcrs)
         if cam_sink is None or fp_sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_CAMERAS))
         beyond, below = 0, []
@@ -118,7 +117,7 @@ class CameraFootprints(EasyIDPAlgorithm):
             f = QgsFeature(fields)
             f.setAttributes(attrs)
             f.setGeometry(QgsGeometry(QgsPoint(*map(float, fp.centre))))
-            cam_sink.addFeature(f, QgsFeatureSink.FastInsert)
+            cam_sink.addFeature(f, FeatureSinkFlag.FastInsert)
             if fp.below_ground:
                 below.append(fp.label)
             if fp.ring is None or len(fp.ring) < 3:
@@ -128,7 +127,7 @@ class CameraFootprints(EasyIDPAlgorithm):
             g.setAttributes(attrs + [_num(fp.area), bool(fp.complete)])
             g.setGeometry(QgsGeometry(QgsPolygon(QgsLineString(*[list(map(float, ring[:, k]))
                                                                  for k in range(3)]))))
-            fp_sink.addFeature(g, QgsFeatureSink.FastInsert)
+            fp_sink.addFeature(g, FeatureSinkFlag.FastInsert)
             beyond += not fp.complete
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
         presentation.present(self, context, fp_id, self.OUTPUT_FOOTPRINTS, footprint_style(),

@@ -2,12 +2,12 @@
 import os
 
 from qgis.core import (QgsProcessingOutputFile, QgsProcessingOutputFolder,
-                       QgsProcessingOutputRasterLayer,
-                       QgsProcessingOutputVectorLayer, QgsProcessingParameterDefinition,
+                       QgsProcessingOutputRasterLayer, QgsProcessingOutputVectorLayer,
                        QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
                        QgsProcessingParameterNumber)
 
 from .. import presentation
+from ..compat import ProcessingNumberParameterType, ProcessingParameterFlag
 from .base import EasyIDPAlgorithm
 
 SIZES = ["small", "medium"]
@@ -59,14 +59,14 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
                                                  self.tr("medium (1600 × 1200 photos)")],
             defaultValue=0))
         p = QgsProcessingParameterNumber(self.SEED, self.tr("Random seed"),
-                                         QgsProcessingParameterNumber.Integer, defaultValue=0,
+                                         ProcessingNumberParameterType.Integer, defaultValue=0,
                                          minValue=0)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterNumber(
             self.SEASON_DATES, self.tr("Growth season: dates flown (0: none)"),
-            QgsProcessingParameterNumber.Integer, defaultValue=0, minValue=0, maxValue=30)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Integer, defaultValue=0, minValue=0, maxValue=30)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addOutput(QgsProcessingOutputFile(self.SEASON_SURVEYS,
                                                self.tr("Season survey table (surveys.csv)")))

@@ -1,14 +1,13 @@
 """Processing tool: Crop point cloud by ROIs (easyidp:croppointcloudbyrois)."""
 import os
 
-from qgis.core import (QgsProcessingException,
-                       QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
-                       QgsProcessingParameterBoolean, QgsProcessingParameterDefinition,
+from qgis.core import (QgsProcessingException, QgsProcessingOutputMultipleLayers,
+                       QgsProcessingOutputNumber, QgsProcessingParameterBoolean,
                        QgsProcessingParameterEnum, QgsProcessingParameterFolderDestination,
                        QgsProviderRegistry)
-from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
+from ..compat import FieldType, ProcessingParameterFlag
 from ..layers import (add_index_parameter, add_point_cloud_parameters, add_roi_parameters,
                      add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_parameter,
                      write_index, z_range)
@@ -74,7 +73,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         add_z_range_parameters(self)
         p = QgsProcessingParameterBoolean(
             self.WRITE_EMPTY, self.tr("Write empty files for ROIs without any point"), False)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterEnum(
             self.FORMAT, self.tr("Output format"), options=[self.tr(f[1]) for f in FORMATS],
@@ -120,8 +119,8 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         index = write_index(self, parameters, context, source, [
             (f, [str(item.file) if item.file is not None else None, int(item.count), item.status])
             for f, item in zip(features, result.items)],
-            [("crop_file", QVariant.String), ("points", QVariant.LongLong),
-             ("crop_status", QVariant.String)])
+            [("crop_file", FieldType.QString), ("points", FieldType.LongLong),
+             ("crop_status", FieldType.QString)])
         name = os.path.splitext(os.path.basename(str(cloud.path)))[0]
         group = presentation.MapGroup(
             self.tr("Point cloud crops of {cloud} ({n})").format(cloud=name, n=len(written)),

@@ -1,11 +1,10 @@
 """Processing tool: Crop raster by ROIs (easyidp:croprasterbyrois)."""
-from qgis.core import (QgsProcessingOutputMultipleLayers,
-                       QgsProcessingOutputNumber, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterFolderDestination,
+from qgis.core import (QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
+                       QgsProcessingParameterBoolean, QgsProcessingParameterFolderDestination,
                        QgsProcessingParameterRasterLayer)
-from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
+from ..compat import FieldType, ProcessingParameterFlag
 from ..layers import (add_index_parameter, add_roi_parameters, crs_string, geotiff_source,
                      rois_parameter, write_index)
 from .base import EasyIDPAlgorithm
@@ -52,7 +51,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         add_roi_parameters(self)
         p = QgsProcessingParameterBoolean(
             self.ALL_TOUCHED, self.tr("All touched (include every pixel the ROI touches)"), False)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
@@ -85,7 +84,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         index = write_index(self, parameters, context, source, [
             (f, [file_of.get(i), "written" if i in file_of else result.skipped.get(i, "")])
             for i, f in enumerate(features)],
-            [("crop_file", QVariant.String), ("crop_status", QVariant.String)])
+            [("crop_file", FieldType.QString), ("crop_status", FieldType.QString)])
         group = presentation.MapGroup(
             self.tr("Crops of {raster} ({n})").format(raster=layer.name(), n=len(result.files)),
             presentation.anchor_id(self, parameters, self.ROIS, context))

@@ -1,17 +1,17 @@
 """Processing tool: Forward-project photo polygons to the map (easyidp:forwardprojectpolygons)."""
 import os
 
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry,
-                       QgsLineString, QgsMultiPolygon, QgsPolygon, QgsProcessing,
-                       QgsProcessingException,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
-                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterFile, QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer,
+from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsLineString,
+                       QgsMultiPolygon, QgsPolygon, QgsProcessingException,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
+                       QgsProcessingParameterFeatureSource, QgsProcessingParameterFile,
+                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
                        QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
+from ..compat import (FeatureSinkFlag, FieldType, GeometryType, ProcessingFileParameterBehavior,
+                      ProcessingNumberParameterType, ProcessingParameterFlag,
+                      ProcessingSourceType, WkbType)
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from .base import EasyIDPAlgorithm
 
@@ -28,7 +28,7 @@ def photo_layer_annotations(source, feedback=None):
         raise QgsProcessingException(
             f"Photo-pixel layer '{source.sourceName()}': it has no 'photo' field naming the photo "
             "of each polygon (as Back-project ROIs writes).")
-    if QgsWkbTypes.geometryType(source.wkbType()) != QgsWkbTypes.PolygonGeometry:
+    if QgsWkbTypes.geometryType(source.wkbType()) != GeometryType.Polygon:
         raise QgsProcessingException(
             f"Photo-pixel layer '{source.sourceName()}': polygons are needed.")
     label_field = "roi" if "roi" in names else ("label" if "label" in names else None)
@@ -96,14 +96,14 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFile(
             self.INPUT, self.tr("Annotation file (LabelMe .json, COCO .json or YOLO .txt)"),
-            behavior=QgsProcessingParameterFile.File, optional=True,
+            behavior=ProcessingFileParameterBehavior.File, optional=True,
             fileFilter="Annotations (*.json *.txt);;All files (*.*)"))
         self.addParameter(QgsProcessingParameterFile(
             self.INPUT_FOLDER, self.tr("…or a folder of LabelMe .json or YOLO .txt files"),
-            behavior=QgsProcessingParameterFile.Folder, optional=True))
+            behavior=ProcessingFileParameterBehavior.Folder, optional=True))
         self.addParameter(QgsProcessingParameterFeatureSource(
             self.INPUT_LAYER, self.tr("…or a photo-pixel polygon layer (x = column, y = −row)"),
-            [QgsProcessing.TypeVectorPolygon], optional=True))
+            [ProcessingSourceType.VectorPolygon], optional=True))
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterEnum(
@@ -112,11 +112,11 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
                      self.tr("Best view")], defaultValue=0))
         p = self.decimals(QgsProcessingParameterNumber(
             self.DENSIFY, self.tr("Densify edges: a vertex every … photo pixels (0: off)"),
-            QgsProcessingParameterNumber.Double, 4.0, minValue=0.0, maxValue=1000.0), 1)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Double, 4.0, minValue=0.0, maxValue=1000.0), 1)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
-            self.OUTPUT, self.tr("Polygons on the map"), QgsProcessing.TypeVectorPolygon))
+            self.OUTPUT, self.tr("Polygons on the map"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
@@ -157,13 +157,13 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         merged = merge_views(shapes, merge)
 
         fields = QgsFields()
-        for name, kind in (("photo", QVariant.String), ("label", QVariant.String),
-                           ("score", QVariant.Double), ("area_m2", QVariant.Double),
-                           ("perimeter_m", QVariant.Double), ("views", QVariant.Int),
-                           ("complete", QVariant.Bool), ("missing", QVariant.Int)):
+        for name, kind in (("photo", FieldType.QString), ("label", FieldType.QString),
+                           ("score", FieldType.Double), ("area_m2", FieldType.Double),
+                           ("perimeter_m", FieldType.Double), ("views", FieldType.Int),
+                           ("complete", FieldType.Bool), ("missing", FieldType.Int)):
             fields.append(QgsField(name, kind))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          QgsWkbTypes.MultiPolygonZ, dsm_layer.crs())
+                                          WkbType.MultiPolygonZ, dsm_layer.crs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         written = incomplete = 0
@@ -192,7 +192,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             f.setAttributes([";".join(m.photos), m.label, m.score, _num(m.area_m2),
                              _num(m.perimeter_m), m.views, bool(m.complete), missing])
             f.setGeometry(QgsGeometry(geom))
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
             written += 1
         what = layer.sourceName() if layer is not None else os.path.basename((path or folder).rstrip("/\\"))
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))

@@ -1,14 +1,13 @@
 """Processing tool: Orthorectify ROIs from raw photos (easyidp:orthorectifyrois)."""
-from qgis.core import (QgsProcessingOutputMultipleLayers,
-                       QgsProcessingOutputNumber,
-                       QgsProcessingParameterDefinition,
+from qgis.core import (QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
                        QgsProcessingParameterEnum, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString)
 
-from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
+from ..compat import (FieldType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
+                      ProcessingParameterFlag)
 from ..layers import (add_index_parameter, add_project_parameters, add_roi_parameters, crs_string,
                      geotiff_source, open_project_parameter, rois_parameter, write_index)
 from .base import EasyIDPAlgorithm
@@ -66,7 +65,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Folder of the raw photos (default: the paths in the project)"),
-            behavior=QgsProcessingParameterFile.Folder, optional=True))
+            behavior=ProcessingFileParameterBehavior.Folder, optional=True))
         self.addParameter(QgsProcessingParameterEnum(
             self.SELECTION, self.tr("Photos"),
             options=[self.tr("Best photo of each ROI"), self.tr("Every photo that sees the ROI"),
@@ -75,8 +74,8 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             self.PHOTO, self.tr("Photo label (for 'A named photo')"), optional=True))
         p = QgsProcessingParameterNumber(
             self.GSD, self.tr("Pixel size (DSM CRS units; 0: the photo's native resolution)"),
-            QgsProcessingParameterNumber.Double, 0.0, minValue=0.0, maxValue=1e6)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Double, 0.0, minValue=0.0, maxValue=1e6)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
@@ -107,8 +106,8 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         index = write_index(self, parameters, context, source, [
             (features[r], [path, photo, float(v), float(g)]) for path, r, photo, v, g in
             zip(result.files, result.indices, result.photos, result.visible, result.gsd)],
-            [("image_file", QVariant.String), ("photo", QVariant.String),
-             ("visible", QVariant.Double), ("gsd", QVariant.Double)])
+            [("image_file", FieldType.QString), ("photo", FieldType.QString),
+             ("visible", FieldType.Double), ("gsd", FieldType.Double)])
         group = presentation.MapGroup(
             self.tr("{rois} from raw photos ({n})").format(rois=source.sourceName(),
                                                           n=len(result.files)),

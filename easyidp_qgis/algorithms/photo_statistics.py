@@ -1,16 +1,17 @@
 """Processing tool: Plot statistics from raw photos (easyidp:photostatistics)."""
 import os
 
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProcessing,
-                       QgsProcessingException, QgsProcessingParameterBoolean,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
+                       QgsProcessingParameterBoolean, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterString, QgsProcessingParameterVectorLayer,
-                       QgsProcessingUtils, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
+                       QgsProcessingUtils)
 
 from .. import presentation
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingFileParameterBehavior,
+                      ProcessingNumberParameterType, ProcessingParameterFlag,
+                      ProcessingSourceType, WkbType)
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                       backprojection_from_layer, dsm_parameter, height_source_parameter,
                       open_project_parameter, optional_destination, optional_number,
@@ -86,11 +87,11 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterVectorLayer(
             self.BACKPROJECTION, self.tr("Back-projection: the photo-pixel layer of Back-project "
                                          "ROIs (empty: run it here)"),
-            [QgsProcessing.TypeVectorPolygon], optional=True))
+            [ProcessingSourceType.VectorPolygon], optional=True))
         add_height_parameters(self)
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
-            behavior=QgsProcessingParameterFile.Folder, optional=True))
+            behavior=ProcessingFileParameterBehavior.Folder, optional=True))
         self.addParameter(QgsProcessingParameterBoolean(
             self.OCCLUSION, self.tr("Leave out pixels hidden by the DSM (when a DSM is given)"),
             True))
@@ -107,31 +108,31 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             defaultValue=list(range(len(INDEX_CHOICES)))))
         self.addParameter(QgsProcessingParameterNumber(
             self.COVER_THRESHOLD, self.tr("Cover threshold on NDVI or ExG (empty: Otsu's)"),
-            QgsProcessingParameterNumber.Double, optional=True, minValue=-3.0, maxValue=3.0))
+            ProcessingNumberParameterType.Double, optional=True, minValue=-3.0, maxValue=3.0))
         self.addParameter(QgsProcessingParameterNumber(
             self.MIN_VISIBLE, self.tr("Minimum visible share of a ROI in a view used"),
-            QgsProcessingParameterNumber.Double, 0.5, minValue=0.0, maxValue=1.0))
+            ProcessingNumberParameterType.Double, 0.5, minValue=0.0, maxValue=1.0))
         self.addParameter(QgsProcessingParameterNumber(
             self.MAX_IMAGES, self.tr("Best views used per ROI (0 = all)"),
-            QgsProcessingParameterNumber.Integer, 3, minValue=0))
+            ProcessingNumberParameterType.Integer, 3, minValue=0))
         self.addParameter(QgsProcessingParameterBoolean(
             self.WEIGHTED, self.tr("Weight the views by their score (weighted median)"), False))
         p = QgsProcessingParameterString(
             self.BANDS, self.tr("Band names of the photos, comma-separated (default: red,green,"
                                 "blue for 3 bands; e.g. blue,green,red,rededge,nir)"),
             optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterBoolean(
             self.DISTORTION, self.tr("Apply the lens distortion (off for undistorted photos)"), True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_VIEWS, self.tr("Statistics of every ROI × photo"),
-            QgsProcessing.TypeVector))
+            ProcessingSourceType.Vector))
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("ROIs with their across-view statistics"),
-            QgsProcessing.TypeVectorPolygon))
+            ProcessingSourceType.VectorPolygon))
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.PREVIEW_FOLDER, self.tr("Preview per ROI (the views used, with their values)"),
             optional=True, createByDefault=False))
@@ -225,26 +226,26 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
 
     def _write_views(self, parameters, context, st):
         fields = QgsFields()
-        kinds = {"roi": QVariant.String, "photo": QVariant.String, "rank": QVariant.Int,
-                 "polygon_pixels": QVariant.LongLong, "pixels": QVariant.LongLong,
-                 "used": QVariant.Bool, "why": QVariant.String}
+        kinds = {"roi": FieldType.QString, "photo": FieldType.QString, "rank": FieldType.Int,
+                 "polygon_pixels": FieldType.LongLong, "pixels": FieldType.LongLong,
+                 "used": FieldType.Bool, "why": FieldType.QString}
         names = list(st.VIEW_FIELDS) + list(st.columns)
         for name in names:
-            fields.append(QgsField(name, kinds.get(name, QVariant.Double)))
+            fields.append(QgsField(name, kinds.get(name, FieldType.Double)))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT_VIEWS, context, fields,
-                                          QgsWkbTypes.NoGeometry)
+                                          WkbType.NoGeometry)
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_VIEWS))
         for row in st.view_rows():
             f = QgsFeature(fields)
             f.setAttributes([row[n] for n in names])
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
         return dest
 
     def _write_rois(self, parameters, context, source, features, st):
         extra = QgsFields()
         for name in st.roi_fields():
-            extra.append(QgsField(name, QVariant.Int if name == "views" else QVariant.Double))
+            extra.append(QgsField(name, FieldType.Int if name == "views" else FieldType.Double))
         fields = QgsProcessingUtils.combineFields(source.fields(), extra)
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
                                           source.wkbType(), source.sourceCrs())
@@ -255,7 +256,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             f = QgsFeature(fields)
             f.setGeometry(feat.geometry())
             f.setAttributes(list(feat.attributes()) + [row[n] for n in st.roi_fields()])
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
         return dest
 
 

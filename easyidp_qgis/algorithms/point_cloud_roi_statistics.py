@@ -2,22 +2,22 @@
 import math
 import os
 
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsProcessing,
-                       QgsProcessingException, QgsProcessingParameterDefinition,
+from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
                        QgsProcessingParameterString)
-from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType)
 from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
                      optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
                      rois_parameter, z_range)
 from .base import EasyIDPAlgorithm
 
-FIXED_FIELDS = [("count", QVariant.LongLong), ("density", QVariant.Double),
-                ("z_min", QVariant.Double), ("z_mean", QVariant.Double), ("z_max", QVariant.Double),
-                ("ground", QVariant.Double), ("h_mean", QVariant.Double), ("h_max", QVariant.Double)]
+FIXED_FIELDS = [("count", FieldType.LongLong), ("density", FieldType.Double),
+                ("z_min", FieldType.Double), ("z_mean", FieldType.Double), ("z_max", FieldType.Double),
+                ("ground", FieldType.Double), ("h_mean", FieldType.Double), ("h_max", FieldType.Double)]
 
 
 def percentile_field(q: float) -> str:
@@ -62,17 +62,17 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_point_cloud_parameters(self)
         self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+            self.ROIS, self.tr("ROIs (polygons)"), [ProcessingSourceType.VectorPolygon]))
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.GROUND_DSM, self.tr("Ground: DSM/DTM raster (GeoTIFF; optional)"), optional=True))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.GROUND_HEIGHT, self.tr("Ground: one height for all ROIs (cloud Z units; optional)"),
-            QgsProcessingParameterNumber.Double, optional=True), 3))
+            ProcessingNumberParameterType.Double, optional=True), 3))
         p = self.decimals(QgsProcessingParameterNumber(
             self.GROUND_PERCENTILE,
             self.tr("Ground without raster or height: this percentile of each ROI's Z"),
-            QgsProcessingParameterNumber.Double, defaultValue=1.0, minValue=0.0, maxValue=100.0), 1)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Double, defaultValue=1.0, minValue=0.0, maxValue=100.0), 1)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterString(
             self.PERCENTILES, self.tr("Height percentiles (comma separated)"),
@@ -80,7 +80,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
         add_z_range_parameters(self)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("ROIs with point cloud statistics"),
-            QgsProcessing.TypeVectorPolygon))
+            ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
@@ -116,7 +116,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             z_min=z_min, z_max=z_max, progress=lambda p: feedback.setProgress(5 + 0.9 * p),
             is_cancelled=feedback.isCanceled)
 
-        stats = FIXED_FIELDS + [(percentile_field(q), QVariant.Double) for q in percentiles]
+        stats = FIXED_FIELDS + [(percentile_field(q), FieldType.Double) for q in percentiles]
         keys = [name for name, _ in FIXED_FIELDS] + [f"h_p{q:g}" for q in percentiles]
         new = {name.lower() for name, _ in stats}
         kept = [i for i, f in enumerate(source.fields()) if f.name().lower() not in new]
@@ -140,7 +140,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             out = QgsFeature(fields)
             out.setAttributes([attrs[i] for i in kept] + [_num(row[k]) for k in keys])
             out.setGeometry(feat.geometry())
-            sink.addFeature(out, QgsFeatureSink.FastInsert)
+            sink.addFeature(out, FeatureSinkFlag.FastInsert)
         no_ground = sum(1 for row in summary if row["count"] and math.isnan(row["ground"]))
         if no_ground and layer is not None:
             feedback.pushWarning(self.tr(

@@ -2,15 +2,16 @@
 import math
 
 import numpy as np
-from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsFeatureSink, QgsField, QgsFields,
-                       QgsGeometry, QgsLineString, QgsMultiPolygon, QgsPointXY, QgsPolygon,
-                       QgsProcessing, QgsProcessingException,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsGeometry,
+                       QgsLineString, QgsMultiPolygon, QgsPointXY, QgsPolygon,
+                       QgsProcessingException, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
+                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
+                       QgsWkbTypes)
 
 from .. import presentation
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType)
 from ..layers import crs_string, geotiff_source, rois_parameter
 from .base import EasyIDPAlgorithm, translatable
 
@@ -52,7 +53,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+            self.ROIS, self.tr("ROIs (polygons)"), [ProcessingSourceType.VectorPolygon]))
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterEnum(
             self.MODE, self.tr("Mode"), options=[self.tr(m[1]) for m in MODES], defaultValue=0))
@@ -60,16 +61,16 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.STATISTIC, self.tr("Statistic"), options=STATS, defaultValue=0))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.PERCENTILE, self.tr("Percentile (0–100, for the percentile, pmin and pmax statistics)"),
-            QgsProcessingParameterNumber.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0), 1))
+            ProcessingNumberParameterType.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0), 1))
         self.addParameter(QgsProcessingParameterNumber(
             self.BUFFER, self.tr("Buffer (DSM map units; negative shrinks the polygon)"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.0))
+            ProcessingNumberParameterType.Double, defaultValue=0.0))
         p = QgsProcessingParameterEnum(self.SAMPLING, self.tr("Vertex sampling"),
                                        options=SAMPLING, defaultValue=0)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
-            self.OUTPUT, self.tr("ROIs with heights"), QgsProcessing.TypeVectorPolygon))
+            self.OUTPUT, self.tr("ROIs with heights"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
@@ -115,7 +116,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
                 per_feature.append((float(np.nanmean(zs)) if np.isfinite(zs).any() else math.nan, zs))
 
         fields = QgsFields(source.fields())
-        fields.append(QgsField("height", QVariant.Double))
+        fields.append(QgsField("height", FieldType.Double))
         wkb = QgsWkbTypes.addZ(QgsWkbTypes.multiType(source.wkbType()))
         sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields, wkb,
                                              source.sourceCrs())
@@ -125,7 +126,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             out = QgsFeature(fields)
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
             out.setGeometry(_with_z(_rings(feat.geometry()), height, zs))
-            sink.addFeature(out, QgsFeatureSink.FastInsert)
+            sink.addFeature(out, FeatureSinkFlag.FastInsert)
         for i, reason in missing.items():
             feedback.pushWarning(self.tr("ROI '{name}': {reason}; its height is left empty.").format(
                 name=rois[i].name, reason=reason))

@@ -1,17 +1,18 @@
 """Processing tool: Plot traits over a season (easyidp:seasontraits)."""
 import os
 
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
-                       QgsProcessing, QgsProcessingException,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
-                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
-                       QgsProcessingParameterField, QgsProcessingParameterFileDestination,
+from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
+                       QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
+                       QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
-                       QgsProcessingParameterVectorLayer, QgsProviderRegistry, QgsWkbTypes)
-from qgis.PyQt.QtCore import QDate, QDateTime, Qt, QVariant
+                       QgsProcessingParameterVectorLayer, QgsProviderRegistry)
+from qgis.PyQt.QtCore import QDate, QDateTime
 
 from .. import presentation
+from ..compat import (DateFormat, FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_parameter)
 from .base import EasyIDPAlgorithm
 
@@ -70,9 +71,9 @@ class SeasonTraits(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterVectorLayer(
             self.SURVEYS, self.tr("Survey table (CSV file or table layer)"),
-            [QgsProcessing.TypeVector]))
+            [ProcessingSourceType.Vector]))
         self.addParameter(QgsProcessingParameterFeatureSource(
-            self.ROIS, self.tr("ROIs (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+            self.ROIS, self.tr("ROIs (polygons)"), [ProcessingSourceType.VectorPolygon]))
         self.addParameter(QgsProcessingParameterField(
             self.NAME_FIELD, self.tr("Name field (unique; default: feature id)"),
             parentLayerParameterName=self.ROIS, optional=True))
@@ -91,38 +92,38 @@ class SeasonTraits(EasyIDPAlgorithm):
         p = self.decimals(QgsProcessingParameterNumber(
             self.GROUND_PERCENTILE,
             self.tr("Ground without a DTM: percentile of each ROI's lowest heights"),
-            QgsProcessingParameterNumber.Double, defaultValue=2.0, minValue=0.0, maxValue=50.0), 1)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Double, defaultValue=2.0, minValue=0.0, maxValue=50.0), 1)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterString(
             self.PERCENTILES, self.tr("Height percentiles (comma separated)"),
             defaultValue="50,95,99", optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = self.decimals(QgsProcessingParameterNumber(
             self.COVER_THRESHOLD,
             self.tr("Cover threshold on the vegetation index (empty: Otsu per orthomosaic)"),
-            QgsProcessingParameterNumber.Double, optional=True, minValue=-1.0, maxValue=2.0), 3)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            ProcessingNumberParameterType.Double, optional=True, minValue=-1.0, maxValue=2.0), 3)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterNumber(
-            self.WORKERS, self.tr("Worker processes"), QgsProcessingParameterNumber.Integer,
+            self.WORKERS, self.tr("Worker processes"), ProcessingNumberParameterType.Integer,
             defaultValue=min(os.cpu_count() or 1, 8), minValue=1, maxValue=256))
         p = QgsProcessingParameterString(
             self.DASK_SCHEDULER,
             self.tr("Dask scheduler (tcp://host:port, or 'local'; empty: processes here)"),
             optional=True)
-        p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.CROPS, self.tr("Crops per date (optional folder)"), optional=True,
             createByDefault=False))
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_TABLE, self.tr("Traits per ROI and date (long table)"),
-            QgsProcessing.TypeVector))
+            ProcessingSourceType.Vector))
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_LAYER, self.tr("ROIs with their latest traits"),
-            QgsProcessing.TypeVectorPolygon))
+            ProcessingSourceType.VectorPolygon))
         self.addParameter(QgsProcessingParameterFileDestination(
             self.OUTPUT_CURVES, self.tr("Growth curves (PNG)"), self.tr("PNG files (*.png)"),
             optional=True, createByDefault=True))
@@ -217,17 +218,17 @@ class SeasonTraits(EasyIDPAlgorithm):
 
     def _long_table(self, result, parameters, context):
         fields = QgsFields()
-        for name, kind in (("roi", QVariant.String), ("date", QVariant.String),
-                           ("trait", QVariant.String), ("value", QVariant.Double)):
+        for name, kind in (("roi", FieldType.QString), ("date", FieldType.QString),
+                           ("trait", FieldType.QString), ("value", FieldType.Double)):
             fields.append(QgsField(name, kind))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT_TABLE, context, fields,
-                                          QgsWkbTypes.NoGeometry)
+                                          WkbType.NoGeometry)
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_TABLE))
         for row in result.rows:
             f = QgsFeature(fields)
             f.setAttributes(list(row))
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
         return dest
 
     def _wide_layer(self, result, source, features, parameters, context):
@@ -237,9 +238,9 @@ class SeasonTraits(EasyIDPAlgorithm):
         fields = QgsFields()
         for i in kept:
             fields.append(source.fields().at(i))
-        fields.append(QgsField("date", QVariant.String))
+        fields.append(QgsField("date", FieldType.QString))
         for t in result.traits:
-            fields.append(QgsField(t, QVariant.Double))
+            fields.append(QgsField(t, FieldType.Double))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT_LAYER, context, fields,
                                           source.wkbType(), source.sourceCrs())
         if sink is None:
@@ -250,7 +251,7 @@ class SeasonTraits(EasyIDPAlgorithm):
             f.setAttributes([attrs[i] for i in kept] + [date] +
                             [values.get(t) for t in result.traits])
             f.setGeometry(feat.geometry())
-            sink.addFeature(f, QgsFeatureSink.FastInsert)
+            sink.addFeature(f, FeatureSinkFlag.FastInsert)
         return dest
 
     def _present(self, out, result, context, source):
@@ -267,7 +268,7 @@ class SeasonTraits(EasyIDPAlgorithm):
 
 def _value_text(v) -> str:
     if isinstance(v, (QDate, QDateTime)):
-        return v.toString(Qt.ISODate)
+        return v.toString(DateFormat.ISODate)
     return "" if v is None or str(v) == "NULL" else str(v)
 
 

@@ -162,6 +162,26 @@ def test_geopackage_from_our_writer_keeps_names_and_attributes(tmp_path):
     assert open_rois(path).names == ["1", "2"]                  # the fid by default
 
 
+def test_geopackage_names_with_double_quotes_are_quoted_not_sql(tmp_path):
+    """Table and field names are SQL identifiers: a ``"`` in them (a user's layer name) is
+    doubled inside the quotes, so the name is stored and read back as it is."""
+    import sqlite3
+    from easyidp_toolbox.core.gpkg import GpkgTable, quote_identifier, write_geopackage
+    assert quote_identifier('plots "2024"') == '"plots ""2024"""'
+    table, field = 'plots "2024"; DROP TABLE gpkg_contents; --', 'yield "t/ha"'
+    path = write_geopackage(str(tmp_path / "quotes.gpkg"), [GpkgTable(
+        table, [(field, "REAL")], [(1.5,), (2.5,)],
+        [[[np.array([[0, 0], [0, 1], [1, 1.0]])]], [[np.array([[2, 0], [2, 1], [3, 1.0]])]]],
+        "EPSG:32654")])
+    con = sqlite3.connect(path)
+    tables = {r[0] for r in con.execute("SELECT name FROM sqlite_master WHERE type = 'table'")}
+    assert table in tables and "gpkg_contents" in tables
+    assert con.execute("SELECT table_name FROM gpkg_contents").fetchall() == [(table,)]
+    con.close()
+    rois = open_rois(path, layer=table)
+    assert rois.names == ["1", "2"] and [r.attributes[field] for r in rois] == [1.5, 2.5]
+
+
 def test_geopackage_bad_inputs(tmp_path, realdata):
     import sqlite3
     from easyidp_toolbox.core.gpkg import GpkgTable, write_geopackage

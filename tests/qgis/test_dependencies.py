@@ -54,6 +54,8 @@ def test_table_is_well_formed():
         assert deps.canonical(dep.distribution) in deps.canonical(qgis_txt), \
             f"{dep.distribution} is not in requirements/qgis.txt (the test environment)"
     assert {"numpy", "gdal"} == set(deps.PROTECTED)
+    from easyidp_toolbox.easyidp_qgis import install_packages
+    assert deps.PROTECTED == install_packages.PROTECTED and deps.KEPT == install_packages.KEPT
 
 
 def test_version_comparison_agrees_with_packaging():
@@ -151,3 +153,15 @@ def test_interpreter_and_folder():
                               windows=True)
     assert win == (r'"C:\Program Files\QGIS 3.34\apps\Python312\python.exe" x.py --target '
                    r'C:\Users\a\p "tifffile>=2023.7.10"')
+
+
+def test_qgis_pyproj_is_never_replaced_but_installed_where_missing(monkeypatch):
+    """QGIS's pyproj too old: reported as QGIS's, never shadowed by a copy in the package folder;
+    no pyproj at all: installed like the others."""
+    row = deps.Dependency("pyproj", "pyproj>=99", deps.ALL)
+    monkeypatch.setattr(deps, "DEPENDENCIES", (row,))
+    [old] = deps.missing()
+    assert old.installed and old.protected and deps.installable([old]) == []
+    assert "use a newer QGIS" in deps.install_instructions([old])
+    absent = deps.Missing(row, None)
+    assert not absent.protected and "'pyproj>=99'" in deps.install_instructions([absent])

@@ -5,16 +5,38 @@ toolbox both ways and in the modeler; asserted: the layers added (names, groups,
 type), their renderers, the tools' last log line, and a message log free of Python errors and of
 warnings about our outputs."""
 import re
+import time
 
 import pytest
 
-from easyidp_toolbox.scripts.qgis_desktop import run_session
+from easyidp_toolbox.scripts.qgis_desktop import (checkout_env, enable_plugin, run_desktop,
+                                                  run_session)
 
 
 @pytest.fixture(scope="module")
 def session(tmp_path_factory):
     found = run_session(str(tmp_path_factory.mktemp("desktop")))
     return found["session"]
+
+
+def test_a_dialog_or_a_python_error_is_closed_and_quoted(tmp_path):
+    """The driver closes a question and QGIS's Python error dialog at once, keeping their text,
+    and keeps the error logged: a session never waits behind a dialog."""
+    enable_plugin(str(tmp_path))
+    found = run_desktop(str(tmp_path), {"probe": "dialog"}, timeout=180, extra_env=checkout_env())
+    assert len(found["modal"]) == 2, found["modal"]
+    assert any("ZeroDivisionError" in m for m in found["modal"])       # QGIS's error dialog
+    assert any("Replace the planted file?" in m and "QMessageBox" in m for m in found["modal"])
+    assert any("ZeroDivisionError" in e for e in found["python_errors"])
+
+
+def test_a_desktop_that_hangs_fails_in_its_time_limit(tmp_path):
+    """A run that never ends: the driver stops QGIS at its time limit and says what it was doing."""
+    enable_plugin(str(tmp_path))
+    started = time.time()
+    with pytest.raises(RuntimeError, match=r"time limit of 30 s reached while the planted hang"):
+        run_desktop(str(tmp_path), {"probe": "hang"}, timeout=60, extra_env=checkout_env())
+    assert time.time() - started < 60
 
 
 def _group(tree, name):
@@ -42,11 +64,11 @@ def _layer(tree, name):
 
 def test_every_run_succeeds_without_a_question_or_an_error(session):
     assert session["plugin_loaded"]
-    assert session["modal"] == []                       # no message box popped up
+    assert session["modal"] == [], "\n\n".join(session["modal"])  # no dialog popped up
     assert all(step.get("ok", True) for step in session["steps"].values()), session["steps"]
     bad = [m for m in session["log"] if m[0] == "Python error" or m[1] >= 2
            or "Traceback" in m[2]]
-    assert bad == []
+    assert bad == [], "\n\n".join(f"{tag}: {text}" for tag, _, text in bad)
     ogr = [m for m in session["log"] if m[0] in ("OGR", "GDAL") and
            (".tif" in m[2] or "Cannot open" in m[2] or "easyidp" in m[2].lower())]
     assert ogr == []                                     # no crop was first opened as a vector

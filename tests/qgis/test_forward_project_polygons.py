@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 from qgis.core import (QgsFeature, QgsField, QgsGeometry, QgsPointXY, QgsProcessingContext,
                        QgsProcessingException, QgsProcessingFeedback, QgsVectorLayer)
-from qgis.PyQt.QtCore import QVariant
+
+from easyidp_toolbox.easyidp_qgis.compat import FieldType
 
 ALG = "easyidp:forwardprojectpolygons"
 
@@ -63,8 +64,8 @@ def test_photo_pixel_layer_gives_the_same_polygons(provider, survey):
     photo = os.path.splitext(os.path.basename(survey.labelme[0]))[0]
     layer = QgsVectorLayer("Polygon?crs=", "pixels", "memory")
     pr = layer.dataProvider()
-    pr.addAttributes([QgsField("roi", QVariant.String), QgsField("photo", QVariant.String),
-                      QgsField("photo_path", QVariant.String)])
+    pr.addAttributes([QgsField("roi", FieldType.QString), QgsField("photo", FieldType.QString),
+                      QgsField("photo_path", FieldType.QString)])
     layer.updateFields()
     for s in doc["shapes"]:
         f = QgsFeature(layer.fields())

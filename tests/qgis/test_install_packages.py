@@ -1,5 +1,6 @@
-"""install_packages.py run by QGIS's own interpreter (Debian's /usr/bin/python3: numpy 1.24 and GDAL
-from Debian, no tifffile or laspy) with real pip against the configured package index."""
+"""install_packages.py run by QGIS's own interpreter (Debian's /usr/bin/python3 with Debian's numpy
+and GDAL, no tifffile or laspy: numpy 1.24 on Debian 12, 2.2 on Debian 13) with real pip against
+the configured package index."""
 import os
 import subprocess
 import sys
@@ -12,6 +13,8 @@ from easyidp_toolbox.easyidp_qgis import install_packages as ip
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPT = ROOT / "easyidp_qgis" / "install_packages.py"
 QGIS_PYTHON = "/usr/bin/python3"
+QGIS_NUMPY = subprocess.run([QGIS_PYTHON, "-c", "import numpy; print(numpy.__version__)"],
+                            capture_output=True, text=True, check=True).stdout.strip()
 
 
 def run(args, **env):
@@ -44,7 +47,7 @@ def test_dry_run_resolves_around_qgis_numpy(tmp_path):
     plan = next(line for line in proc.stdout.splitlines() if line.startswith("To install: "))
     names = [p.split()[0].lower() for p in plan[len("To install: "):].split(", ")]
     assert "plyfile" in names and "laspy" in names and "numpy" not in names
-    assert "Requirement already satisfied: numpy" in proc.stdout and "1.24" in proc.stdout
+    assert "Requirement already satisfied: numpy" in proc.stdout and QGIS_NUMPY in proc.stdout
     assert "::progress" in proc.stdout and not target.exists()
 
 
@@ -52,6 +55,18 @@ def test_qgis_packages_are_never_installed(tmp_path):
     proc = run(["--target", str(tmp_path / "p"), "numpy>=2"])
     assert proc.returncode == 1
     assert "ERROR: QGIS's own packages are never installed here: numpy" in proc.stdout
+    assert not (tmp_path / "p").exists()
+
+
+def test_qgis_pyproj_and_pyqt_are_kept_even_when_asked_for(tmp_path):
+    """pyproj and PyQt are QGIS's: pinned even when requested, so a newer one is refused by pip
+    instead of shadowing QGIS's copy."""
+    pins = ip.constraints(str(tmp_path / "p"), {"pyproj", "pyqt5"})
+    import pyproj
+    assert f"pyproj=={pyproj.__version__}" in pins
+    assert [p for p in pins if p.lower().startswith("pyqt5==")]
+    proc = run(["--target", str(tmp_path / "p"), "pyproj>=99"])
+    assert proc.returncode == 1 and "ERROR: pip failed" in proc.stdout
     assert not (tmp_path / "p").exists()
 
 

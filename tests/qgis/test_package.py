@@ -64,7 +64,8 @@ def test_placeholders_are_reported_not_passed(built, tmp_path):
 
 
 GOOD = {"name": "X", "description": "d", "about": "a", "version": "0.1.0",
-        "qgisMinimumVersion": "3.22", "author": "A B", "email": "a@b.org",
+        "qgisMinimumVersion": "3.22", "qgisMaximumVersion": "4.99", "author": "A B",
+        "email": "a@b.org",
         "tracker": "https://github.com/o/r/issues", "repository": "https://github.com/o/r",
         "changelog": "0.1.0 first", "hasProcessingProvider": "yes", "icon": "icons/i.svg"}
 
@@ -75,6 +76,8 @@ GOOD = {"name": "X", "description": "d", "about": "a", "version": "0.1.0",
     ({"version": "1.0.2000"}, "dotted numbers"),
     ({"changelog": "0.0.9 older"}, "no entry for version 0.1.0"),
     ({"qgisMinimumVersion": "3"}, "QGIS 3 version"),
+    ({"qgisMaximumVersion": ""}, "qgisMaximumVersion (missing) must be a QGIS 4 version, 4.99"),
+    ({"qgisMaximumVersion": "3.99"}, "hide the plugin from QGIS 4 users"),
     ({"repository": "http://repo"}, "not a valid http(s) address"),
     ({"homepage": "github.com/o/r"}, "not a valid http(s) address"),
     ({"author": "A/B"}, "slash"),
@@ -94,6 +97,23 @@ def test_good_metadata_and_missing_files():
     _, warnings = package.check_metadata(dict(GOOD, homepage="https://www.example.com/x"), [])
     assert warnings and "homepage" in warnings[0]
 
+
+
+def test_the_plugin_declares_qgis_4():
+    meta = package.read_metadata((ROOT / "metadata.txt").read_text())
+    assert meta["qgisMaximumVersion"] == "4.99"
+
+
+def test_bandit_refuses_a_high_severity_finding(tmp_path):
+    """The security scan is real: a planted shell command built from input is refused."""
+    planted = tmp_path / "planted.zip"
+    with zipfile.ZipFile(planted, "w") as zf:
+        zf.writestr("easyidp_toolbox/run.py", "import subprocess\n\n\ndef run(name):\n"
+                    "    return subprocess.call('ls ' + name, shell=True)\n")
+    found = package.security_scan(str(planted))
+    assert len(found) == 1 and found[0].startswith("easyidp_toolbox/run.py:5 B602: ")
+    built_zip = package.build(str(tmp_path / "dist"))[0]
+    assert package.security_scan(built_zip) == []        # the plugin itself: nothing high
 
 
 def test_make_package_command_runs(tmp_path):

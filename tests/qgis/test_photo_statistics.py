@@ -96,10 +96,9 @@ def test_headless_with_a_given_threshold(qp_env, survey, tmp_path):
     assert np.all((covers > 0.2) & (covers < 0.7))
 
 
-def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey):
+def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey, load_results):
     """In the desktop (QGIS's own loader of results): the ROI layer is named after the inputs
     and coloured by canopy cover over the orthomosaic; the per-photo table is named too."""
-    from processing.gui.Postprocessing import handleAlgorithmResults
     from qgis.core import QgsApplication, QgsProcessingOutputLayerDefinition
     project = QgsProject.instance()
     project.clear()
@@ -114,7 +113,7 @@ def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey):
         alg = QgsApplication.processingRegistry().createAlgorithmById(ALG)
         _, ok = alg.run(params, context, feedback)
         assert ok, feedback.textLog()
-        assert handleAlgorithmResults(alg, context, feedback, False, params)
+        assert load_results(alg, context, feedback, params)
         layers = {v.name(): v for v in project.mapLayers().values()}
         plots = layers["plots: plot statistics from the photos of "
                        + survey.metashape_project.rsplit("/", 1)[-1]]

@@ -1,6 +1,7 @@
 """How results land in the map, with QGIS's own loader (``handleAlgorithmResults``, what the
-toolbox, batch and model dialogs call after a run) on the real project: what is loaded and only
-when asked, names, groups, layer types and styles; help links and number widgets."""
+toolbox, batch and model dialogs call after a run: the ``load_results`` fixture) on the real
+project: what is loaded and only when asked, names, groups, layer types and styles; help links
+and number widgets."""
 import re
 from pathlib import Path
 
@@ -31,10 +32,9 @@ def project():
     p.clear()
 
 
-def _run_and_load(alg_id, params, project):
+def _run_and_load(alg_id, params, project, load_results):
     """Run as the batch dialog does: a context on the project, ``alg.run``, then QGIS's loader
-    of results."""
-    from processing.gui.Postprocessing import handleAlgorithmResults
+    of results (the ``load_results`` fixture)."""
     context = QgsProcessingContext()
     context.setProject(project)
     feedback = QgsProcessingFeedback()
@@ -42,7 +42,7 @@ def _run_and_load(alg_id, params, project):
     results, ok = alg.run(params, context, feedback)
     assert ok, feedback.textLog()
     queued = {d.outputName for d in context.layersToLoadOnCompletion().values()}
-    assert handleAlgorithmResults(alg, context, feedback, False, params)
+    assert load_results(alg, context, feedback, params)
     return results, queued
 
 
@@ -61,7 +61,8 @@ def _tree(node):
     return out
 
 
-def test_crops_load_in_one_group_below_the_rois_only_when_asked(provider, realdata, tmp_path, project):
+def test_crops_load_in_one_group_below_the_rois_only_when_asked(provider, realdata, tmp_path, project,
+                                                                load_results):
     proj, log = project
     dsm = proj.addMapLayer(QgsRasterLayer(str(realdata / DSM), "dsm"))
     zones = proj.addMapLayer(QgsVectorLayer(str(realdata / ZONES), "zones", "ogr"))
@@ -69,14 +70,16 @@ def test_crops_load_in_one_group_below_the_rois_only_when_asked(provider, realda
               "OUTPUT_FOLDER": str(tmp_path / "a")}
     # not asked (a folder has no 'open' option; batch with 'Load layers on completion' off gives
     # the index a definition without a project): nothing new in the map
-    _run_and_load("easyidp:croprasterbyrois", params, proj)
+    _run_and_load("easyidp:croprasterbyrois", params, proj, load_results)
     _run_and_load("easyidp:croprasterbyrois", dict(
         params, OUTPUT_FOLDER=str(tmp_path / "b"),
-        OUTPUT_INDEX=QgsProcessingOutputLayerDefinition("TEMPORARY_OUTPUT", None)), proj)
+        OUTPUT_INDEX=QgsProcessingOutputLayerDefinition("TEMPORARY_OUTPUT", None)), proj,
+        load_results)
     assert len(proj.mapLayers()) == 2 and len(proj.layerTreeRoot().children()) == 2
     # asked: the index and the 20 crops, in one collapsed group just below the ROI layer
     res, queued = _run_and_load("easyidp:croprasterbyrois", dict(
-        params, OUTPUT_FOLDER=str(tmp_path / "c"), OUTPUT_INDEX=_to_load(proj)), proj)
+        params, OUTPUT_FOLDER=str(tmp_path / "c"), OUTPUT_INDEX=_to_load(proj)), proj,
+        load_results)
     assert queued == {"OUTPUT_INDEX", "OUTPUT_FILES"}
     root = proj.layerTreeRoot()
     assert [n for n, _, _ in _tree(root)] == ["zones", "Crops of dsm (20)", "dsm"]
@@ -96,12 +99,13 @@ def test_crops_load_in_one_group_below_the_rois_only_when_asked(provider, realda
     assert res["CROPPED"] == 20
 
 
-def test_heights_are_named_coloured_by_value_and_labelled(provider, realdata, project):
+def test_heights_are_named_coloured_by_value_and_labelled(provider, realdata, project,
+                                                          load_results):
     proj, _ = project
     zones = proj.addMapLayer(QgsVectorLayer(str(realdata / ZONES), "zones", "ogr"))
     _run_and_load("easyidp:roiheightsfromdsm", {
         "ROIS": zones.id(), "DSM": str(realdata / DSM), "STATISTIC": 4, "PERCENTILE": 95,
-        "OUTPUT": _to_load(proj)}, proj)
+        "OUTPUT": _to_load(proj)}, proj, load_results)
     layer = next(v for v in proj.mapLayers().values() if v.name() != "zones")
     assert layer.name() == "zones: height p95 from test"
     renderer = layer.renderer()
@@ -112,11 +116,12 @@ def test_heights_are_named_coloured_by_value_and_labelled(provider, realdata, pr
     assert layer.labelsEnabled() and "height" in layer.labeling().settings().fieldName
 
 
-def test_footprints_are_outlines_and_cameras_small_dots(provider, realdata, project):
+def test_footprints_are_outlines_and_cameras_small_dots(provider, realdata, project,
+                                                        load_results):
     proj, _ = project
     _run_and_load("easyidp:camerafootprints", {
         "PROJECT": str(realdata / PROJECT_FILE), "GROUND_HEIGHT": 97,
-        "OUTPUT_CAMERAS": _to_load(proj), "OUTPUT_FOOTPRINTS": _to_load(proj)}, proj)
+        "OUTPUT_CAMERAS": _to_load(proj), "OUTPUT_FOOTPRINTS": _to_load(proj)}, proj, load_results)
     layers = {v.name(): v for v in proj.mapLayers().values()}
     assert set(layers) == {"Camera footprints of wheat_tanashi.psx", "Cameras of wheat_tanashi.psx"}
     fp = layers["Camera footprints of wheat_tanashi.psx"]
