@@ -399,6 +399,7 @@ def write_index(alg, parameters, context, source, rows, extra):
     type)]``. Returns the destination id, or None when the output is skipped."""
     from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields,
                            QgsProcessingUtils)
+    from .outputs import close_sink
     if parameters.get(alg.OUTPUT_INDEX) in (None, ""):
         return None
     more = QgsFields()
@@ -414,6 +415,7 @@ def write_index(alg, parameters, context, source, rows, extra):
         f.setGeometry(feat.geometry())
         f.setAttributes(list(feat.attributes()) + list(values))
         sink.addFeature(f, QgsFeatureSink.FastInsert)
+    close_sink(sink)
     return dest
 
 

@@ -13,6 +13,7 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 
@@ -130,6 +131,8 @@ class CameraFootprints(EasyIDPAlgorithm):
                                                                  for k in range(3)]))))
             fp_sink.addFeature(g, QgsFeatureSink.FastInsert)
             beyond += not fp.complete
+        close_sink(cam_sink)
+        close_sink(fp_sink)
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
         presentation.present(self, context, fp_id, self.OUTPUT_FOOTPRINTS, footprint_style(),
                              self.tr("Camera footprints of {project}").format(project=project))

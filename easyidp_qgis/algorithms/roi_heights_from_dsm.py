@@ -12,6 +12,7 @@ from qgis.PyQt.QtCore import QVariant
 
 from .. import presentation
 from ..layers import crs_string, geotiff_source, rois_parameter
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
@@ -126,6 +127,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
             out.setGeometry(_with_z(_rings(feat.geometry()), height, zs))
             sink.addFeature(out, QgsFeatureSink.FastInsert)
+        close_sink(sink)
         for i, reason in missing.items():
             feedback.pushWarning(self.tr("ROI '{name}': {reason}; its height is left empty.").format(
                 name=rois[i].name, reason=reason))

@@ -13,6 +13,7 @@ from qgis.PyQt.QtCore import QDate, QDateTime, Qt, QVariant
 
 from .. import presentation
 from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_parameter)
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 TRAITS = ["height", "cover", "bands", "index", "cloud"]
@@ -228,6 +229,7 @@ class SeasonTraits(EasyIDPAlgorithm):
             f = QgsFeature(fields)
             f.setAttributes(list(row))
             sink.addFeature(f, QgsFeatureSink.FastInsert)
+        close_sink(sink)
         return dest
 
     def _wide_layer(self, result, source, features, parameters, context):
@@ -251,6 +253,7 @@ class SeasonTraits(EasyIDPAlgorithm):
                             [values.get(t) for t in result.traits])
             f.setGeometry(feat.geometry())
             sink.addFeature(f, QgsFeatureSink.FastInsert)
+        close_sink(sink)
         return dest
 
     def _present(self, out, result, context, source):
