@@ -13,6 +13,7 @@ PY_SYS := /usr/bin/python3
 VENV := $(ROOT)/.venv
 VENV_CORE := $(ROOT)/.venv-core
 VENV_REF := $(ROOT)/.venv-ref
+VENV_EXACT := $(ROOT)/.venv-exactextract
 # The plugin folder must be named easyidp_toolbox: .plugins/easyidp_toolbox links to this tree.
 PLUGINS := $(ROOT)/.plugins
 export QT_QPA_PLATFORM := offscreen
@@ -20,7 +21,7 @@ export PROJ_DATA := /usr/share/proj
 export PYTHONDONTWRITEBYTECODE := 1
 DEMO_DIR ?= $(ROOT)/demo_output
 
-.PHONY: env env-ref test test-core test-core-current test-qgis demo bench package screenshots clean
+.PHONY: env env-ref env-exactextract test test-core test-core-current test-qgis demo bench package screenshots clean
 
 env: apt $(VENV)/.done $(VENV_CORE)/.done
 
@@ -61,6 +62,16 @@ $(VENV_REF)/.done: requirements/reference.txt | apt
 	$(VENV_REF)/bin/pip install -q --disable-pip-version-check -r requirements/reference.txt
 	touch $@
 
+# exactextract 0.3.0, the peer of ROI heights from DSM in bench/bench_heights.py: Debian's Python
+# with its GDAL bindings (exactextract reads the DSM and the plots through them)
+env-exactextract: apt $(VENV_EXACT)/.done
+
+$(VENV_EXACT)/.done: requirements/exactextract.txt | apt
+	@echo "== creating $(VENV_EXACT) (exactextract, for the benchmarks only)"
+	@test -x $(VENV_EXACT)/bin/python || $(PY_SYS) -m venv --system-site-packages $(VENV_EXACT)
+	$(VENV_EXACT)/bin/pip install -q --disable-pip-version-check -r requirements/exactextract.txt
+	touch $@
+
 test: env env-ref
 	$(MAKE) --no-print-directory test-core test-core-current test-qgis
 
@@ -79,7 +90,7 @@ test-qgis:
 demo: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.demo $(DEMO_DIR)
 
-bench: env env-ref
+bench: env env-ref env-exactextract
 	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
 
 screenshots: env
@@ -89,4 +100,4 @@ package: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.package --output $(ROOT)/dist $(if $(STRICT),--strict)
 
 clean:
-	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist
+	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(VENV_EXACT) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist
