@@ -63,6 +63,10 @@ from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
 from easyidp_toolbox.core.raster.dsm_heights import roi_heights
 from easyidp_toolbox.core.raster.geotiff import open_geotiff
 from easyidp_toolbox.core.reconstruction import camera_footprints
+from easyidp_toolbox.core.annotations import read_annotations
+from easyidp_toolbox.core.projection import DSMSurface, forward_project, merge_views, photo_statistics
+from easyidp_toolbox.core.projection.ortho import orthorectify_rois
+from easyidp_toolbox.core.season import read_survey_table, run_season
 marks = []
 def progress(p):
     marks.append((float(p), time.perf_counter()))
@@ -111,6 +115,36 @@ elif case == "pointcloudroistatistics":
     res = canopy_summary(cloud, rois, ground=None, percentiles=a["percentiles"],
                          ground_percentile=a["ground_percentile"], z_min=None, z_max=None)
     out["kept"] = len(res)
+elif case == "photostatistics":
+    recon = open_reconstruction(a["project"])
+    dsm = DSMHeights(a["dsm"], a["crs"])
+    res = back_project(rois, recon, heights=dsm, distortion=True, occlusion_dsm=dsm,
+                       min_visible=0.0)
+    st = photo_statistics(res, None, bands=None, statistics=["mean", "median", "std"],
+                          percentiles=[5.0, 95.0],
+                          indices=["exg", "exgr", "vari", "gli", "ndvi", "ndre"],
+                          cover_threshold=None, min_visible=0.5, max_images=3, weighted=False,
+                          recon=recon, rois=rois, occlusion_dsm=dsm, distortion=True,
+                          previews_folder=None, overwrite=False)
+    out["kept"] = len(st.record)
+elif case == "orthorectifyrois":
+    recon = open_reconstruction(a["project"])
+    res = orthorectify_rois(rois, recon, a["dsm"], a["folder"], selection="best", photo=None,
+                            photos_folder=None, gsd=None, dsm_crs=a["crs"])
+elif case == "forwardprojectpolygons":
+    recon = open_reconstruction(a["project"])
+    dsm = DSMSurface(a["dsm"], crs=a["crs"])
+    shapes = []
+    for ann, cam in read_annotations(a["folder_in"], recon):
+        polys = [s for s in ann.shapes if s.kind == "polygon"]
+        shapes += forward_project(polys, cam, recon, dsm, densify=4.0)
+    out["kept"] = len(merge_views(shapes, "none"))
+elif case == "seasontraits":
+    table = read_survey_table(a["surveys"])
+    res = run_season(table, rois, traits=["height", "cover", "bands", "index", "cloud"],
+                     percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_crs=a["crs"],
+                     ground_percentile=2.0, cover_threshold=None, crops=None, workers=1)
+    out["kept"] = len(res.rows)
 else:
     raise SystemExit(f"unknown case {case}")
 out["seconds"] = time.perf_counter() - t0
@@ -179,6 +213,20 @@ def demo_case_inputs(quick: bool) -> dict:
     return {"folder": folder, "rois": gpkg, "n": n * n}
 
 
+PLOTS, PHOTOS = 40, 36        # the demo survey's
+
+
+def season_inputs(quick: bool) -> dict:
+    """The demo season (its 40 plots), generated once."""
+    from easyidp_toolbox.core.demo import make_demo_season
+    dates = 2 if quick else 4
+    folder = OUT / f"season_{dates}"
+    if not (folder / "season_truth.json").exists():
+        make_demo_season(str(folder), dates=dates, seed=0)
+    return {"surveys": folder / "surveys.csv", "plots": folder / "plots.geojson",
+            "ground": folder / "bare_soil_dsm.tif", "dates": dates}
+
+
 def startup_input() -> Path:
     path = OUT / "one_point.geojson"
     if not path.exists():
@@ -237,6 +285,35 @@ def cases(quick: bool):
                  "GROUND_PERCENTILE": 1, "OUTPUT": "cloud_stats.gpkg"},
                 dict(grid, cloud=demo / "pointcloud.laz", percentiles=[50.0, 95.0, 99.0],
                      ground_percentile=1.0)))
+    project = demo / "metashape" / "demo_survey.psx"
+    plots = {"rois": demo / "plots.gpkg", "name_field": "plot_id"}
+    out.append(("photostatistics", "photostatistics",
+                f"{PLOTS} plots × {PHOTOS} photos (demo), DSM heights, occlusion, 3 best views",
+                {"ROIS": demo / "plots.gpkg", "NAME_FIELD": "plot_id", "PROJECT": project,
+                 "HEIGHT_SOURCE": 1, "DSM": demo / "dsm.tif", "OUTPUT_VIEWS": "views.gpkg",
+                 "OUTPUT": "statistics.gpkg"},
+                dict(plots, project=project, dsm=demo / "dsm.tif", crs=f"EPSG:{EPSG}")))
+    out.append(("orthorectifyrois", "orthorectifyrois",
+                f"{PLOTS} plots from their best photo (demo), native resolution",
+                {"ROIS": demo / "plots.gpkg", "NAME_FIELD": "plot_id", "PROJECT": project,
+                 "DSM": demo / "dsm.tif", "OUTPUT_FOLDER": "ortho",
+                 "OUTPUT_INDEX": "ortho_index.gpkg"},
+                dict(plots, project=project, dsm=demo / "dsm.tif", crs=f"EPSG:{EPSG}",
+                     folder="{out}/ortho")))
+    out.append(("forwardprojectpolygons", "forwardprojectpolygons",
+                "the demo's LabelMe polygons on 4 photos, densified every 4 px",
+                {"INPUT_FOLDER": demo / "labelme", "PROJECT": project, "DSM": demo / "dsm.tif",
+                 "OUTPUT": "on_map.gpkg"},
+                {"project": project, "dsm": demo / "dsm.tif", "crs": f"EPSG:{EPSG}",
+                 "folder_in": demo / "labelme"}))
+    season = season_inputs(quick)
+    out.append(("seasontraits", "seasontraits",
+                f"{season['dates']} dates × {PLOTS} plots (demo season), all traits, 1 worker",
+                {"SURVEYS": season["surveys"], "ROIS": season["plots"], "NAME_FIELD": "plot_id",
+                 "GROUND": season["ground"], "WORKERS": 1, "OUTPUT_TABLE": "traits.gpkg",
+                 "OUTPUT_LAYER": "latest.gpkg"},
+                {"rois": season["plots"], "name_field": "plot_id", "surveys": season["surveys"],
+                 "ground": season["ground"], "crs": f"EPSG:{EPSG}"}))
     return out
 
 
@@ -316,6 +393,10 @@ def main(argv=None) -> int:
           f"{startup_all:.2f} s; --version {version:.2f} s. Each tool run below is paired with "
           "a start-up run just before it (the machine is shared: its load drifts)", flush=True)
 
+    ref = REF_PYTHON.exists() and not a.no_ref
+    ref_env = reference_env(dict(os.environ))
+    ref_env.update(HOME=str(OUT), XDG_DATA_HOME=str(OUT))
+    ref_runs = []
     rows, goals, shares, figures = [], [], {}, {}
     for name, alg, workload, params, eargs in cases(a.quick):
         if a.only and name not in a.only:
@@ -336,6 +417,10 @@ def main(argv=None) -> int:
             run, info = run_engine(alg if not alg.startswith("backproject") else name, eargs, folder)
             eng.append(info)
             scripts.append(run.wall)
+            if name == "backproject" and ref:   # easyidp in the same rounds (the load drifts)
+                ref_runs.append(run_json_child(
+                    [str(REF_PYTHON), "-c", REF_PROJECT, str(WHEAT), str(eargs["rois_json"])],
+                    env=ref_env, timeout=TIMEOUT, label="easyidp", strict=True))
         tool = _median(tool_walls)
         startup = _median(starts)
         engine = _median([e["seconds"] for e in eng])
@@ -369,18 +454,13 @@ def main(argv=None) -> int:
         print(f"\nShare per step, {name} (tool {total:.2f} s)")
         print(table(["step", "seconds", "share %"], [[p, v, 100.0 * v / total] for p, v in parts]))
 
-    ref = REF_PYTHON.exists() and not a.no_ref and "backproject" in figures
-    if ref:
-        w = wheat_case_inputs(a.quick)
-        ref_env = reference_env(dict(os.environ))
-        ref_env.update(HOME=str(OUT), XDG_DATA_HOME=str(OUT))
-        runs = [run_json_child([str(REF_PYTHON), "-c", REF_PROJECT, str(WHEAT), str(w["rois_json"])],
-                               env=ref_env, timeout=TIMEOUT, label="easyidp", strict=True)
-                for _ in range(repeat)]
+    if ref_runs:
+        runs = ref_runs
         back2raw = _median([info["seconds"] for _, info in runs])
         script = _median([run.wall for run, _ in runs])
         tool = figures["backproject"]["tool"]
-        print(f"\nBack-projection against easyidp 2.0.4 (median of {repeat}): back2raw "
+        print(f"\nBack-projection against easyidp 2.0.4 (median of {repeat}, each run next to "
+              f"one of the tool's): back2raw "
               f"{back2raw:.2f} s (the call), {script:.2f} s (its whole script: import, open "
               f"the project, back2raw); the tool {tool:.2f} s end to end, start-up "
               f"{figures['backproject']['startup']:.2f} s, engine "
