@@ -15,6 +15,7 @@ PY_SYS := /usr/bin/python3
 VENV := $(ROOT)/.venv
 VENV_CORE := $(ROOT)/.venv-core
 VENV_REF := $(ROOT)/.venv-ref
+VENV_EXACT := $(ROOT)/.venv-exactextract
 # The plugin folder must be named easyidp_toolbox: .plugins/easyidp_toolbox links to this tree.
 PLUGINS := $(ROOT)/.plugins
 export QT_QPA_PLATFORM := offscreen
@@ -30,7 +31,7 @@ CODENAME := $(shell . /etc/os-release 2>/dev/null && echo $$VERSION_CODENAME)
 HOST_SUITE := $(if $(filter bookworm trixie,$(CODENAME)),$(CODENAME),sid)
 OTHER_SUITES := $(filter-out $(HOST_SUITE),$(SUITES))
 
-.PHONY: env env-qgis env-ref test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
+.PHONY: env env-qgis env-ref env-exactextract test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
         bench package screenshots clean
 
 env: env-qgis $(VENV_CORE)/.done
@@ -76,6 +77,16 @@ $(VENV_REF)/.done: requirements/reference.txt | apt
 	$(VENV_REF)/bin/pip install -q --disable-pip-version-check -r requirements/reference.txt
 	touch $@
 
+# exactextract 0.3.0, the peer of ROI heights from DSM in bench/bench_heights.py: Debian's Python
+# with its GDAL bindings (exactextract reads the DSM and the plots through them)
+env-exactextract: apt $(VENV_EXACT)/.done
+
+$(VENV_EXACT)/.done: requirements/exactextract.txt | apt
+	@echo "== creating $(VENV_EXACT) (exactextract, for the benchmarks only)"
+	@test -x $(VENV_EXACT)/bin/python || $(PY_SYS) -m venv --system-site-packages $(VENV_EXACT)
+	$(VENV_EXACT)/bin/pip install -q --disable-pip-version-check -r requirements/exactextract.txt
+	touch $@
+
 test: env env-ref
 	$(MAKE) --no-print-directory test-core test-core-current test-qgis test-roots
 
@@ -112,7 +123,7 @@ test-qgis:
 demo: env-qgis env-ref
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.demo $(DEMO_DIR)
 
-bench: env env-ref
+bench: env env-ref env-exactextract
 	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
 
 screenshots: env

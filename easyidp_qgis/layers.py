@@ -401,6 +401,7 @@ def write_index(alg, parameters, context, source, rows, extra):
     the ROI's geometry and attributes followed by the ``extra`` fields ``[(name,
     compat.FieldType member)]``. Returns the destination id, or None when the output is skipped."""
     from qgis.core import QgsFeature, QgsField, QgsFields, QgsProcessingUtils
+    from .outputs import close_sink
     if parameters.get(alg.OUTPUT_INDEX) in (None, ""):
         return None
     more = QgsFields()
@@ -416,6 +417,7 @@ def write_index(alg, parameters, context, source, rows, extra):
         f.setGeometry(feat.geometry())
         f.setAttributes(list(feat.attributes()) + list(values))
         sink.addFeature(f, FeatureSinkFlag.FastInsert)
+    close_sink(sink)
     return dest
 
 

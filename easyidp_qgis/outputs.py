@@ -126,3 +126,20 @@ def check_values(alg, parameters, context):
                 return False, alg.tr("{name}: {value} is not one of the choices ({opts}).").format(
                     name=p.description(), value=k, opts=opts)
     return True, ""
+
+
+def close_sink(sink) -> None:
+    """Finish a sink of ``parameterAsSink`` and close its file now, before anything opens the
+    output: QGIS >= 3.42 ``finalize()`` (it flushes and reports write errors), else
+    ``flushBuffer()``; then the writer is destroyed here rather than whenever Python collects
+    it. A GeoPackage opened while its writer is still open costs SQLite's lock wait ('database
+    is locked', seconds per open) or reads as an empty file ('not recognized as a supported
+    file format'). The sink must not be used afterwards."""
+    from qgis.PyQt import sip
+    finalize = getattr(sink, "finalize", None)
+    if finalize is not None:
+        finalize()
+    else:
+        sink.flushBuffer()
+    if sip.ispyowned(sink):
+        sip.delete(sink)

@@ -17,6 +17,7 @@ from ..compat import (FeatureSinkFlag, FieldType, ProcessingFileParameterBehavio
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                      dsm_parameter, height_source_parameter, open_project_parameter,
                      optional_destination, rois_parameter)
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 
@@ -217,9 +218,12 @@ class BackProjectROIs(EasyIDPAlgorithm):
                              int(result.image_sizes[j][0]), int(result.image_sizes[j][1])])
             f.setGeometry(pixel_geometry(result.polygons_of(i)))
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         # a photo opened without georeference has no CRS; QGIS gives memory layers EPSG:4326
-        # by default, which would reproject the pixels: make the layer CRS-less like the photo
-        layer = QgsProcessingUtils.mapLayerFromString(dest, context)
+        # by default, which would reproject the pixels: make the layer CRS-less like the photo.
+        # Only a memory layer (held by the context) needs it: a file was written without a CRS,
+        # and opening it here would cost a second connection to the file just written.
+        layer = context.temporaryLayerStore().mapLayer(dest)
         if layer is not None and layer.crs().isValid():
             layer.setCrs(QgsCoordinateReferenceSystem())
         return dest
@@ -244,6 +248,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 int(counts[k]), None if i is None else str(result.photo[i]),
                 None if i is None else _num(result.score[i])])
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         return dest
 
 

@@ -12,6 +12,7 @@ from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 
@@ -129,6 +130,8 @@ class CameraFootprints(EasyIDPAlgorithm):
                                                                  for k in range(3)]))))
             fp_sink.addFeature(g, FeatureSinkFlag.FastInsert)
             beyond += not fp.complete
+        close_sink(cam_sink)
+        close_sink(fp_sink)
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
         presentation.present(self, context, fp_id, self.OUTPUT_FOOTPRINTS, footprint_style(),
                              self.tr("Camera footprints of {project}").format(project=project))

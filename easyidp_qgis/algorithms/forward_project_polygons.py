@@ -13,6 +13,7 @@ from ..compat import (FeatureSinkFlag, FieldType, GeometryType, ProcessingFilePa
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType, WkbType)
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 MERGE_OPTIONS = ("none", "union", "best")
@@ -194,6 +195,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             f.setGeometry(QgsGeometry(geom))
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
             written += 1
+        close_sink(sink)
         what = layer.sourceName() if layer is not None else os.path.basename((path or folder).rstrip("/\\"))
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
         presentation.present(self, context, dest, self.OUTPUT, detection_style(),

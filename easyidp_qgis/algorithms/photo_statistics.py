@@ -16,6 +16,7 @@ from ..layers import (add_height_parameters, add_project_parameters, add_roi_par
                       backprojection_from_layer, dsm_parameter, height_source_parameter,
                       open_project_parameter, optional_destination, optional_number,
                       parse_percentiles, rois_parameter)
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 STATISTIC_CHOICES = ("mean", "median", "std")
@@ -240,6 +241,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             f = QgsFeature(fields)
             f.setAttributes([row[n] for n in names])
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         return dest
 
     def _write_rois(self, parameters, context, source, features, st):
@@ -257,6 +259,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             f.setGeometry(feat.geometry())
             f.setAttributes(list(feat.attributes()) + [row[n] for n in st.roi_fields()])
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         return dest
 
 

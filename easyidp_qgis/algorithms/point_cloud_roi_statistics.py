@@ -13,6 +13,7 @@ from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
 from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
                      optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
                      rois_parameter, z_range)
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 FIXED_FIELDS = [("count", FieldType.LongLong), ("density", FieldType.Double),
@@ -141,6 +142,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             out.setAttributes([attrs[i] for i in kept] + [_num(row[k]) for k in keys])
             out.setGeometry(feat.geometry())
             sink.addFeature(out, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         no_ground = sum(1 for row in summary if row["count"] and math.isnan(row["ground"]))
         if no_ground and layer is not None:
             feedback.pushWarning(self.tr(

@@ -13,6 +13,7 @@ from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
 from ..layers import crs_string, geotiff_source, rois_parameter
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
@@ -127,6 +128,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
             out.setGeometry(_with_z(_rings(feat.geometry()), height, zs))
             sink.addFeature(out, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         for i, reason in missing.items():
             feedback.pushWarning(self.tr("ROI '{name}': {reason}; its height is left empty.").format(
                 name=rois[i].name, reason=reason))

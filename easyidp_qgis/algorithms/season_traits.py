@@ -14,6 +14,7 @@ from .. import presentation
 from ..compat import (DateFormat, FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_parameter)
+from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
 TRAITS = ["height", "cover", "bands", "index", "cloud"]
@@ -229,6 +230,7 @@ class SeasonTraits(EasyIDPAlgorithm):
             f = QgsFeature(fields)
             f.setAttributes(list(row))
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         return dest
 
     def _wide_layer(self, result, source, features, parameters, context):
@@ -252,6 +254,7 @@ class SeasonTraits(EasyIDPAlgorithm):
                             [values.get(t) for t in result.traits])
             f.setGeometry(feat.geometry())
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         return dest
 
     def _present(self, out, result, context, source):

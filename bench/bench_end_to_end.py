@@ -1,0 +1,483 @@
+"""Benchmark: every tool end to end, as users wait for it (issue 23).
+
+    python -m easyidp_toolbox.bench.bench_end_to_end [--quick] [--repeat N] [--only NAME ...] [--no-ref]
+
+Each tool runs through the real ``qgis_process.bin run`` (the plugin enabled in an isolated
+profile, as scripts/qgis_process.py sets it up) with GeoPackage outputs side by side in one
+folder, as a user writes them; the engine runs the same call in the core (``easyidp_toolbox.core``)
+in its own Python child, timed from the core opening its inputs (project, DSM, point cloud) to
+the end of its work, its modules imported and the ROIs read before the clock starts (in the
+tool QGIS reads them; the column 'engine script' is the child's whole run). Both
+are medians of ``--repeat`` runs (fresh output folders each time).
+
+``qgis_process`` start-up is measured in the same run: ``qgis_process.bin run native:buffer`` on
+a one-point layer with a GeoPackage output (QGIS, its providers and this plugin loaded, next to
+nothing to do). The goal per tool: tool <= 1.1 x engine + start-up. The log of every tool run is
+searched for 'database is locked' and any other ERROR line (a tool that opens an output it is
+still writing shows them; see tests/qgis/test_geopackage_outputs.py).
+
+Workloads: back-projection on the real wheat_tanashi project (138 photos) with 1,600 plots
+(bench_backward's grid, written as a 3-D GeoPackage), once with geometry Z, whole ROIs only and
+no occlusion (the issue's user case, against easyidp 2.0.4 ``back2raw`` in the same run) and
+once with DSM heights, clipping and occlusion (with the engine's share per step); camera
+footprints of the same project; DSM heights, raster and point cloud crops and point cloud
+statistics of 1,600 small plots over the demo survey (medium: 1 cm orthomosaic, 2 cm DSM).
+"""
+import argparse
+import json
+import os
+import re
+import shutil
+import statistics
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .bench_backward import OUT as BACKWARD_OUT
+from .bench_backward import (_LOAD_ROIS, REF_PROJECT, REF_PYTHON, WHEAT, _grid_plots, demo_inputs,
+                             wheat_inputs)
+from .common import Run, ratio, reference_env, run_child, run_json_child, table, target
+
+HERE = Path(__file__).resolve().parent
+ROOT = HERE.parent
+OUT = ROOT / "bench_output" / "end_to_end"
+TIMEOUT = 3600
+EPSG = 32654
+
+# --- the engine: the same calls in the core, in a child ------------------------------------------
+# argv: CASE ARGS_JSON; prints {"seconds": ..., "steps": {...}, ...} on its last line.
+ENGINE = _LOAD_ROIS + r"""
+import json, sys, time
+case, a = sys.argv[1], json.loads(sys.argv[2])
+if "rois_json" in a:
+    rois = load_rois(a["rois_json"])
+elif "rois" in a:
+    from easyidp_toolbox.core.roi import open_rois
+    rois = open_rois(a["rois"], name_field=a.get("name_field"))
+# the core modules every case uses, imported before the clock starts (the call is timed)
+from easyidp_toolbox.core import open_reconstruction
+from easyidp_toolbox.core.pointcloud import canopy_summary, crop_point_cloud, read_point_cloud
+from easyidp_toolbox.core.projection import DSMHeights, back_project
+from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
+from easyidp_toolbox.core.raster.dsm_heights import roi_heights
+from easyidp_toolbox.core.raster.geotiff import open_geotiff
+from easyidp_toolbox.core.reconstruction import camera_footprints
+from easyidp_toolbox.core.annotations import read_annotations
+from easyidp_toolbox.core.projection import DSMSurface, forward_project, merge_views, photo_statistics
+from easyidp_toolbox.core.projection.ortho import orthorectify_rois
+from easyidp_toolbox.core.season import read_survey_table, run_season
+marks = []
+def progress(p):
+    marks.append((float(p), time.perf_counter()))
+out = {}
+t0 = time.perf_counter()
+if case.startswith("backproject"):
+    recon = open_reconstruction(a["project"])
+    t_open = time.perf_counter()
+    if a.get("dsm"):
+        dsm = DSMHeights(a["dsm"], a["crs"])
+        res = back_project(rois, recon, heights=dsm, clip=True, occlusion_dsm=dsm,
+                           min_visible=a["min_visible"], progress=progress)
+    else:
+        res = back_project(rois, recon, heights="geometry", clip=False,
+                           min_visible=a["min_visible"], progress=progress)
+    t1 = time.perf_counter()
+    def at(p):
+        return next((t for q, t in marks if q >= p), t1)
+    # back_project's progress: 2 vertex heights, 15 densified, 75 projected and clipped,
+    # 95 occlusion tested, 100 ranked
+    b = [t0, t_open, at(2), at(15), at(75), at(95), t1]
+    names = ["open project", "vertex heights", "densify", "project + clip", "occlusion",
+             "rank + finish"]
+    out["steps"] = {n: b[k + 1] - b[k] for k, n in enumerate(names)}
+    out["kept"] = len(res)
+elif case == "camerafootprints":
+    recon = open_reconstruction(a["project"])
+    cams = [c for c in recon.cameras if c.aligned]
+    prints = camera_footprints(recon, a["ground"], crs=a["crs"], cameras=cams)
+    out["kept"] = len(prints)
+elif case == "roiheightsfromdsm":
+    dsm = open_geotiff(a["dsm"], crs=a["crs"])
+    rois.validate()
+    res = roi_heights(dsm, rois, "polygon", "mean", 50.0, 0.0)
+elif case == "croprasterbyrois":
+    res = crop_raster_by_rois(a["raster"], rois, a["folder"], all_touched=False,
+                              raster_crs=a["crs"])
+    out["kept"] = len(res.files)
+elif case == "croppointcloudbyrois":
+    cloud = read_point_cloud(a["cloud"], None)
+    res = crop_point_cloud(cloud, rois, a["folder"], fmt="same", z_min=None, z_max=None,
+                           write_empty=False)
+    out["kept"] = sum(item.status == "written" for item in res.items)
+elif case == "pointcloudroistatistics":
+    cloud = read_point_cloud(a["cloud"], None)
+    res = canopy_summary(cloud, rois, ground=None, percentiles=a["percentiles"],
+                         ground_percentile=a["ground_percentile"], z_min=None, z_max=None)
+    out["kept"] = len(res)
+elif case == "photostatistics":
+    recon = open_reconstruction(a["project"])
+    dsm = DSMHeights(a["dsm"], a["crs"])
+    res = back_project(rois, recon, heights=dsm, distortion=True, occlusion_dsm=dsm,
+                       min_visible=0.0)
+    st = photo_statistics(res, None, bands=None, statistics=["mean", "median", "std"],
+                          percentiles=[5.0, 95.0],
+                          indices=["exg", "exgr", "vari", "gli", "ndvi", "ndre"],
+                          cover_threshold=None, min_visible=0.5, max_images=3, weighted=False,
+                          recon=recon, rois=rois, occlusion_dsm=dsm, distortion=True,
+                          previews_folder=None, overwrite=False)
+    out["kept"] = len(st.record)
+elif case == "orthorectifyrois":
+    recon = open_reconstruction(a["project"])
+    res = orthorectify_rois(rois, recon, a["dsm"], a["folder"], selection="best", photo=None,
+                            photos_folder=None, gsd=None, dsm_crs=a["crs"])
+elif case == "forwardprojectpolygons":
+    recon = open_reconstruction(a["project"])
+    dsm = DSMSurface(a["dsm"], crs=a["crs"])
+    shapes = []
+    for ann, cam in read_annotations(a["folder_in"], recon):
+        polys = [s for s in ann.shapes if s.kind == "polygon"]
+        shapes += forward_project(polys, cam, recon, dsm, densify=4.0)
+    out["kept"] = len(merge_views(shapes, "none"))
+elif case == "seasontraits":
+    table = read_survey_table(a["surveys"])
+    res = run_season(table, rois, traits=["height", "cover", "bands", "index", "cloud"],
+                     percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_crs=a["crs"],
+                     ground_percentile=2.0, cover_threshold=None, crops=None, workers=1)
+    out["kept"] = len(res.rows)
+else:
+    raise SystemExit(f"unknown case {case}")
+out["seconds"] = time.perf_counter() - t0
+print(json.dumps(out))
+"""
+
+
+# --- inputs ---------------------------------------------------------------------------------------
+def _write_gpkg(path: Path, rois: dict, crs: str, z: bool) -> Path:
+    """{name: closed ring [[x, y(, z)], ...]} → a GeoPackage polygon layer (field 'name'),
+    atomically (written beside, then renamed)."""
+    from osgeo import ogr, osr
+    tmp = path.with_suffix(".tmp.gpkg")
+    if tmp.exists():
+        tmp.unlink()
+    srs = osr.SpatialReference()
+    srs.SetFromUserInput(crs)
+    ds = ogr.GetDriverByName("GPKG").CreateDataSource(str(tmp))
+    layer = ds.CreateLayer(path.stem, srs, ogr.wkbPolygon25D if z else ogr.wkbPolygon)
+    layer.CreateField(ogr.FieldDefn("name", ogr.OFTString))
+    layer.StartTransaction()
+    for name, ring in rois.items():
+        r = ogr.Geometry(ogr.wkbLinearRing)
+        for p in ring:
+            if z:
+                r.AddPoint(float(p[0]), float(p[1]), float(p[2]))
+            else:
+                r.AddPoint_2D(float(p[0]), float(p[1]))
+        g = ogr.Geometry(ogr.wkbPolygon)
+        g.AddGeometry(r)
+        f = ogr.Feature(layer.GetLayerDefn())
+        f.SetField("name", name)
+        f.SetGeometry(g)
+        layer.CreateFeature(f)
+    layer.CommitTransaction()
+    ds = None
+    os.replace(tmp, path)
+    return path
+
+
+def wheat_case_inputs(quick: bool) -> dict:
+    w = wheat_inputs(quick)                     # bench_backward's plots and DSM (cached)
+    gpkg = OUT / (Path(w["rois"]).stem + ".gpkg")
+    if not gpkg.exists():
+        d = json.loads(Path(w["rois"]).read_text())
+        _write_gpkg(gpkg, d["rois"], d["crs"], z=True)
+    return {"rois_json": w["rois"], "rois": gpkg, "dsm": w["dsm"]}
+
+
+def demo_case_inputs(quick: bool) -> dict:
+    """The demo survey (bench_backward's copy) and a grid of small plots over its field."""
+    size = "small" if quick else "medium"
+    demo_inputs(size)
+    folder = BACKWARD_OUT / f"demo_{size}"
+    n = 20 if quick else 40
+    gpkg = OUT / f"demo_{size}_grid_{n}.gpkg"
+    if not gpkg.exists():
+        with open(folder / "plots.geojson") as fh:
+            feats = json.load(fh)["features"]
+        xy = np.array([p for f in feats for r in f["geometry"]["coordinates"] for p in r])
+        (x0, y0), (x1, y1) = xy.min(axis=0), xy.max(axis=0)
+        cell = ((x1 - x0) / n, (y1 - y0) / n)
+        rois = _grid_plots(x0, y0, x1, y1, n, n, (0.75 * cell[0], 0.75 * cell[1]),
+                           lambda x, y: np.zeros(len(x)), 5)
+        _write_gpkg(gpkg, {k: [p[:2] for p in v] for k, v in rois.items()}, f"EPSG:{EPSG}", z=False)
+    return {"folder": folder, "rois": gpkg, "n": n * n}
+
+
+PLOTS, PHOTOS = 40, 36        # the demo survey's
+
+
+def season_inputs(quick: bool) -> dict:
+    """The demo season (its 40 plots), generated once."""
+    from easyidp_toolbox.core.demo import make_demo_season
+    dates = 2 if quick else 4
+    folder = OUT / f"season_{dates}"
+    if not (folder / "season_truth.json").exists():
+        make_demo_season(str(folder), dates=dates, seed=0)
+    return {"surveys": folder / "surveys.csv", "plots": folder / "plots.geojson",
+            "ground": folder / "bare_soil_dsm.tif", "dates": dates}
+
+
+def startup_input() -> Path:
+    path = OUT / "one_point.geojson"
+    if not path.exists():
+        path.write_text(json.dumps({"type": "FeatureCollection", "features": [{
+            "type": "Feature", "properties": {"id": 1},
+            "geometry": {"type": "Point", "coordinates": [139.54, 35.74]}}]}))
+    return path
+
+
+# --- the cases ------------------------------------------------------------------------------------
+def cases(quick: bool):
+    """(name, tool, workload, tool parameters with outputs relative to the run folder, engine
+    arguments with the folder as '{out}')."""
+    w = wheat_case_inputs(quick)
+    d = demo_case_inputs(quick)
+    n_w = 400 if quick else 1600
+    demo = d["folder"]
+    out = []
+    out.append(("backproject", "backprojectrois",
+                f"{n_w} plots × 138 photos (wheat), geometry Z, whole ROIs, no occlusion",
+                {"ROIS": w["rois"], "NAME_FIELD": "name", "PROJECT": WHEAT, "HEIGHT_SOURCE": 0,
+                 "CLIP": 1, "MIN_VISIBLE": 0, "OCCLUSION": "false",
+                 "OUTPUT": "pixels.gpkg", "OUTPUT_SUMMARY": "summary.gpkg"},
+                {"rois_json": w["rois_json"], "project": WHEAT, "min_visible": 0.0}))
+    out.append(("backproject_dsm", "backprojectrois",
+                f"{n_w} plots × 138 photos (wheat), DSM heights, clipped, occlusion",
+                {"ROIS": w["rois"], "NAME_FIELD": "name", "PROJECT": WHEAT, "HEIGHT_SOURCE": 1,
+                 "DSM": w["dsm"], "CLIP": 0, "OCCLUSION": "true", "MIN_VISIBLE": 0.5,
+                 "OUTPUT": "pixels.gpkg", "OUTPUT_SUMMARY": "summary.gpkg"},
+                {"rois_json": w["rois_json"], "project": WHEAT, "dsm": w["dsm"],
+                 "crs": f"EPSG:{EPSG}", "min_visible": 0.5}))
+    out.append(("camerafootprints", "camerafootprints", "138 cameras (wheat), one ground height",
+                {"PROJECT": WHEAT, "GROUND_HEIGHT": 96.8, "OUTPUT_CRS": f"EPSG:{EPSG}",
+                 "OUTPUT_CAMERAS": "cameras.gpkg", "OUTPUT_FOOTPRINTS": "footprints.gpkg"},
+                {"project": WHEAT, "ground": 96.8, "crs": f"EPSG:{EPSG}"}))
+    grid = {"rois": d["rois"], "name_field": "name"}
+    out.append(("roiheightsfromdsm", "roiheightsfromdsm",
+                f"{d['n']} plots, demo DSM (2 cm), mean",
+                {"ROIS": d["rois"], "DSM": demo / "dsm.tif", "MODE": 0, "STATISTIC": 0,
+                 "OUTPUT": "heights.gpkg"},
+                dict(grid, dsm=demo / "dsm.tif", crs=f"EPSG:{EPSG}")))
+    out.append(("croprasterbyrois", "croprasterbyrois",
+                f"{d['n']} plots, demo orthomosaic (1 cm RGB)",
+                {"INPUT": demo / "orthomosaic.tif", "ROIS": d["rois"], "NAME_FIELD": "name",
+                 "OUTPUT_FOLDER": "crops", "OUTPUT_INDEX": "crops_index.gpkg"},
+                dict(grid, raster=demo / "orthomosaic.tif", crs=f"EPSG:{EPSG}",
+                     folder="{out}/crops")))
+    out.append(("croppointcloudbyrois", "croppointcloudbyrois",
+                f"{d['n']} plots, demo point cloud (LAZ)",
+                {"INPUT": demo / "pointcloud.laz", "ROIS": d["rois"], "NAME_FIELD": "name",
+                 "FORMAT": 0, "OUTPUT_FOLDER": "clouds", "OUTPUT_INDEX": "clouds_index.gpkg"},
+                dict(grid, cloud=demo / "pointcloud.laz", folder="{out}/clouds")))
+    out.append(("pointcloudroistatistics", "pointcloudroistatistics",
+                f"{d['n']} plots, demo point cloud (LAZ)",
+                {"INPUT": demo / "pointcloud.laz", "ROIS": d["rois"], "PERCENTILES": "50,95,99",
+                 "GROUND_PERCENTILE": 1, "OUTPUT": "cloud_stats.gpkg"},
+                dict(grid, cloud=demo / "pointcloud.laz", percentiles=[50.0, 95.0, 99.0],
+                     ground_percentile=1.0)))
+    project = demo / "metashape" / "demo_survey.psx"
+    plots = {"rois": demo / "plots.gpkg", "name_field": "plot_id"}
+    out.append(("photostatistics", "photostatistics",
+                f"{PLOTS} plots × {PHOTOS} photos (demo), DSM heights, occlusion, 3 best views",
+                {"ROIS": demo / "plots.gpkg", "NAME_FIELD": "plot_id", "PROJECT": project,
+                 "HEIGHT_SOURCE": 1, "DSM": demo / "dsm.tif", "OUTPUT_VIEWS": "views.gpkg",
+                 "OUTPUT": "statistics.gpkg"},
+                dict(plots, project=project, dsm=demo / "dsm.tif", crs=f"EPSG:{EPSG}")))
+    out.append(("orthorectifyrois", "orthorectifyrois",
+                f"{PLOTS} plots from their best photo (demo), native resolution",
+                {"ROIS": demo / "plots.gpkg", "NAME_FIELD": "plot_id", "PROJECT": project,
+                 "DSM": demo / "dsm.tif", "OUTPUT_FOLDER": "ortho",
+                 "OUTPUT_INDEX": "ortho_index.gpkg"},
+                dict(plots, project=project, dsm=demo / "dsm.tif", crs=f"EPSG:{EPSG}",
+                     folder="{out}/ortho")))
+    out.append(("forwardprojectpolygons", "forwardprojectpolygons",
+                "the demo's LabelMe polygons on 4 photos, densified every 4 px",
+                {"INPUT_FOLDER": demo / "labelme", "PROJECT": project, "DSM": demo / "dsm.tif",
+                 "OUTPUT": "on_map.gpkg"},
+                {"project": project, "dsm": demo / "dsm.tif", "crs": f"EPSG:{EPSG}",
+                 "folder_in": demo / "labelme"}))
+    season = season_inputs(quick)
+    out.append(("seasontraits", "seasontraits",
+                f"{season['dates']} dates × {PLOTS} plots (demo season), all traits, 1 worker",
+                {"SURVEYS": season["surveys"], "ROIS": season["plots"], "NAME_FIELD": "plot_id",
+                 "GROUND": season["ground"], "WORKERS": 1, "OUTPUT_TABLE": "traits.gpkg",
+                 "OUTPUT_LAYER": "latest.gpkg"},
+                {"rois": season["plots"], "name_field": "plot_id", "surveys": season["surveys"],
+                 "ground": season["ground"], "crs": f"EPSG:{EPSG}"}))
+    return out
+
+
+# --- running --------------------------------------------------------------------------------------
+LOCK = "database is locked"
+
+
+def _errors(run: Run):
+    """(lock messages, other ERROR lines) in a qgis_process log."""
+    lines = (run.stderr + "\n" + run.stdout).splitlines()
+    locks = sum(LOCK in line for line in lines)
+    errors = [line for line in lines if re.search(r"\bERROR\b", line) and LOCK not in line]
+    return locks, errors
+
+
+def _fresh(folder: Path) -> Path:
+    if folder.exists():
+        shutil.rmtree(folder)
+    folder.mkdir(parents=True)
+    return folder
+
+
+def run_tool(exe, env, alg, params, folder: Path) -> Run:
+    args = []
+    for k, v in params.items():
+        if k.startswith("OUTPUT") and isinstance(v, str) and not os.path.isabs(v):
+            v = folder / v
+        args.append(f"{k}={v}")
+    return run_child([exe, "run", alg, "--", *args], env=env, timeout=TIMEOUT)
+
+
+def run_engine(case, eargs, folder: Path):
+    eargs = {k: (str(v).replace("{out}", str(folder)) if isinstance(v, (str, Path)) else v)
+             for k, v in eargs.items()}
+    return run_json_child([sys.executable, "-c", ENGINE, case, json.dumps(eargs)],
+                          timeout=TIMEOUT, label=f"engine {case}", strict=True)
+
+
+def _median(values):
+    values = [v for v in values if v is not None]
+    return statistics.median(values) if values else None
+
+
+def startup_run(exe, env) -> float:
+    """Wall of ``qgis_process.bin run native:buffer`` on one point (GeoPackage output)."""
+    folder = _fresh(OUT / "startup")
+    r = run_child([exe, "run", "native:buffer", "--", f"INPUT={startup_input()}",
+                   "DISTANCE=0.001", f"OUTPUT={folder / 'buffer.gpkg'}"], env=env, timeout=600)
+    if not r.ok:
+        raise RuntimeError(f"qgis_process native:buffer failed:\n{r.stderr[-2000:]}")
+    return r.wall
+
+
+def measure_startup(exe, env, repeat: int):
+    """Median walls of :func:`startup_run` and of ``qgis_process.bin --version``."""
+    walls = [startup_run(exe, env) for _ in range(repeat)]
+    version = [run_child([exe, "--version"], env=env, timeout=600).wall for _ in range(repeat)]
+    return _median(walls), _median(version)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="smaller inputs (400 wheat plots, the "
+                                                         "small demo survey, 400 grid plots)")
+    ap.add_argument("--repeat", type=int, default=None, help="runs per figure (default 3; 1 quick)")
+    ap.add_argument("--only", nargs="*", default=None, help="case names (see the table)")
+    ap.add_argument("--no-ref", action="store_true", help="skip easyidp 2.0.4")
+    a = ap.parse_args(argv)
+    repeat = a.repeat or (1 if a.quick else 3)
+    for folder in (OUT, BACKWARD_OUT):
+        folder.mkdir(parents=True, exist_ok=True)
+    from ..scripts.qgis_process import EXE, qgis_process_env
+    env = qgis_process_env(str(_fresh(OUT / "profile")))
+
+    startup_all, version = measure_startup(EXE, env, repeat)
+    print(f"\nqgis_process start-up (median of {repeat}): run native:buffer on one point "
+          f"{startup_all:.2f} s; --version {version:.2f} s. Each tool run below is paired with "
+          "a start-up run just before it (the machine is shared: its load drifts)", flush=True)
+
+    ref = REF_PYTHON.exists() and not a.no_ref
+    ref_env = reference_env(dict(os.environ))
+    ref_env.update(HOME=str(OUT), XDG_DATA_HOME=str(OUT))
+    ref_runs = []
+    rows, goals, shares, figures = [], [], {}, {}
+    for name, alg, workload, params, eargs in cases(a.quick):
+        if a.only and name not in a.only:
+            continue
+        tool_walls, cpu, locks, errors, eng, scripts, starts = [], [], 0, [], [], [], []
+        for k in range(repeat):
+            starts.append(startup_run(EXE, env))
+            folder = _fresh(OUT / "runs" / name)
+            r = run_tool(EXE, env, f"easyidp:{alg}", params, folder)
+            if not r.ok:
+                raise RuntimeError(f"qgis_process {alg} failed ({r.returncode}):\n{r.stderr[-3000:]}")
+            n_locks, errs = _errors(r)
+            locks += n_locks
+            errors += errs
+            tool_walls.append(r.wall)
+            cpu.append(r.cpu)
+            folder = _fresh(OUT / "runs" / name)
+            run, info = run_engine(alg if not alg.startswith("backproject") else name, eargs, folder)
+            eng.append(info)
+            scripts.append(run.wall)
+            if name == "backproject" and ref:   # easyidp in the same rounds (the load drifts)
+                ref_runs.append(run_json_child(
+                    [str(REF_PYTHON), "-c", REF_PROJECT, str(WHEAT), str(eargs["rois_json"])],
+                    env=ref_env, timeout=TIMEOUT, label="easyidp", strict=True))
+        tool = _median(tool_walls)
+        startup = _median(starts)
+        engine = _median([e["seconds"] for e in eng])
+        if eng[0].get("steps"):
+            shares[name] = {s: _median([e["steps"][s] for e in eng]) for s in eng[0]["steps"]}
+        figures[name] = {"tool": tool, "engine": engine, "startup": startup}
+        over = tool - startup - engine
+        goal = 1.1 * engine + startup
+        rows.append([name, workload, startup, tool, _median(cpu), engine, _median(scripts),
+                     ratio(tool, engine),
+                     ratio(tool - startup, engine), over, goal,
+                     "PASS" if tool <= goal else "MISS", locks, len(errors)])
+        for line in errors[:3]:
+            print(f"    {name}: {line}")
+        print(f"  {name}: tool {tool:.2f} s, engine {engine:.2f} s", flush=True)
+
+    print(f"\nEnd to end, median of {repeat} (s), start-up paired with each run; goal: tool <= "
+          "1.1 × engine + start-up")
+    print("(engine: the core call timed in its child; engine script: that child's whole run, "
+          "Python start, imports and ROI reading included)")
+    print(table(["case", "workload", "start-up", "tool", "tool CPU", "engine", "engine script", "tool/engine",
+                 "(tool-start)/engine", "tool-start-engine", "goal", "verdict", "locks",
+                 "ERROR lines"], rows))
+
+    for name, steps in shares.items():
+        total = figures[name]["tool"]
+        qgis_side = total - figures[name]["startup"] - figures[name]["engine"]
+        parts = [["qgis_process start-up", figures[name]["startup"]]] + \
+                [[f"engine: {s}", v] for s, v in steps.items()] + \
+                [["QGIS side: ROIs read, outputs written", qgis_side]]
+        print(f"\nShare per step, {name} (tool {total:.2f} s)")
+        print(table(["step", "seconds", "share %"], [[p, v, 100.0 * v / total] for p, v in parts]))
+
+    if ref_runs:
+        runs = ref_runs
+        back2raw = _median([info["seconds"] for _, info in runs])
+        script = _median([run.wall for run, _ in runs])
+        tool = figures["backproject"]["tool"]
+        print(f"\nBack-projection against easyidp 2.0.4 (median of {repeat}, each run next to "
+              f"one of the tool's): back2raw "
+              f"{back2raw:.2f} s (the call), {script:.2f} s (its whole script: import, open "
+              f"the project, back2raw); the tool {tool:.2f} s end to end, start-up "
+              f"{figures['backproject']['startup']:.2f} s, engine "
+              f"{figures['backproject']['engine']:.2f} s")
+        goals.append(target("back2raw call / tool end to end (issue's row)",
+                            ratio(back2raw, tool), 2.0))
+        goals.append(target("back2raw call / (tool − start-up)",
+                            ratio(back2raw, tool - figures["backproject"]["startup"]), 2.0))
+        goals.append(target("easyidp script / tool end to end (both from process start)",
+                            ratio(script, tool), 2.0))
+        goals.append(target("back2raw call / engine (the same work, in process)",
+                            ratio(back2raw, figures["backproject"]["engine"]), 2.0))
+    if goals:
+        print("\nTargets")
+        print(table(["target", "value", "goal", "verdict"], goals))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
