@@ -194,8 +194,9 @@ def _choose_chunk(entries, chunk, where: str):
 # --- chunk content -----------------------------------------------------------------------------
 def _calibration(sensor: ET.Element, width: int, height: int, where: str) -> Optional[Calibration]:
     cals = sensor.findall("calibration")
-    cal = next((c for c in cals if c.get("class") == "adjusted"), None) or \
-        next((c for c in cals if c.get("class") == "initial"), None) or (cals[0] if cals else None)
+    # by class, never by truth value: an Element's truth is its number of children
+    ranked = sorted(cals, key=lambda c: {"adjusted": 0, "initial": 1}.get(c.get("class"), 2))
+    cal = ranked[0] if ranked else None
     if cal is None or cal.find("f") is None:
         return None
     vals = {}
