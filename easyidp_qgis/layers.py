@@ -238,7 +238,8 @@ def add_project_parameters(alg):
                           "(needed when there are several)"), optional=True))
     p = QgsProcessingParameterCrs(
         alg.PROJECT_CRS, alg.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without "
-                                "OpenDroneMap)"), optional=True)
+                                "OpenDroneMap; Metashape chunk CRS that PROJ cannot use)"),
+        optional=True)
     p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
     alg.addParameter(p)
 
@@ -254,9 +255,7 @@ def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = 
             what=PROJECT_HELP))
     chunk = alg.parameterAsString(parameters, alg.CHUNK, context) or None
     pcrs = alg.parameterAsCrs(parameters, alg.PROJECT_CRS, context)
-    metashape = path.lower().endswith((".psx", ".psz", ".xml"))
-    recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() and not metashape
-                                else None)
+    recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() else None)
     feedback.pushInfo(recon.summary())
     for note in recon.notes:
         feedback.pushWarning(note)

@@ -33,15 +33,15 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
     ``*_pmatrix.txt``. ODM/OpenSfM: the ODM project folder, the OpenSfM dataset folder or a
     ``reconstruction.json``. ``chunk``: Metashape chunk id or label (required when the project
     has several); OpenSfM reconstruction index (default the largest). ``crs``: Pix4D, the
-    output CRS when the project has no ``*_wkt.prj``; OpenSfM, the map CRS when ODM did not
-    georeference the project.
+    output CRS when the project has no ``*_wkt.prj`` (or one PROJ cannot use); OpenSfM, the map
+    CRS when ODM did not georeference the project; Metashape, the chunk CRS when its
+    ``<reference>`` is neither usable nor an EPSG CRS. A CRS that contradicts the project's is
+    refused.
     """
     p = Path(path)
     suffix = p.suffix.lower()
     if suffix in (".psx", ".psz", ".xml"):
-        if crs is not None:
-            raise InputError(f"{p}: a Metashape chunk carries its own CRS; do not pass crs=.")
-        return open_metashape(p, chunk)
+        return open_metashape(p, chunk, crs)
     if is_opensfm_input(p):
         return open_opensfm(p, chunk, crs)
     if suffix == ".p4d" or p.is_dir():

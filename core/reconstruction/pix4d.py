@@ -23,9 +23,8 @@ from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
-from pyproj import CRS
 
-from ..crs import as_crs
+from ..crs import as_crs, project_crs
 from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import OffsetFrame
@@ -262,14 +261,13 @@ def open_pix4d(path, crs=None) -> Reconstruction:
         raise InputError(f"{folder}: no *_pmatrix.txt (nor *_calibrated_camera_parameters.txt): "
                          "the camera poses are missing. Re-export the params folder from Pix4D.")
     offset = read_offset(files["offset"])
+    notes = []
     if crs is None and files["prj"] is not None:
-        try:
-            crs = CRS.from_wkt(files["prj"].read_text(errors="replace").strip())
-        except Exception as exc:
-            raise InputError(f"{files['prj']}: not a WKT CRS pyproj can read ({exc}).") from None
+        crs, how = project_crs(files["prj"].read_text(errors="replace"), str(files["prj"]))
+        if how:
+            notes.append(how)
     crs = as_crs(crs)
     photos = _p4d_photos(p4d)
-    notes = []
     if crs is None:
         notes.append("no *_wkt.prj and no crs given: the project CRS is unknown")
 
