@@ -154,8 +154,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
             feedback.pushWarning(self.tr("… and {n} more ROIs without a photo").format(
                 n=len(result.unseen) - 50))
 
-        found, missing = resolve_photos(result.photo_labels, result.photo_paths, photos) \
-            if photos else ({}, {})
+        found, missing = resolve_photos(result.photo_labels, result.photo_paths, photos or None)
         paths = [found.get(lab, p) for lab, p in zip(result.photo_labels, result.photo_paths)]
         out = self._write_pixels(parameters, context, result, paths)
         summary = self._write_summary(parameters, context, source, features, result)
