@@ -22,6 +22,13 @@ def crs_string(crs: QgsCoordinateReferenceSystem):
     return crs.toWkt(QgsCoordinateReferenceSystem.WKT_PREFERRED)
 
 
+def pixel_crs() -> QgsCoordinateReferenceSystem:
+    """The CRS photo-pixel layers are written with: an undefined engineering (Cartesian) CRS
+    (GeoPackage srs_id −1), see ``core.projection.PIXEL_CRS_WKT``."""
+    from ..core.projection import PIXEL_CRS_WKT
+    return QgsCoordinateReferenceSystem.fromWkt(PIXEL_CRS_WKT)
+
+
 def qgis_crs(crs) -> QgsCoordinateReferenceSystem:
     """A QgsCoordinateReferenceSystem from a pyproj CRS (by EPSG code when it has one), or an
     invalid one for None."""

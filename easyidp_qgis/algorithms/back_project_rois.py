@@ -15,7 +15,7 @@ from qgis.PyQt.QtCore import QVariant
 from .. import presentation
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                      dsm_parameter, height_source_parameter, open_project_parameter,
-                     optional_destination, rois_parameter)
+                     optional_destination, pixel_crs, rois_parameter)
 from .base import EasyIDPAlgorithm
 
 
@@ -201,7 +201,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                            ("photo_width", QVariant.Int), ("photo_height", QVariant.Int)):
             fields.append(QgsField(name, kind))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          QgsWkbTypes.MultiPolygon, QgsCoordinateReferenceSystem())
+                                          QgsWkbTypes.MultiPolygon, pixel_crs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         for i in range(len(result)):
@@ -215,8 +215,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
                              int(result.image_sizes[j][0]), int(result.image_sizes[j][1])])
             f.setGeometry(pixel_geometry(result.polygons_of(i)))
             sink.addFeature(f, QgsFeatureSink.FastInsert)
-        # a photo opened without georeference has no CRS; QGIS gives memory layers EPSG:4326
-        # by default, which would reproject the pixels: make the layer CRS-less like the photo
+        # files get the undefined Cartesian CRS (GeoPackage srs_id -1); the layer loaded in
+        # QGIS is made CRS-less like a photo opened without georeference (both are drawn
+        # without reprojection)
         layer = QgsProcessingUtils.mapLayerFromString(dest, context)
         if layer is not None and layer.crs().isValid():
             layer.setCrs(QgsCoordinateReferenceSystem())
