@@ -149,3 +149,52 @@ def resolve_photos(labels: Sequence[str], project_paths: Sequence[Optional[str]]
         else:
             missing[label] = f"{path} not found (the photo moved or was deleted? give the photos folder)"
     return found, missing
+
+
+def photo_size(path) -> Optional[Tuple[int, int]]:
+    """(width, height) in pixels as stored (EXIF orientation not applied) from the file's
+    header (JPEG SOF, PNG IHDR, TIFF first page), or None when it cannot be told cheaply."""
+    import struct
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(32)
+            if head[:2] == b"\xff\xd8":                            # JPEG: walk the markers
+                fh.seek(2)
+                while True:
+                    b = fh.read(1)
+                    while b and b != b"\xff":
+                        b = fh.read(1)
+                    while b == b"\xff":
+                        b = fh.read(1)
+                    if not b:
+                        return None
+                    m = b[0]
+                    if m in (0xD8, 0x01) or 0xD0 <= m <= 0xD7:
+                        continue
+                    n = struct.unpack(">H", fh.read(2))[0]
+                    if 0xC0 <= m <= 0xCF and m not in (0xC4, 0xC8, 0xCC):
+                        h, w = struct.unpack(">xHH", fh.read(5))
+                        return int(w), int(h)
+                    fh.seek(n - 2, 1)
+            if head[:8] == b"\x89PNG\r\n\x1a\n":
+                w, h = struct.unpack(">II", head[16:24])
+                return int(w), int(h)
+            if head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
+                import tifffile
+                with tifffile.TiffFile(path) as tif:
+                    page = tif.pages.first
+                    return int(page.imagewidth), int(page.imagelength)
+    except (OSError, ValueError, struct.error, Exception):        # a damaged header: unknown
+        return None
+    return None
+
+
+def scale_to(sensor_size: Tuple[int, int], photo: Tuple[int, int]) -> Optional[float]:
+    """The factor s of a photo stored at ``photo`` (w, h) from a sensor of ``sensor_size``:
+    1 for the same size; s when both sides are the sensor's times s, rounded to whole pixels
+    (a resized copy, same aspect); None for another aspect ratio."""
+    (W, H), (w, h) = sensor_size, photo
+    if (w, h) == (W, H):
+        return 1.0
+    s = w / W
+    return s if abs(round(H * s) - h) <= 1 and abs(round(W * (h / H)) - w) <= 1 else None

@@ -59,11 +59,19 @@ def read_photo(path) -> np.ndarray:
 
 
 def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
-    """None if the decoded photo has the camera's size, else why it is not the project's photo."""
+    """None if the decoded photo has the camera's size, else why it is not usable: another
+    aspect ratio (not the photo the project was built from), or a resized copy that was not
+    there when the project was opened (``open_reconstruction`` scales the calibration of the
+    resized photos it finds, :func:`..reconstruction.model.fit_sensors_to_photos`)."""
     if arr.shape[1] == width and arr.shape[0] == height:
         return None
-    return (f"{file_name(os.fspath(path))} is {arr.shape[1]}×{arr.shape[0]} px but the camera's "
-            f"sensor is {width}×{height}: not the photo the project was built from")
+    from ..photo_files import scale_to
+    size = f"{file_name(os.fspath(path))} is {arr.shape[1]}×{arr.shape[0]} px but the camera's " \
+           f"sensor is {width}×{height}"
+    if scale_to((width, height), (arr.shape[1], arr.shape[0])) is None:
+        return f"{size}, another aspect ratio: not the photo the project was built from"
+    return (f"{size}: a resized copy, found only now; put the photos where the project finds "
+            "them (its calibration is then scaled to them when it is opened)")
 
 
 def photo_stems(labels: List[str]) -> List[str]:

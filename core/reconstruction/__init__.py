@@ -13,7 +13,8 @@ from .footprints import Footprint, camera_footprints
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration
 from .metashape import list_chunks, open_metashape
 from .odm import is_opensfm_input, list_reconstructions, open_opensfm
-from .model import Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints
+from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints,
+                    fit_sensors_to_photos)
 from .pix4d import open_pix4d
 
 __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker", "Calibration",
@@ -40,14 +41,17 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
     """
     p = Path(path)
     suffix = p.suffix.lower()
+    recon = None
     if suffix in (".psx", ".psz", ".xml"):
-        return open_metashape(p, chunk, crs)
-    if is_opensfm_input(p):
-        return open_opensfm(p, chunk, crs)
-    if suffix == ".p4d" or p.is_dir():
-        return open_pix4d(p, crs)
-    if p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
-        return open_pix4d(p.parent, crs)
+        recon = open_metashape(p, chunk, crs)
+    elif is_opensfm_input(p):
+        recon = open_opensfm(p, chunk, crs)
+    elif suffix == ".p4d" or p.is_dir():
+        recon = open_pix4d(p, crs)
+    elif p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
+        recon = open_pix4d(p.parent, crs)
+    if recon is not None:
+        return fit_sensors_to_photos(recon)
     if not p.exists():
         raise InputError(f"{p}: file not found.")
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "
