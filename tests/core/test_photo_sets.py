@@ -96,3 +96,74 @@ def test_sixteen_bit_multiband_photos(folder, tmp_path):
     res = orthorectify_rois(rs.roi_set(), recon, dsm, tmp_path / "o", photos_folder=photos16)
     img = tifffile.imread(res.files[0])
     assert img.dtype == np.uint16 and img.shape[2] == 5
+
+
+def _jpeg_with(img, make=None, orientation=None, app3_segments=0):
+    """A JPEG of ``img`` (imagecodecs) with an EXIF block (Make, Orientation) and DJI-style
+    APP3 segments (where DJI R-JPEGs keep the raw thermal data) inserted after SOI."""
+    import struct
+    import imagecodecs
+    body = imagecodecs.jpeg_encode(img, level=95)
+    entries = []
+    if make is not None:
+        raw = make.encode() + b"\x00"
+        entries.append((0x010F, 2, len(raw), raw))
+    if orientation is not None:
+        entries.append((0x0112, 3, 1, struct.pack(">HH", orientation, 0)))
+    ifd, extra = b"", b""
+    base = 8 + 2 + 12 * len(entries) + 4
+    for tag, typ, n, val in entries:
+        if len(val) <= 4:
+            ifd += struct.pack(">HHI", tag, typ, n) + val.ljust(4, b"\x00")
+        else:
+            ifd += struct.pack(">HHII", tag, typ, n, base + len(extra))
+            extra += val
+    tiff = b"MM\x00\x2a" + struct.pack(">I", 8) + struct.pack(">H", len(entries)) + ifd + \
+        b"\x00\x00\x00\x00" + extra
+    app1 = b"Exif\x00\x00" + tiff
+    segs = b"\xff\xe1" + struct.pack(">H", len(app1) + 2) + app1
+    for _ in range(app3_segments):
+        payload = bytes(60000)
+        segs += b"\xff\xe3" + struct.pack(">H", len(payload) + 2) + payload
+    return body[:2] + segs + body[2:]
+
+
+def _photos_as_jpeg(folder, out, **kw):
+    out.mkdir()
+    for p in sorted((folder / "images").iterdir()):
+        (out / (p.stem + ".JPG")).write_bytes(_jpeg_with(read_photo(p), **kw))
+    return out
+
+
+def test_dji_thermal_rjpeg_is_said_to_be_a_palette(folder, tmp_path):
+    """A DJI R-JPEG (EXIF Make DJI, APP3 thermal segments): measured as the colours it stores,
+    and the notes say plainly that they are a palette, not temperatures; an ordinary DJI JPEG
+    (no APP3) gets no such note."""
+    from easyidp_toolbox.core.photo_files import jpeg_facts
+    dsm = str(folder / "odm_dem" / "dsm.tif")
+    recon = open_reconstruction(folder)
+    bp = back_project(rs.roi_set(), recon, heights=DSMHeights(dsm), min_visible=0.0)
+    rj = _photos_as_jpeg(folder, tmp_path / "rjpeg", make="DJI", app3_segments=11)
+    assert jpeg_facts(next(rj.iterdir()))["thermal"] is True
+    st = photo_statistics(bp, photos=rj, statistics=("mean",))
+    note = [n for n in st.notes if "R-JPEG" in n]
+    assert len(note) == 1 and "palette" in note[0] and "not temperatures" in note[0]
+    assert np.isfinite(st.median).any()
+    plain = _photos_as_jpeg(folder, tmp_path / "plain", make="DJI")
+    assert not any("R-JPEG" in n for n in photo_statistics(bp, photos=plain,
+                                                           statistics=("mean",)).notes)
+
+
+def test_exif_rotated_photos_are_read_as_stored(folder, tmp_path):
+    """Stated behaviour: a photo with EXIF orientation 6 is decoded as stored (912 rows ×
+    1368 columns, the pixels the project measured), not turned upright, and the notes say so."""
+    from easyidp_toolbox.core.photo_files import jpeg_facts
+    dsm = str(folder / "odm_dem" / "dsm.tif")
+    recon = open_reconstruction(folder)
+    bp = back_project(rs.roi_set(), recon, heights=DSMHeights(dsm), min_visible=0.0)
+    rot = _photos_as_jpeg(folder, tmp_path / "rot", make="DJI", orientation=6)
+    first = sorted(rot.iterdir())[0]
+    assert jpeg_facts(first)["orientation"] == 6
+    assert read_photo(first).shape == (912, 1368, 3)
+    st = photo_statistics(bp, photos=rot, statistics=("mean",))
+    assert any("EXIF orientation [6]" in n and "read as stored" in n for n in st.notes)
