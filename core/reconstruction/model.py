@@ -152,9 +152,19 @@ class Reconstruction:
         return [c for c in self.cameras if c.aligned and c.rolling_shutter is not None]
 
     def camera(self, label: str) -> Camera:
+        """The camera labelled ``label``, else the one photo it names by
+        :func:`~..photo_files.photo_key` (``dji_0018.jpg`` finds ``DJI_0018``)."""
         for c in self.cameras:
             if c.label == label:
                 return c
+        from ..photo_files import photo_key
+        key = photo_key(label)
+        hits = [c for c in self.cameras if key in (photo_key(c.label), photo_key(c.photo_path or ""))]
+        if len(hits) == 1:
+            return hits[0]
+        if hits:
+            raise EasyIDPError(f"{self.source}: {label!r} could be any of the cameras "
+                               f"{', '.join(c.label for c in hits[:5])}; give the camera's label.")
         raise EasyIDPError(f"{self.source}: no camera labelled {label!r}.")
 
     @property

@@ -25,6 +25,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from ..crs import as_crs, project_crs
+from ..photo_files import is_windows_path, photo_key
 from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import OffsetFrame
@@ -243,8 +244,8 @@ def _p4d_photos(p4d: Optional[Path]) -> Dict[str, str]:
     for im in root.iter("image"):
         p = im.get("path")
         if p:
-            out[Path(p.replace("\\", "/")).name] = str((p4d.parent / p).resolve()) \
-                if not Path(p).is_absolute() else p
+            out[photo_key(p)] = str((p4d.parent / p).resolve()) \
+                if not (Path(p).is_absolute() or is_windows_path(p)) else p
     return out
 
 
@@ -284,7 +285,8 @@ def open_pix4d(path, crs=None) -> Reconstruction:
     if files["ccp"] is not None:
         for name, e in read_calibrated_camera_parameters(files["ccp"]).items():
             sid = sensor_for(calibration_from_ccp(e), e["width"], e["height"])
-            cameras.append(Camera(id=name, label=name, sensor_id=sid, photo_path=photos.get(name),
+            cameras.append(Camera(id=name, label=name, sensor_id=sid,
+                                  photo_path=photos.get(photo_key(name)),
                                   R=e["R"], C=e["t"]))
     else:
         cam_file = files["cam"] or files["cam_inpho"]
@@ -296,7 +298,8 @@ def open_pix4d(path, crs=None) -> Reconstruction:
                               **({} if dist is None else {k: getattr(dist, k) for k in
                                                           ("k1", "k2", "k3", "p1", "p2")}))
             sid = sensor_for(cal, w, h)
-            cameras.append(Camera(id=name, label=name, sensor_id=sid, photo_path=photos.get(name),
+            cameras.append(Camera(id=name, label=name, sensor_id=sid,
+                                  photo_path=photos.get(photo_key(name)),
                                   R=R, C=C))
         if cam_file is None:
             notes.append("no .cam file: lens distortion unknown, projections are undistorted")

@@ -111,3 +111,35 @@ def test_odm_photo_in_no_reconstruction_is_named(realdata, tmp_path):
     note = [n for n in recon.notes if "in no reconstruction" in n]
     assert len(note) == 1 and "1 photo(s)" in note[0] and "EXTRA_0001.JPG" in note[0]
     assert len(PhotoFiles(tmp_path / "images")) == 5
+
+
+def test_camera_named_by_its_photo_file(realdata):
+    """A tool given a photo name (``photo=``, annotations, a pixel layer's photo field) finds the
+    camera by the same key: ``100_0005_0018.TIF`` is shot ``100_0005_0018``."""
+    recon = open_reconstruction(realdata / "orthority_odm")
+    assert recon.camera("100_0005_0018.TIF").label == "100_0005_0018"
+    assert recon.camera("/elsewhere/100_0005_0140.tif").label == "100_0005_0140"
+    with pytest.raises(Exception, match="no camera labelled"):
+        recon.camera("100_0005_9999")
+
+
+def test_pix4d_windows_image_paths_kept_and_reported(realdata, tmp_path):
+    """A .p4d written on Windows: its absolute image paths are kept as written (not joined to
+    the project folder) and reported as Windows paths; with a photos folder they are found by
+    file name."""
+    src = realdata / "easyidp" / "pix4d_origin" / "1_initial" / "params"
+    shutil.copytree(src, tmp_path / "proj" / "1_initial" / "params")
+    (tmp_path / "proj.p4d").write_text(
+        '<pix4dmapper><inputs><images>'
+        '<image path="C:\\Users\\me\\Flight\\DJI_0172.JPG"/>'
+        '<image path="C:\\Users\\me\\Flight\\dji_0173.jpg"/>'
+        '</images></inputs></pix4dmapper>')
+    recon = open_reconstruction(tmp_path / "proj.p4d")
+    cams = {c.label: c for c in recon.cameras}
+    assert cams["DJI_0172.JPG"].photo_path == "C:\\Users\\me\\Flight\\DJI_0172.JPG"
+    assert cams["DJI_0173.JPG"].photo_path.endswith("dji_0173.jpg")
+    found, missing = resolve_photos(["DJI_0172.JPG"], [cams["DJI_0172.JPG"].photo_path])
+    assert "Windows path" in missing["DJI_0172.JPG"]
+    _touch(tmp_path / "photos" / "DJI_0172.jpg")
+    found, _ = resolve_photos(["DJI_0172.JPG"], [cams["DJI_0172.JPG"].photo_path], tmp_path / "photos")
+    assert found["DJI_0172.JPG"] == str(tmp_path / "photos" / "DJI_0172.jpg")
