@@ -150,7 +150,8 @@ def odm_georeferencing(layout: _Layout, lla=None) -> Tuple[Optional[CRS], Option
     The CRS: ``odm_georeferencing/coords.txt`` line 1, else ``proj.txt``, else the CRS of the
     orthophoto or DSM. The offset: ``coords.txt`` line 2; else ``reference_lla`` (``lla``:
     lat, lon, alt) in that CRS, the point ODM hands OpenSfM as the reference of its offset
-    (rounded to the metre when within 1 cm of it, as ODM writes its offsets).
+    (ODM writes its whole-metre offset point there, ``opendm/osfm.py`` ``write_reference_lla``;
+    a reference that is not on whole metres, within 1 cm, is OpenSfM's own and is not used).
     """
     crs, offset, crs_src, off_src = None, None, "", ""
     coords = layout.odm("odm_georeferencing", "coords.txt")
@@ -182,17 +183,18 @@ def odm_georeferencing(layout: _Layout, lla=None) -> Tuple[Optional[CRS], Option
                 if g.crs is not None:
                     crs, crs_src = g.crs, str(tif)
                     break
-    if crs is not None and offset is None and lla is not None:
+    if crs is not None and offset is None and lla is not None:  # ODM's offset point?
         lat, lon, _alt = lla
         e, n = transformer(WGS84_3D, crs).transform(lon, lat)
-        offset = np.array([e, n], dtype=np.float64)
-        rounded = np.round(offset)
-        exact = bool(np.all(np.abs(offset - rounded) < 0.01))
-        if exact:
-            offset = rounded
-        off_src = (f"reference_lla (lat {lat:.8f}, lon {lon:.8f}) in {crs.name}: E {offset[0]:.3f}, "
-                   f"N {offset[1]:.3f}" + (" (whole metres, as ODM writes its offset)" if exact else
-                                           " (not whole metres: check the result against the DSM)"))
+        at = np.array([e, n], dtype=np.float64)
+        if np.all(np.abs(at - np.round(at)) < 0.01):
+            offset = np.round(at)
+            off_src = (f"reference_lla (lat {lat:.8f}, lon {lon:.8f}) in {crs.name}: "
+                       f"E {offset[0]:.3f}, N {offset[1]:.3f}, whole metres: the offset point "
+                       "ODM writes as OpenSfM's reference (opendm/osfm.py write_reference_lla)")
+        else:
+            off_src = (f"reference_lla is at E {at[0]:.3f}, N {at[1]:.3f} in {crs.name}, not on "
+                       "whole metres, so it is not an offset ODM wrote (ODM's are whole metres)")
     return crs, offset, crs_src, off_src
 
 
@@ -327,11 +329,12 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
         if offset is None:
             coords = layout.odm_root / "odm_georeferencing" / "coords.txt"
             raise InputError(
-                (f"{coords}: line 2 (the east and north offset) is missing" if coords.is_file()
+                (f"{coords}: the east/north offset (line 2) is missing" if coords.is_file()
                  else f"{coords} is missing") +
-                f", and {file} has no reference_lla to derive the offset from, so its cameras "
-                "(map coordinates minus that offset) cannot be placed on the map. Restore "
-                "odm_georeferencing/coords.txt from the ODM run.")
+                (f", and {offset_src}" if offset_src else
+                 f", and {file} has no reference_lla to derive the offset from") +
+                ", so its cameras (map coordinates minus that offset) cannot be placed on the "
+                "map. Restore odm_georeferencing/coords.txt from the ODM run.")
         frame = OffsetFrame(odm_crs, np.array([offset[0], offset[1], 0.0]))
         map_crs = odm_crs
         notes.append(f"map offset from {offset_src}; CRS from {georef_src}")

@@ -113,7 +113,8 @@ def test_missing_offset_names_the_missing_file(folder, tmp_path):
     assert "coords.txt is missing" in msg and "dsm.tif" not in msg and "reference_lla" in msg
     with pytest.raises(InputError) as e:
         open_reconstruction(_odm_copy(folder, tmp_path / "b", "WGS84 UTM 51N\n", keep_lla=False))
-    assert "coords.txt: line 2 (the east and north offset) is missing" in str(e.value)
+    assert "coords.txt: the east/north offset (line 2) is missing" in str(e.value)
+    assert "dsm.tif" not in str(e.value)
 
 
 # --- every tool on the survey -----------------------------------------------------------------
