@@ -80,13 +80,15 @@ def test_opens_without_offset_or_photos_folder(survey, folder):
         assert np.linalg.norm(c - [e, n, h]) < 0.1, lab
 
 
-def _odm_copy(folder, tmp_path, coords=None, keep_lla=True):
-    """An ODM folder in tmp_path: the real reconstruction.json (reference_lla dropped on
-    request), the DSM and photos linked, and an odm_georeferencing/coords.txt if given."""
+def _odm_copy(folder, tmp_path, coords=None, keep_lla=True, lla_shift=0.0):
+    """An ODM folder in tmp_path: the real reconstruction.json (reference_lla dropped, or moved
+    north by ``lla_shift`` degrees, on request), the DSM and photos linked, and an
+    odm_georeferencing/coords.txt if given."""
     (tmp_path / "opensfm").mkdir(parents=True)
     rec = json.loads((folder / "opensfm" / "reconstruction.json").read_text())
     if not keep_lla:
         rec[0].pop("reference_lla")
+    rec[0].get("reference_lla", {"latitude": 0.0})["latitude"] += lla_shift
     (tmp_path / "opensfm" / "reconstruction.json").write_text(json.dumps(rec))
     for sub in ("odm_dem", "images"):
         os.symlink(folder / sub, tmp_path / sub)
@@ -115,6 +117,10 @@ def test_missing_offset_names_the_missing_file(folder, tmp_path):
         open_reconstruction(_odm_copy(folder, tmp_path / "b", "WGS84 UTM 51N\n", keep_lla=False))
     assert "coords.txt: the east/north offset (line 2) is missing" in str(e.value)
     assert "dsm.tif" not in str(e.value)
+    # a reference off whole metres is OpenSfM's own, not ODM's offset point: not used
+    with pytest.raises(InputError, match=r"coords\.txt is missing, and reference_lla is at .* not "
+                                         r"on whole metres"):
+        open_reconstruction(_odm_copy(folder, tmp_path / "c", None, lla_shift=1e-6))
 
 
 # --- every tool on the survey -----------------------------------------------------------------
