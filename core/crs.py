@@ -204,7 +204,11 @@ def project_crs(text: str, where: str, given: Any = None) -> Tuple[Optional[CRS]
             else:
                 how = f"its AUTHORITY {top[0]}:{top[1]} disagrees with its parameters; "
         if resolved is None:
-            for match in crs.list_authority(min_confidence=1):
+            try:
+                matches = crs.list_authority(min_confidence=1)
+            except Exception:                   # pyproj.exceptions.CRSError: nothing to match
+                matches = []
+            for match in matches:
                 if match.auth_name != "EPSG":
                     continue
                 cand = CRS.from_epsg(int(match.code))
