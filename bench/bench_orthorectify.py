@@ -1,5 +1,9 @@
 """Benchmark: orthorectified images of 400 ROIs from their best raw photos.
 
+Also: with and without the hidden-ground mask, on the demo and on the real OpenDroneMap survey
+(``../shared/realdata/orthority_odm``: 5 ROIs of 80 m × 80 m in its photos' overlaps, every
+photo that sees them), ROIs/s, ground pixels/s and the share of the time the mask costs.
+
 Run: ``python -m easyidp_toolbox.bench.bench_orthorectify [--quick]``.
 
 On the demo survey (small), each of the 40 plots is cut into 10 ROIs (400 in all, about
@@ -66,6 +70,43 @@ def split_plots(plots, nx=5, ny=2):
     return ROISet(out, plots.crs)
 
 
+def mask_rows(label, rois, recon, dsm, tmp, selection):
+    """[label + mask on/off, ROI images/s, ground Mpx/s, wall s, images] and the mask's share."""
+    import tifffile
+    from easyidp_toolbox.core.projection.ortho import orthorectify_rois
+    rows, walls = [], {}
+    for occ in (False, True):
+        out = os.path.join(tmp, f"{label}_{occ}")
+        t0 = time.perf_counter()
+        res = orthorectify_rois(rois, recon, dsm, out, selection=selection, occlusion=occ)
+        wall = time.perf_counter() - t0
+        px = sum(int((tifffile.imread(f)[..., -1] > 0).sum()) for f in res.files)
+        walls[occ] = wall
+        rows.append([f"{label}, {'with' if occ else 'without'} the occlusion mask",
+                     len(res.files) / wall, px / wall / 1e6, wall, len(res.files)])
+    return rows, (walls[True] - walls[False]) / walls[True]
+
+
+def real_survey():
+    """(ROISet, Reconstruction, DSM path) of the real ODM survey, or None when not there."""
+    from pathlib import Path
+    from easyidp_toolbox.core import open_reconstruction
+    from easyidp_toolbox.core.roi.model import ROISet, roi_from_coordinates
+    root = Path(os.path.realpath(ROOT))           # the tree, also when run through .plugins/
+    folder = Path(os.environ.get("EASYIDP_REALDATA", root.parent / "shared" / "realdata")) \
+        / "orthority_odm"
+    if not folder.is_dir():
+        return None
+    centres = [(292785.0, 2731141.0), (292681.0, 2731069.0), (292657.0, 2731093.0),
+               (292777.0, 2731037.0), (292665.0, 2730973.0)]
+    h = 40.0
+    rois = ROISet([roi_from_coordinates(f"r{k}", "Polygon", [[[x - h, y - h], [x + h, y - h],
+                                                             [x + h, y + h], [x - h, y + h],
+                                                             [x - h, y - h]]])
+                   for k, (x, y) in enumerate(centres)], "EPSG:32651")
+    return rois, open_reconstruction(folder), str(folder / "odm_dem" / "dsm.tif")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="100 ROIs")
@@ -111,6 +152,22 @@ def main(argv=None) -> int:
         print(table(["run", "ROIs/s", "ROIs/CPU-s", "wall s", "images"], rows))
         if len(rows) > 1:
             print(f"\nratio ours/easyidp (ROIs per second): {rows[0][1] / rows[1][1]:.2f}")
+        mrows, shares = [], []
+        r, share = mask_rows(f"demo, {len(rois)} ROIs, best photo", rois, recon, s.dsm, tmp,
+                             "best")
+        mrows += r
+        shares.append(("demo", share))
+        real = real_survey()
+        if real is not None:
+            r, share = mask_rows("real ODM survey, 5 ROIs, every photo", *real, tmp, "all")
+            mrows += r
+            shares.append(("real ODM survey", share))
+        else:
+            print("real survey not found (../shared/realdata/orthority_odm): its rows are left out")
+        print()
+        print(table(["run", "ROI images/s", "ground Mpx/s", "wall s", "images"], mrows))
+        for what, share in shares:
+            print(f"{what}: the occlusion mask takes {100 * share:.0f} % of the time")
     return 0
 
 

@@ -25,6 +25,13 @@ def crs_string(crs: QgsCoordinateReferenceSystem):
     return crs.toWkt(CrsWktVariant.Preferred)
 
 
+def pixel_crs() -> QgsCoordinateReferenceSystem:
+    """The CRS photo-pixel layers are written with: an undefined engineering (Cartesian) CRS
+    (GeoPackage srs_id −1), see ``core.projection.PIXEL_CRS_WKT``."""
+    from ..core.projection import PIXEL_CRS_WKT
+    return QgsCoordinateReferenceSystem.fromWkt(PIXEL_CRS_WKT)
+
+
 def qgis_crs(crs) -> QgsCoordinateReferenceSystem:
     """A QgsCoordinateReferenceSystem from a pyproj CRS (by EPSG code when it has one), or an
     invalid one for None."""
@@ -241,7 +248,8 @@ def add_project_parameters(alg):
                           "(needed when there are several)"), optional=True))
     p = QgsProcessingParameterCrs(
         alg.PROJECT_CRS, alg.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without "
-                                "OpenDroneMap)"), optional=True)
+                                "OpenDroneMap; Metashape chunk CRS that PROJ cannot use)"),
+        optional=True)
     p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
     alg.addParameter(p)
 
@@ -257,9 +265,7 @@ def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = 
             what=PROJECT_HELP))
     chunk = alg.parameterAsString(parameters, alg.CHUNK, context) or None
     pcrs = alg.parameterAsCrs(parameters, alg.PROJECT_CRS, context)
-    metashape = path.lower().endswith((".psx", ".psz", ".xml"))
-    recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() and not metashape
-                                else None)
+    recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() else None)
     feedback.pushInfo(recon.summary())
     for note in recon.notes:
         feedback.pushWarning(note)

@@ -2,7 +2,7 @@
 
 :func:`read_annotations` recognises a LabelMe JSON file or folder, a COCO JSON file, or a YOLO
 label file or folder, reads them with their reader, matches every image to a photo of the
-project (by file name, case-insensitive, extension ignored: LabelMe ``imagePath`` or the JSON
+project (by :func:`..photo_files.photo_key`: file name, any case, photo extension ignored: LabelMe ``imagePath`` or the JSON
 file's own name, COCO ``file_name``, the YOLO file's stem) and checks the declared image size
 against the camera's.
 """
@@ -11,6 +11,7 @@ import os
 from typing import Dict, List, Tuple
 
 from ..errors import InputError
+from ..photo_files import photo_key
 from .coco import read_coco
 from .labelme import read_labelme
 from .model import PhotoAnnotations
@@ -20,8 +21,10 @@ FORMATS = ("labelme", "coco", "yolo")
 
 
 def _stem(name: str) -> str:
-    base = os.path.basename(str(name).replace("\\", "/"))
-    return os.path.splitext(base)[0].lower()
+    """The photo key of an annotated image name or of an annotation file's own name
+    (``DJI_0018.json`` → ``dji_0018``): :func:`..photo_files.photo_key`."""
+    key = photo_key(name)
+    return os.path.splitext(key)[0] if key.endswith((".json", ".txt")) else key
 
 
 class PhotoIndex:

@@ -23,10 +23,10 @@ from .merge import MERGE_MODES, MapPolygon, merge_views
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
-from .result import PIXEL_CONVENTION, BackProjection, FlatPolygons, read_easyidp_json
+from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, FlatPolygons, read_easyidp_json
 
 __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA",
-           "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION",
+           "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION", "PIXEL_CRS_WKT",
            "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",

@@ -49,6 +49,7 @@ from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder, write_bytes
 from ..geometry import rasterize
 from ..progress import as_progress
+from ..photo_files import photo_notes
 from .photos import DecodedPhotos, resolve_photos
 from .result import BackProjection
 
@@ -426,6 +427,7 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
     state = _Pass(result, stats, qs, wanted, cover_threshold, bands, k)
     state.skipped.update(missing)
+    state.notes += photo_notes(list(found.values()))
     sheets = None
     if previews_folder is not None:
         from .stat_previews import StatSheets

@@ -1,9 +1,10 @@
 """The raw photos of a project: where they are, and decoding them.
 
 Paths come from the project as its reader resolved them (Metashape: relative to the frame
-document, as Metashape does; Pix4D: the ``.p4d`` image paths). A ``photos`` folder overrides
-them, matching by file name (EasyIDP's ``change_photo_folder``); a camera without a stored path
-is matched by its label (``DJI_0001`` → ``DJI_0001.JPG``, any case of the extension).
+document, as Metashape does; Pix4D: the ``.p4d`` image paths; ODM: ``images/``). They are
+found by :func:`..photo_files.resolve_photos`, the one lookup (by file stem, any case; a
+``photos`` folder, with its subfolders, overrides the stored paths, EasyIDP's
+``change_photo_folder``).
 
 Photos are decoded with tifffile (TIFF: 16-bit and multiband, e.g. multispectral) or imagecodecs
 (JPEG, PNG and the rest), as stored: pixel (0, 0) is the first stored row and column (the EXIF
@@ -13,68 +14,14 @@ coordinates either).
 :class:`DecodedPhotos` is the one pass over the photos that every consumer of pixels shares
 (crops and previews, plot statistics): each photo decoded once, by threads running ahead.
 """
-import ntpath
 import os
 from concurrent.futures import ThreadPoolExecutor
-from pathlib import Path
-from typing import Dict, List, Optional, Sequence, Tuple
+from typing import List, Optional, Sequence
 
 import numpy as np
 
 from ..errors import InputError
-
-PHOTO_EXTENSIONS = (".jpg", ".jpeg", ".tif", ".tiff", ".png", ".dng", ".jp2", ".webp", ".bmp")
-
-
-def _file_name(path: str) -> str:
-    """The last component of a POSIX or Windows path."""
-    return ntpath.basename(path.replace("\\", "/").rstrip("/")) if path else ""
-
-
-def resolve_photos(labels: Sequence[str], project_paths: Sequence[Optional[str]],
-                   folder=None) -> Tuple[Dict[str, str], Dict[str, str]]:
-    """({label: path} of the photos found, {label: why missing}) for the cameras ``labels``.
-
-    ``folder``: look for the photos there instead (by file name, else by label). Raises
-    :class:`InputError` when the folder does not exist or holds none of the photos.
-    """
-    found, missing = {}, {}
-    if folder is not None:
-        folder = Path(folder)
-        if not folder.is_dir():
-            raise InputError(f"The photos folder {folder} does not exist: choose the folder that "
-                             "holds the raw photos.")
-        by_name, by_stem = {}, {}
-        for entry in os.scandir(folder):
-            if entry.is_file():
-                by_name.setdefault(entry.name.lower(), entry.path)
-                stem, ext = os.path.splitext(entry.name)
-                if ext.lower() in PHOTO_EXTENSIONS:
-                    by_stem.setdefault(stem.lower(), entry.path)
-        for label, path in zip(labels, project_paths):
-            name = _file_name(path) if path else ""
-            hit = by_name.get(name.lower()) if name else None
-            hit = hit or by_name.get(label.lower()) or by_stem.get(label.lower()) \
-                or by_stem.get(os.path.splitext(label)[0].lower())
-            if hit:
-                found[label] = hit
-            else:
-                missing[label] = f"{name or label} is not in {folder}"
-        if not found and labels:
-            sample = ", ".join(sorted(by_name)[:5]) or "no files"
-            raise InputError(f"The photos folder {folder} holds none of the project's "
-                             f"{len(labels)} photos (looked for e.g. "
-                             f"{_file_name(project_paths[0] or '') or labels[0]}; the folder has "
-                             f"{sample}). Choose the folder of this project's raw photos.")
-        return found, missing
-    for label, path in zip(labels, project_paths):
-        if not path:
-            missing[label] = "the project stores no path for it (give the photos folder)"
-        elif not os.path.isfile(path):
-            missing[label] = f"{path} not found (give the photos folder if they moved)"
-        else:
-            found[label] = path
-    return found, missing
+from ..photo_files import PHOTO_EXTENSIONS, file_name, resolve_photos  # noqa: F401 (the one lookup)
 
 
 def read_photo(path) -> np.ndarray:
@@ -112,11 +59,19 @@ def read_photo(path) -> np.ndarray:
 
 
 def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
-    """None if the decoded photo has the camera's size, else why it is not the project's photo."""
+    """None if the decoded photo has the camera's size, else why it is not usable: another
+    aspect ratio (not the photo the project was built from), or a resized copy that was not
+    there when the project was opened (``open_reconstruction`` scales the calibration of the
+    resized photos it finds, :func:`..reconstruction.model.fit_sensors_to_photos`)."""
     if arr.shape[1] == width and arr.shape[0] == height:
         return None
-    return (f"{_file_name(os.fspath(path))} is {arr.shape[1]}×{arr.shape[0]} px but the camera's "
-            f"sensor is {width}×{height}: not the photo the project was built from")
+    from ..photo_files import scale_to
+    size = f"{file_name(os.fspath(path))} is {arr.shape[1]}×{arr.shape[0]} px but the camera's " \
+           f"sensor is {width}×{height}"
+    if scale_to((width, height), (arr.shape[1], arr.shape[0])) is None:
+        return f"{size}, another aspect ratio: not the photo the project was built from"
+    return (f"{size}: a resized copy, found only now; put the photos where the project finds "
+            "them (its calibration is then scaled to them when it is opened)")
 
 
 def photo_stems(labels: List[str]) -> List[str]:

@@ -22,6 +22,12 @@ DROP_REASONS = {"partly_outside": "partly outside the frame (whole ROIs only)",
 
 PIXEL_CONVENTION = ("pixels: origin at the top-left corner of the photo, x = column to the "
                     "right, y = row down; the centre of the top-left pixel is (0.5, 0.5)")
+PIXEL_CRS_WKT = ('ENGCRS["Undefined cartesian SRS",EDATUM["Unknown engineering datum"],'
+                 'CS[Cartesian,2],AXIS["x",east,ORDER[1],LENGTHUNIT["unknown",1]],'
+                 'AXIS["y",north,ORDER[2],LENGTHUNIT["unknown",1]]]')
+"""The CRS of photo-pixel layers (x = column, y = −row): an undefined engineering (Cartesian)
+CRS, which GeoPackage stores as its "Undefined cartesian SRS" (srs_id −1), not as the undefined
+*geographic* one; QGIS draws it without reprojection, over the raw photo (which has no CRS)."""
 
 
 @dataclass

@@ -13,7 +13,8 @@ from .footprints import Footprint, camera_footprints
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration
 from .metashape import list_chunks, open_metashape
 from .odm import is_opensfm_input, list_reconstructions, open_opensfm
-from .model import Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints
+from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints,
+                    fit_sensors_to_photos)
 from .pix4d import open_pix4d
 
 __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker", "Calibration",
@@ -33,21 +34,24 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
     ``*_pmatrix.txt``. ODM/OpenSfM: the ODM project folder, the OpenSfM dataset folder or a
     ``reconstruction.json``. ``chunk``: Metashape chunk id or label (required when the project
     has several); OpenSfM reconstruction index (default the largest). ``crs``: Pix4D, the
-    output CRS when the project has no ``*_wkt.prj``; OpenSfM, the map CRS when ODM did not
-    georeference the project.
+    output CRS when the project has no ``*_wkt.prj`` (or one PROJ cannot use); OpenSfM, the map
+    CRS when ODM did not georeference the project; Metashape, the chunk CRS when its
+    ``<reference>`` is neither usable nor an EPSG CRS. A CRS that contradicts the project's is
+    refused.
     """
     p = Path(path)
     suffix = p.suffix.lower()
+    recon = None
     if suffix in (".psx", ".psz", ".xml"):
-        if crs is not None:
-            raise InputError(f"{p}: a Metashape chunk carries its own CRS; do not pass crs=.")
-        return open_metashape(p, chunk)
-    if is_opensfm_input(p):
-        return open_opensfm(p, chunk, crs)
-    if suffix == ".p4d" or p.is_dir():
-        return open_pix4d(p, crs)
-    if p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
-        return open_pix4d(p.parent, crs)
+        recon = open_metashape(p, chunk, crs)
+    elif is_opensfm_input(p):
+        recon = open_opensfm(p, chunk, crs)
+    elif suffix == ".p4d" or p.is_dir():
+        recon = open_pix4d(p, crs)
+    elif p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
+        recon = open_pix4d(p.parent, crs)
+    if recon is not None:
+        return fit_sensors_to_photos(recon)
     if not p.exists():
         raise InputError(f"{p}: file not found.")
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "

@@ -18,18 +18,13 @@ import numpy as np
 from pyproj import CRS
 from pyproj.transformer import TransformerGroup
 
-from ..crs import as_crs, same_crs, transformer
+from ..crs import as_crs, same_crs, transformer, unbound
 from ..errors import EasyIDPError
 
 _ECEF_CS = {"subtype": "Cartesian", "axis": [
     {"name": "Geocentric X", "abbreviation": "X", "direction": "geocentricX", "unit": "metre"},
     {"name": "Geocentric Y", "abbreviation": "Y", "direction": "geocentricY", "unit": "metre"},
     {"name": "Geocentric Z", "abbreviation": "Z", "direction": "geocentricZ", "unit": "metre"}]}
-
-
-def unbound(crs: CRS) -> CRS:
-    """Drop a WKT1 TOWGS84 wrapper (BoundCRS), as Metashape writes for WGS 84."""
-    return crs.source_crs if crs.is_bound else crs
 
 
 def is_local(crs: Optional[CRS]) -> bool:

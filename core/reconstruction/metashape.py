@@ -26,9 +26,10 @@ from typing import Dict, List, Optional, Tuple, Union
 import numpy as np
 from pyproj import CRS
 
+from ..crs import as_crs, project_crs
 from ..errors import InputError, reads_file
 from .frame_model import Calibration
-from .geodesy import GeocentricFrame, LocalFrame, is_local, unbound
+from .geodesy import GeocentricFrame, LocalFrame, is_local
 from .model import Camera, Marker, Reconstruction, Sensor
 from .rolling_shutter import RollingShutter, rotation_vector
 
@@ -304,20 +305,13 @@ def _iter_with_group(parent: Optional[ET.Element], tag: str):
                     yield sub, el.get("label")
 
 
-def _crs(chunk: ET.Element, where: str) -> Optional[CRS]:
+def _crs(chunk: ET.Element, where: str, given=None) -> Tuple[Optional[CRS], str]:
+    """(chunk CRS, how it was resolved: :func:`~..crs.project_crs`) of the chunk ``<reference>``."""
     ref = chunk.find("reference")
     text = (ref.text or "").strip() if ref is not None else ""
     if not text:
-        return None
-    try:
-        crs = unbound(CRS.from_user_input(text))
-    except Exception as exc:
-        raise InputError(f"{where}: the chunk <reference> is not a CRS pyproj can read ({exc}).") from None
-    if not is_local(crs):
-        code = crs.to_epsg(min_confidence=90)
-        if code:
-            crs = CRS.from_epsg(code)
-    return crs
+        return (as_crs(given, "The project CRS") if given is not None else None), ""
+    return project_crs(text, f"{where}, chunk <reference>", given)
 
 
 def _frame_doc(src: Optional[_Source], chunk_rel: Optional[str], chunk: ET.Element):
@@ -360,10 +354,11 @@ def _resolve_photo(path: str, src: Optional[_Source], frame_rel: Optional[str]) 
 
 
 def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Source] = None,
-               chunk_rel: Optional[str] = None, chunk_key: str = "0") -> Reconstruction:
-    """A :class:`Reconstruction` from a chunk element (project chunk or exported cameras XML)."""
+               chunk_rel: Optional[str] = None, chunk_key: str = "0", crs=None) -> Reconstruction:
+    """A :class:`Reconstruction` from a chunk element (project chunk or exported cameras XML).
+    ``crs``: the chunk CRS when its ``<reference>`` cannot be used (see :func:`_crs`)."""
     sensors = _sensors(chunk, where)
-    crs = _crs(chunk, where)
+    crs, crs_note = _crs(chunk, where, crs)
     chunk_T = _transform(chunk.find("transform"), where)
     comp_T = {}
     comps = chunk.find("components")
@@ -372,6 +367,8 @@ def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Sourc
             comp_T[comp.get("id")] = _transform(comp.find("transform"), where)
     paths, obs, frame_rel, problem = _frame_doc(src, chunk_rel, chunk)
     notes = [f"no photo paths or marker observations: {problem}"] if problem else []
+    if crs_note:
+        notes.append(crs_note)
 
     # camera → chunk transforms, rig slaves composed with their master
     raw, shutter, cams = {}, {}, []
@@ -475,12 +472,14 @@ def _shutter_notes(sensors: Dict[str, Sensor], aligned: List[Camera], shutter,
 
 
 @reads_file("Open and save it again in Metashape, or restore it from a copy.")
-def open_metashape(path, chunk=None) -> Reconstruction:
-    """Open a Metashape ``.psx``/``.psz`` (one chunk, by id or label) or a cameras ``.xml``."""
-    return _open_metashape(Path(path), chunk)
+def open_metashape(path, chunk=None, crs=None) -> Reconstruction:
+    """Open a Metashape ``.psx``/``.psz`` (one chunk, by id or label) or a cameras ``.xml``.
+    ``crs``: the chunk CRS, only for a chunk whose ``<reference>`` PROJ cannot use and that
+    matches no EPSG code (:func:`~..crs.project_crs`); a different CRS is refused otherwise."""
+    return _open_metashape(Path(path), chunk, crs)
 
 
-def _open_metashape(path: Path, chunk) -> Reconstruction:
+def _open_metashape(path: Path, chunk, crs=None) -> Reconstruction:
     if path.suffix.lower() == ".xml":
         if not path.is_file():
             raise InputError(f"{path}: file not found.")
@@ -491,8 +490,8 @@ def _open_metashape(path: Path, chunk) -> Reconstruction:
         entries = [{"id": str(i), "label": c.get("label", ""), "enabled": _bool(c.get("enabled")),
                     "_doc": c} for i, c in enumerate(chunks)]
         e = _choose_chunk(entries, chunk, str(path))
-        return read_chunk(e["_doc"], str(path), path, chunk_key=e["id"])
+        return read_chunk(e["_doc"], str(path), path, chunk_key=e["id"], crs=crs)
     src, doc = _open_project(path)
     e = _choose_chunk(_chunk_entries(src, doc), chunk, str(path))
     where = src.where(e["path"]) if e["path"] else str(path)
-    return read_chunk(e["_doc"], where, path, src, e["path"], e["id"])
+    return read_chunk(e["_doc"], where, path, src, e["path"], e["id"], crs)

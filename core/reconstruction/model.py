@@ -152,9 +152,19 @@ class Reconstruction:
         return [c for c in self.cameras if c.aligned and c.rolling_shutter is not None]
 
     def camera(self, label: str) -> Camera:
+        """The camera labelled ``label``, else the one photo it names by
+        :func:`~..photo_files.photo_key` (``dji_0018.jpg`` finds ``DJI_0018``)."""
         for c in self.cameras:
             if c.label == label:
                 return c
+        from ..photo_files import photo_key
+        key = photo_key(label)
+        hits = [c for c in self.cameras if key in (photo_key(c.label), photo_key(c.photo_path or ""))]
+        if len(hits) == 1:
+            return hits[0]
+        if hits:
+            raise EasyIDPError(f"{self.source}: {label!r} could be any of the cameras "
+                               f"{', '.join(c.label for c in hits[:5])}; give the camera's label.")
         raise EasyIDPError(f"{self.source}: no camera labelled {label!r}.")
 
     @property
@@ -313,3 +323,53 @@ class Reconstruction:
                 f"{len(self.unaligned_cameras)} not aligned"
                 + (f"; rolling-shutter compensation on {len(self.rolling_shutter_cameras)}"
                    if self.rolling_shutter_cameras else ""))
+
+
+def fit_sensors_to_photos(recon: "Reconstruction") -> "Reconstruction":
+    """Sensors fitted to the photo files as they are stored (in place; returns ``recon``).
+
+    Photos resized with the same aspect (e.g. a 5472×3648 sensor's photos saved at 1368×912)
+    get a copy of their sensor whose calibration is scaled by s = photo / sensor size: f, cx,
+    cy, b1, b2 (pixels) × s; distortion terms act on normalised coordinates and are unchanged.
+    With pixels measured from the image corner this is exactly u_photo = s·u_sensor. Said in
+    ``notes``. Photos of another aspect ratio are left with their sensor and noted: they are
+    not copies of what the sensor took, and the tools refuse them naming both sizes. Photos
+    whose file is not found (or whose header cannot be read) are not looked at.
+    """
+    import dataclasses
+    import os
+    from ..photo_files import photo_size, resolve_photos, scale_to
+    cams = [c for c in recon.cameras if c.photo_path and recon.sensors.get(c.sensor_id) is not None
+            and recon.sensors[c.sensor_id].calibration is not None]
+    found, _missing = resolve_photos([c.label for c in cams], [c.photo_path for c in cams])
+    groups: Dict[Tuple[str, Tuple[int, int]], List[Camera]] = {}
+    for c in cams:
+        size = photo_size(found[c.label]) if c.label in found else None
+        s = recon.sensors[c.sensor_id]
+        if size is not None and size != (s.width, s.height):
+            groups.setdefault((c.sensor_id, size), []).append(c)
+    for (sid, (w, h)), group in groups.items():
+        s = recon.sensors[sid]
+        k = scale_to((s.width, s.height), (w, h))
+        names = ", ".join(os.path.basename(found[c.label]) for c in group[:3]) + \
+            (" …" if len(group) > 3 else "")
+        if k is None:
+            recon.notes.append(
+                f"{len(group)} photo(s) of sensor {s.label!r} ({names}) are {w}×{h} px but the "
+                f"sensor is {s.width}×{s.height} px, another aspect ratio: not resized copies "
+                "of its photos (cropped?); they are refused")
+            continue
+        cal = s.calibration
+        scaled = dataclasses.replace(cal, f=cal.f * k, cx=cal.cx * k, cy=cal.cy * k,
+                                     b1=cal.b1 * k, b2=cal.b2 * k)
+        new = dataclasses.replace(s, id=f"{sid}@{w}x{h}", label=f"{s.label} (scaled to {w}×{h})",
+                                  width=w, height=h, calibration=scaled, _r2=None,
+                                  pixel_size_mm=s.pixel_size_mm / k if s.pixel_size_mm else None)
+        recon.sensors[new.id] = new
+        for c in group:
+            c.sensor_id = new.id
+        recon.notes.append(
+            f"{len(group)} photo(s) of sensor {s.label!r} ({names}) are {w}×{h} px, the sensor "
+            f"{s.width}×{s.height} px: resized copies (×{k:g}); the calibration is scaled to "
+            "match (f, cx, cy × the same factor), so pixels refer to the photos as stored")
+    return recon

@@ -28,6 +28,7 @@ positions, which OpenSfM keeps topocentric in both files) and said in ``notes``.
 is ODM's (so ROIs in the orthophoto's CRS need no choice); for a plain OpenSfM dataset it is the
 WGS 84 / UTM zone of the reference point, the zone ODM would use.
 """
+import os
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
@@ -36,6 +37,7 @@ from pyproj import CRS
 
 from ..crs import as_crs, same_crs, transformer
 from ..errors import InputError, reads_file
+from ..photo_files import PhotoFiles, photo_key
 from .geodesy import GeocentricFrame, LocalFrame, ModelFrame, OffsetFrame, geocentric_of
 from .model import Camera, Marker, Reconstruction, Sensor
 from .opensfm import (camera_table, choose, load_json, normalised_to_pixels, read_gcp_json,
@@ -50,7 +52,6 @@ WGS84_3D = CRS.from_epsg(4979)
 LOCAL_CRS = CRS.from_wkt('LOCAL_CS["OpenSfM local frame (m)",LOCAL_DATUM["OpenSfM",0],'
                          'UNIT["metre",1],AXIS["x",EAST],AXIS["y",NORTH]]')
 """The CRS of a dataset OpenSfM could not georeference (its own metric frame, z up)."""
-PHOTO_SUFFIXES = (".jpg", ".jpeg", ".tif", ".tiff", ".png", ".dng")
 GEOCOORDS_MATCH_M = 0.01      # shots.geojson translation = centre + offset within this (m)
 
 
@@ -142,15 +143,23 @@ def parse_srs_header(line: str, where: str) -> CRS:
                          "('WGS84 UTM 32N', 'EPSG:n' or a PROJ string).") from None
 
 
-def odm_georeferencing(layout: _Layout) -> Tuple[Optional[CRS], Optional[np.ndarray], str]:
-    """(CRS, (east, north) offset or None, where it came from) of an ODM project."""
+def odm_georeferencing(layout: _Layout, lla=None) -> Tuple[Optional[CRS], Optional[np.ndarray], str, str]:
+    """(CRS, (east, north) offset or None, where the CRS came from, where the offset came from)
+    of an ODM project.
+
+    The CRS: ``odm_georeferencing/coords.txt`` line 1, else ``proj.txt``, else the CRS of the
+    orthophoto or DSM. The offset: ``coords.txt`` line 2; else ``reference_lla`` (``lla``:
+    lat, lon, alt) in that CRS, the point ODM hands OpenSfM as the reference of its offset
+    (ODM writes its whole-metre offset point there, ``opendm/osfm.py`` ``write_reference_lla``;
+    a reference that is not on whole metres, within 1 cm, is OpenSfM's own and is not used).
+    """
+    crs, offset, crs_src, off_src = None, None, "", ""
     coords = layout.odm("odm_georeferencing", "coords.txt")
     if coords is not None:
         lines = [ln for ln in coords.read_text(errors="replace").splitlines() if ln.strip()]
         if not lines:
             raise InputError(f"{coords}: the file is empty; ODM writes the CRS on its first line.")
-        crs = parse_srs_header(lines[0], str(coords))
-        offset = None
+        crs, crs_src = parse_srs_header(lines[0], str(coords)), str(coords)
         if len(lines) > 1:
             try:
                 offset = np.array([float(v) for v in lines[1].split()[:2]])
@@ -159,18 +168,34 @@ def odm_georeferencing(layout: _Layout) -> Tuple[Optional[CRS], Optional[np.ndar
                                  f"{lines[1][:60]!r}.") from None
             if offset.shape != (2,) or not np.all(np.isfinite(offset)):
                 raise InputError(f"{coords}, line 2: expected two numbers (east and north offsets).")
-        return crs, offset, str(coords)
-    proj = layout.odm("odm_georeferencing", "proj.txt")
-    if proj is not None:
-        return parse_srs_header(proj.read_text(errors="replace"), str(proj)), None, str(proj)
-    for parts in (("odm_orthophoto", "odm_orthophoto.tif"), ("odm_dem", "dsm.tif")):
-        tif = layout.odm(*parts)
-        if tif is not None:
-            from ..raster.geotiff import open_geotiff
-            g = open_geotiff(str(tif))
-            if g.crs is not None:
-                return g.crs, None, str(tif)
-    return None, None, ""
+            off_src = f"{coords}, line 2"
+    if crs is None:
+        proj = layout.odm("odm_georeferencing", "proj.txt")
+        if proj is not None:
+            crs, crs_src = parse_srs_header(proj.read_text(errors="replace"), str(proj)), str(proj)
+    if crs is None:
+        for parts in (("odm_orthophoto", "odm_orthophoto.tif"), ("odm_dem", "dsm.tif"),
+                      ("odm_dem", "dtm.tif")):
+            tif = layout.odm(*parts)
+            if tif is not None:
+                from ..raster.geotiff import open_geotiff
+                g = open_geotiff(str(tif))
+                if g.crs is not None:
+                    crs, crs_src = g.crs, str(tif)
+                    break
+    if crs is not None and offset is None and lla is not None:  # ODM's offset point?
+        lat, lon, _alt = lla
+        e, n = transformer(WGS84_3D, crs).transform(lon, lat)
+        at = np.array([e, n], dtype=np.float64)
+        if np.all(np.abs(at - np.round(at)) < 0.01):
+            offset = np.round(at)
+            off_src = (f"reference_lla (lat {lat:.8f}, lon {lon:.8f}) in {crs.name}: "
+                       f"E {offset[0]:.3f}, N {offset[1]:.3f}, whole metres: the offset point "
+                       "ODM writes as OpenSfM's reference (opendm/osfm.py write_reference_lla)")
+        else:
+            off_src = (f"reference_lla is at E {at[0]:.3f}, N {at[1]:.3f} in {crs.name}, not on "
+                       "whole metres, so it is not an offset ODM wrote (ODM's are whole metres)")
+    return crs, offset, crs_src, off_src
 
 
 def utm_of(lat: float, lon: float) -> CRS:
@@ -209,7 +234,7 @@ def _geocoords_evidence(layout: _Layout, recon: dict, centres: Dict[str, np.ndar
         if d:
             geo = max(d) < GEOCOORDS_MATCH_M
             return geo, (f"{shots_geojson.name}: the camera centres {'equal' if geo else 'differ from'} "
-                         f"its map positions minus the coords.txt offset (max {max(d):.3g} m)")
+                         f"its map positions minus the offset (max {max(d):.3g} m)")
     gps = {k: np.asarray(s["gps_position"], float) for k, s in recon["shots"].items()
            if k in centres and isinstance(s.get("gps_position"), list) and len(s["gps_position"]) == 3}
     if gps and lla is not None and offset is not None:
@@ -280,7 +305,8 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
     lla = reference_lla(recon, layout.dataset, where)
     if lla is not None and lla[0] == 0.0 and lla[1] == 0.0:
         lla = None                       # OpenSfM's reference when no photo had a GPS position
-    odm_crs, offset, georef_src = odm_georeferencing(layout) if layout.odm_root else (None, None, "")
+    odm_crs, offset, georef_src, offset_src = odm_georeferencing(layout, lla) if layout.odm_root \
+        else (None, None, "", "")
     if odm_crs is not None and user_crs is not None and not same_crs(odm_crs, user_crs):
         raise InputError(f"{layout.odm_root}: the ODM project is georeferenced in {odm_crs.name} "
                          f"({georef_src}); do not pass another project CRS ({user_crs.name}). "
@@ -293,7 +319,7 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
                              "it nor the folder records the CRS and offset it used. Give "
                              f"{RECONSTRUCTION} (or {TOPOCENTRIC}) of the same dataset instead.")
         geocoords = True
-        notes.append(f"{file.name} read as map coordinates minus the offset of {georef_src}")
+        notes.append(f"{file.name} read as map coordinates minus the offset from {offset_src}")
     elif file.name == RECONSTRUCTION and layout.odm_root is not None and odm_crs is not None:
         geocoords, why = _geocoords_evidence(layout, recon, {k: C for k, (R, C) in poses.items()},
                                              lla, odm_crs, offset)
@@ -301,10 +327,17 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
     frame: ModelFrame
     if geocoords:
         if offset is None:
-            raise InputError(f"{georef_src}: the east/north offset (line 2) is missing, so the "
-                             f"cameras of {file} cannot be placed on the map.")
+            coords = layout.odm_root / "odm_georeferencing" / "coords.txt"
+            raise InputError(
+                (f"{coords}: the east/north offset (line 2) is missing" if coords.is_file()
+                 else f"{coords} is missing") +
+                (f", and {offset_src}" if offset_src else
+                 f", and {file} has no reference_lla to derive the offset from") +
+                ", so its cameras (map coordinates minus that offset) cannot be placed on the "
+                "map. Restore odm_georeferencing/coords.txt from the ODM run.")
         frame = OffsetFrame(odm_crs, np.array([offset[0], offset[1], 0.0]))
         map_crs = odm_crs
+        notes.append(f"map offset from {offset_src}; CRS from {georef_src}")
         notes.append("cameras as ODM exported them (its linearised map frame, heights as ODM's DSM)")
     elif lla is not None:
         map_crs = odm_crs or user_crs or utm_of(lla[0], lla[1])
@@ -327,7 +360,13 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
     sensors = {k: Sensor(id=k, label=f"{k} ({ptype})", width=w, height=h, calibration=cal,
                          type="fisheye" if cal.model == "fisheye" else "frame")
                for k, (cal, w, h, ptype) in cams.items()}
-    photo = (lambda k: str(layout.photos / k)) if layout.photos is not None else (lambda k: None)
+    files = PhotoFiles(layout.photos, recursive=False) if layout.photos is not None else None
+
+    def photo(k):                       # shot keys may lack the extension or differ in case
+        if files is None:
+            return None
+        hit, _why = files.find(k)
+        return hit or str(layout.photos / k)
     cameras = [Camera(id=k, label=k, sensor_id=str(shots[k]["camera"]), photo_path=photo(k),
                       R=R, C=C) for k, (R, C) in poses.items()]
     # photos of the other partial models: known, but without a pose in this one
@@ -344,9 +383,10 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
                                      height=int(c.get("height", 0) or 0), calibration=None)
             cameras.append(Camera(id=k, label=k, sensor_id=ck, photo_path=photo(k)))
             poses[k] = None
-    if layout.photos is not None:
-        missing = [p.name for p in sorted(layout.photos.iterdir())
-                   if p.suffix.lower() in PHOTO_SUFFIXES and p.name not in poses]
+    if files is not None:
+        keys = {photo_key(k) for k in poses}
+        missing = sorted(os.path.basename(paths[0]) for key, paths in files.by_key.items()
+                         if key not in keys)
         if missing:
             notes.append(f"{len(missing)} photo(s) in {layout.photos} are in no reconstruction: "
                          + ", ".join(missing[:10]) + (" …" if len(missing) > 10 else ""))

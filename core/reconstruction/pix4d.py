@@ -23,9 +23,9 @@ from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
-from pyproj import CRS
 
-from ..crs import as_crs
+from ..crs import as_crs, project_crs
+from ..photo_files import is_windows_path, photo_key
 from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import OffsetFrame
@@ -244,8 +244,8 @@ def _p4d_photos(p4d: Optional[Path]) -> Dict[str, str]:
     for im in root.iter("image"):
         p = im.get("path")
         if p:
-            out[Path(p.replace("\\", "/")).name] = str((p4d.parent / p).resolve()) \
-                if not Path(p).is_absolute() else p
+            out[photo_key(p)] = str((p4d.parent / p).resolve()) \
+                if not (Path(p).is_absolute() or is_windows_path(p)) else p
     return out
 
 
@@ -262,14 +262,13 @@ def open_pix4d(path, crs=None) -> Reconstruction:
         raise InputError(f"{folder}: no *_pmatrix.txt (nor *_calibrated_camera_parameters.txt): "
                          "the camera poses are missing. Re-export the params folder from Pix4D.")
     offset = read_offset(files["offset"])
+    notes = []
     if crs is None and files["prj"] is not None:
-        try:
-            crs = CRS.from_wkt(files["prj"].read_text(errors="replace").strip())
-        except Exception as exc:
-            raise InputError(f"{files['prj']}: not a WKT CRS pyproj can read ({exc}).") from None
+        crs, how = project_crs(files["prj"].read_text(errors="replace"), str(files["prj"]))
+        if how:
+            notes.append(how)
     crs = as_crs(crs)
     photos = _p4d_photos(p4d)
-    notes = []
     if crs is None:
         notes.append("no *_wkt.prj and no crs given: the project CRS is unknown")
 
@@ -286,7 +285,8 @@ def open_pix4d(path, crs=None) -> Reconstruction:
     if files["ccp"] is not None:
         for name, e in read_calibrated_camera_parameters(files["ccp"]).items():
             sid = sensor_for(calibration_from_ccp(e), e["width"], e["height"])
-            cameras.append(Camera(id=name, label=name, sensor_id=sid, photo_path=photos.get(name),
+            cameras.append(Camera(id=name, label=name, sensor_id=sid,
+                                  photo_path=photos.get(photo_key(name)),
                                   R=e["R"], C=e["t"]))
     else:
         cam_file = files["cam"] or files["cam_inpho"]
@@ -298,7 +298,8 @@ def open_pix4d(path, crs=None) -> Reconstruction:
                               **({} if dist is None else {k: getattr(dist, k) for k in
                                                           ("k1", "k2", "k3", "p1", "p2")}))
             sid = sensor_for(cal, w, h)
-            cameras.append(Camera(id=name, label=name, sensor_id=sid, photo_path=photos.get(name),
+            cameras.append(Camera(id=name, label=name, sensor_id=sid,
+                                  photo_path=photos.get(photo_key(name)),
                                   R=R, C=C))
         if cam_file is None:
             notes.append("no .cam file: lens distortion unknown, projections are undistorted")

@@ -16,7 +16,7 @@ from ..compat import (FeatureSinkFlag, FieldType, ProcessingFileParameterBehavio
                       ProcessingSourceType, WkbType)
 from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
                      dsm_parameter, height_source_parameter, open_project_parameter,
-                     optional_destination, rois_parameter)
+                     optional_destination, pixel_crs, rois_parameter)
 from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
@@ -156,8 +156,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
             feedback.pushWarning(self.tr("… and {n} more ROIs without a photo").format(
                 n=len(result.unseen) - 50))
 
-        found, missing = resolve_photos(result.photo_labels, result.photo_paths, photos) \
-            if photos else ({}, {})
+        found, missing = resolve_photos(result.photo_labels, result.photo_paths, photos or None)
         paths = [found.get(lab, p) for lab, p in zip(result.photo_labels, result.photo_paths)]
         out = self._write_pixels(parameters, context, result, paths)
         summary = self._write_summary(parameters, context, source, features, result)
@@ -204,7 +203,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                            ("photo_width", FieldType.Int), ("photo_height", FieldType.Int)):
             fields.append(QgsField(name, kind))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          WkbType.MultiPolygon, QgsCoordinateReferenceSystem())
+                                          WkbType.MultiPolygon, pixel_crs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         for i in range(len(result)):
@@ -219,10 +218,11 @@ class BackProjectROIs(EasyIDPAlgorithm):
             f.setGeometry(pixel_geometry(result.polygons_of(i)))
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
         close_sink(sink)
-        # a photo opened without georeference has no CRS; QGIS gives memory layers EPSG:4326
-        # by default, which would reproject the pixels: make the layer CRS-less like the photo.
-        # Only a memory layer (held by the context) needs it: a file was written without a CRS,
-        # and opening it here would cost a second connection to the file just written.
+        # a file gets the undefined Cartesian CRS (GeoPackage srs_id -1). A photo opened without
+        # georeference has no CRS; QGIS gives memory layers EPSG:4326 by default, which would
+        # reproject the pixels: make the memory layer (held by the context) CRS-less like the
+        # photo. A file is not opened here: that would cost a second connection to the file just
+        # written (and waits on its lock while a sink is open).
         layer = context.temporaryLayerStore().mapLayer(dest)
         if layer is not None and layer.crs().isValid():
             layer.setCrs(QgsCoordinateReferenceSystem())

@@ -1,0 +1,287 @@
+"""Finding a project's raw photos on disk: the one lookup every tool uses.
+
+A photo is known by its **key**, :func:`photo_key`: the file name of a POSIX or Windows path,
+lower-cased, without a photo extension. ``DJI_0018``, ``DJI_0018.JPG``, ``dji_0018.jpg`` and
+``C:\\Flights\\A\\DJI_0018.JPG`` are one photo; so are an OpenSfM shot key without extension
+(``100_0005_0018``) and ``100_0005_0018.tif``.
+
+:func:`resolve_photos` finds the file of each camera: in the given photos folders (each searched
+with its subfolders) when there are any, else at the path the project stores, else (the photo
+renamed in another case, a shot key without its extension) by key in that path's folder.
+"""
+import ntpath
+import os
+from pathlib import Path
+from typing import Dict, List, Optional, Sequence, Tuple, Union
+
+from .errors import InputError
+
+PHOTO_EXTENSIONS = (".jpg", ".jpeg", ".tif", ".tiff", ".png", ".dng", ".jp2", ".webp", ".bmp")
+"""Photo file extensions (lower case), in the order preferred when one folder holds a photo
+under several (DJI's ``.JPG`` beside its ``.DNG``)."""
+
+
+def file_name(path: str) -> str:
+    """The last component of a POSIX or Windows path (``C:\\a\\DJI_0001.JPG`` → ``DJI_0001.JPG``)."""
+    return ntpath.basename(str(path).replace("\\", "/").rstrip("/")) if path else ""
+
+
+def photo_key(name: str) -> str:
+    """The key a photo is matched by: file name, lower case, photo extension dropped."""
+    base = file_name(name).lower()
+    stem, ext = os.path.splitext(base)
+    return stem if ext in PHOTO_EXTENSIONS else base
+
+
+def is_windows_path(path: str) -> bool:
+    """A path written on Windows (``C:\\…``, ``C:/…``, ``\\\\server\\…``), not usable here."""
+    return os.name != "nt" and bool(path) and (
+        (len(path) > 2 and path[1] == ":" and path[0].isalpha() and path[2] in "\\/")
+        or path.startswith("\\\\") or "\\" in path)
+
+
+def _rank(path: str) -> int:
+    ext = os.path.splitext(path)[1].lower()
+    return PHOTO_EXTENSIONS.index(ext) if ext in PHOTO_EXTENSIONS else len(PHOTO_EXTENSIONS)
+
+
+class PhotoFiles:
+    """The photo files under one or more folders (with their subfolders; hidden ones skipped),
+    by :func:`photo_key`."""
+
+    def __init__(self, folders: Union[str, os.PathLike, Sequence], recursive: bool = True):
+        if isinstance(folders, (str, os.PathLike)):
+            folders = [folders]
+        self.folders = [Path(f) for f in folders]
+        self.by_key: Dict[str, List[str]] = {}
+        for folder in self.folders:
+            if not folder.is_dir():
+                raise InputError(f"The photos folder {folder} does not exist: choose the folder "
+                                 "that holds the raw photos.")
+            for root, dirs, files in os.walk(folder):
+                dirs[:] = sorted(d for d in dirs if not d.startswith(".")) if recursive else []
+                for name in sorted(files):
+                    if os.path.splitext(name)[1].lower() in PHOTO_EXTENSIONS:
+                        self.by_key.setdefault(photo_key(name), []).append(os.path.join(root, name))
+
+    def __len__(self) -> int:
+        return len(self.by_key)
+
+    def find(self, label: str, project_path: Optional[str] = None) -> Tuple[Optional[str], str]:
+        """(path, "") of the photo of camera ``label`` (stored path ``project_path``), or
+        (None, why). Among several files with the key: the one with the stored file name
+        (any case), else the one in a folder of the stored folder's name, else, in one folder,
+        the preferred extension; files in different folders that cannot be told apart are
+        refused, naming them."""
+        for key in dict.fromkeys(k for k in (photo_key(project_path or ""), photo_key(label)) if k):
+            hits = self.by_key.get(key)
+            if not hits:
+                continue
+            if len(hits) == 1:
+                return hits[0], ""
+            name = file_name(project_path or "").lower()
+            same = [h for h in hits if os.path.basename(h).lower() == name]
+            if len(same) == 1:
+                return same[0], ""
+            parent = file_name(ntpath.dirname((project_path or "").replace("\\", "/"))).lower()
+            near = [h for h in (same or hits) if parent and
+                    os.path.basename(os.path.dirname(h)).lower() == parent]
+            if len(near) == 1:
+                return near[0], ""
+            pool = near or same or hits
+            if len({os.path.dirname(h) for h in pool}) == 1:
+                return min(pool, key=_rank), ""
+            return None, (f"{file_name(project_path or '') or label} is ambiguous: "
+                          f"{', '.join(pool[:4])} are all this photo; give the one folder it is in")
+        where = ", ".join(str(f) for f in self.folders)
+        return None, f"{file_name(project_path or '') or label} is not in {where} (nor its subfolders)"
+
+
+def resolve_photos(labels: Sequence[str], project_paths: Sequence[Optional[str]],
+                   folder=None) -> Tuple[Dict[str, str], Dict[str, str]]:
+    """({label: path} of the photos found, {label: why missing}) for the cameras ``labels``.
+
+    ``folder``: a folder or a list of folders to look in instead of the stored paths (with
+    their subfolders, by :func:`photo_key`). Raises :class:`InputError` when a folder does not
+    exist or holds none of the photos. Without it, the stored path; if that file is not there,
+    a file with the same key in the same folder (renamed case, missing extension).
+    """
+    found, missing = {}, {}
+    if folder is not None and folder != [] and folder != "":
+        files = PhotoFiles(folder)
+        for label, path in zip(labels, project_paths):
+            hit, why = files.find(label, path)
+            if hit:
+                found[label] = hit
+            else:
+                missing[label] = why
+        if not found and labels:
+            sample = ", ".join(sorted(os.path.basename(p[0]) for p in files.by_key.values())[:5])
+            raise InputError(f"The photos folder {', '.join(str(f) for f in files.folders)} "
+                             f"holds none of the project's {len(labels)} photos (looked for "
+                             f"e.g. {file_name(project_paths[0] or '') or labels[0]}; it has "
+                             f"{sample or 'no photos'}). Choose the folder of this project's "
+                             "raw photos.")
+        return found, missing
+    folders: Dict[str, Optional[PhotoFiles]] = {}
+    for label, path in zip(labels, project_paths):
+        if not path:
+            missing[label] = "the project stores no path for it (give the photos folder)"
+            continue
+        if os.path.isfile(path):
+            found[label] = path
+            continue
+        if is_windows_path(path):
+            missing[label] = (f"{path} is a Windows path, not found on this computer (give the "
+                              "photos folder: photos are then found by file name)")
+            continue
+        parent = os.path.dirname(path)
+        if parent not in folders:
+            folders[parent] = PhotoFiles(parent, recursive=False) if os.path.isdir(parent) else None
+        hit = None
+        if folders[parent] is not None:
+            hit, _why = folders[parent].find(label, path)
+        if hit:
+            found[label] = hit
+        elif folders[parent] is None:
+            missing[label] = (f"{path} not found: its folder {parent} does not exist (the photos "
+                              "moved? give the photos folder)")
+        else:
+            missing[label] = f"{path} not found (the photo moved or was deleted? give the photos folder)"
+    return found, missing
+
+
+def photo_size(path) -> Optional[Tuple[int, int]]:
+    """(width, height) in pixels as stored (EXIF orientation not applied) from the file's
+    header (JPEG SOF, PNG IHDR, TIFF first page), or None when it cannot be told cheaply."""
+    import struct
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(32)
+            if head[:2] == b"\xff\xd8":                            # JPEG: walk the markers
+                fh.seek(2)
+                while True:
+                    b = fh.read(1)
+                    while b and b != b"\xff":
+                        b = fh.read(1)
+                    while b == b"\xff":
+                        b = fh.read(1)
+                    if not b:
+                        return None
+                    m = b[0]
+                    if m in (0xD8, 0x01) or 0xD0 <= m <= 0xD7:
+                        continue
+                    n = struct.unpack(">H", fh.read(2))[0]
+                    if 0xC0 <= m <= 0xCF and m not in (0xC4, 0xC8, 0xCC):
+                        h, w = struct.unpack(">xHH", fh.read(5))
+                        return int(w), int(h)
+                    fh.seek(n - 2, 1)
+            if head[:8] == b"\x89PNG\r\n\x1a\n":
+                w, h = struct.unpack(">II", head[16:24])
+                return int(w), int(h)
+            if head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
+                import tifffile
+                with tifffile.TiffFile(path) as tif:
+                    page = tif.pages.first
+                    return int(page.imagewidth), int(page.imagelength)
+    except (OSError, ValueError, struct.error, Exception):        # a damaged header: unknown
+        return None
+    return None
+
+
+def scale_to(sensor_size: Tuple[int, int], photo: Tuple[int, int]) -> Optional[float]:
+    """The factor s of a photo stored at ``photo`` (w, h) from a sensor of ``sensor_size``:
+    1 for the same size; s when both sides are the sensor's times s, rounded to whole pixels
+    (a resized copy, same aspect); None for another aspect ratio."""
+    (W, H), (w, h) = sensor_size, photo
+    if (w, h) == (W, H):
+        return 1.0
+    s = w / W
+    return s if abs(round(H * s) - h) <= 1 and abs(round(W * (h / H)) - w) <= 1 else None
+
+
+def jpeg_facts(path) -> Dict[str, object]:
+    """What a JPEG's header says that changes how its pixels read: ``make`` (EXIF Make),
+    ``orientation`` (EXIF Orientation, 1 when absent) and ``thermal`` (DJI R-JPEG: a DJI
+    photo carrying APP3 segments, where DJI keeps the raw thermal data; the image itself is a
+    false-colour palette rendering). {} for a file that is not a JPEG or cannot be read."""
+    import struct
+    out: Dict[str, object] = {}
+    try:
+        with open(path, "rb") as fh:
+            if fh.read(2) != b"\xff\xd8":
+                return out
+            out.update(make="", orientation=1, thermal=False)
+            app3 = False
+            while True:
+                mark = fh.read(2)
+                if len(mark) < 2 or mark[0] != 0xFF or mark[1] in (0xDA, 0xD9):
+                    break                                       # start of scan: header done
+                n = struct.unpack(">H", fh.read(2))[0]
+                if mark[1] == 0xE1:
+                    data = fh.read(n - 2)
+                    if data[:6] == b"Exif\x00\x00":
+                        out.update(_exif_ifd0(data[6:]))
+                    elif b"drone-dji" in data and not out["make"]:
+                        out["make"] = "DJI"
+                else:
+                    app3 |= mark[1] == 0xE3
+                    fh.seek(n - 2, 1)
+            out["thermal"] = app3 and str(out["make"]).upper().startswith("DJI")
+    except (OSError, struct.error):
+        return {}
+    return out
+
+
+def _exif_ifd0(tiff: bytes) -> Dict[str, object]:
+    """Make and Orientation from the first IFD of an EXIF TIFF block."""
+    import struct
+    order = "<" if tiff[:2] == b"II" else ">"
+    out: Dict[str, object] = {}
+    try:
+        (ifd,) = struct.unpack(order + "I", tiff[4:8])
+        (count,) = struct.unpack(order + "H", tiff[ifd:ifd + 2])
+        for k in range(count):
+            e = tiff[ifd + 2 + 12 * k: ifd + 14 + 12 * k]
+            tag, typ, num = struct.unpack(order + "HHI", e[:8])
+            if tag == 0x0112 and typ == 3:
+                out["orientation"] = struct.unpack(order + "H", e[8:10])[0]
+            elif tag == 0x010F and typ == 2:
+                if num <= 4:
+                    raw = e[8:8 + num]
+                else:
+                    (off,) = struct.unpack(order + "I", e[8:12])
+                    raw = tiff[off:off + num]
+                out["make"] = raw.split(b"\x00")[0].decode("latin-1").strip()
+    except (struct.error, IndexError):
+        pass
+    return out
+
+
+THERMAL_NOTE = ("{names}: DJI thermal R-JPEG; its stored image is a false-colour palette "
+                "rendering, not temperatures, so values measured on it are palette colours. "
+                "Convert the photos to temperature TIFFs first (DJI Thermal SDK, dji_irp) and "
+                "give those as the photos.")
+ORIENTATION_NOTE = ("{names}: EXIF orientation {values}: pixels are read as stored, not turned "
+                    "upright, as Metashape and Pix4D measure them (an OpenDroneMap project works "
+                    "on upright photos: see its notes)")
+
+
+def photo_notes(paths: Sequence[str]) -> List[str]:
+    """What to tell about a set of photo files before their pixels are used: DJI thermal
+    R-JPEGs (palette, not temperatures) and EXIF-rotated photos (read as stored)."""
+    thermal, rotated = [], {}
+    for p in paths:
+        facts = jpeg_facts(p) if p else {}
+        if facts.get("thermal"):
+            thermal.append(os.path.basename(p))
+        if facts.get("orientation", 1) not in (1, 0):
+            rotated[os.path.basename(p)] = facts["orientation"]
+    notes = []
+    short = lambda names: ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
+    if thermal:
+        notes.append(THERMAL_NOTE.format(names=short(thermal)))
+    if rotated:
+        notes.append(ORIENTATION_NOTE.format(names=short(list(rotated)),
+                                             values=sorted(set(rotated.values()))))
+    return notes
