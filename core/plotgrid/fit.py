@@ -67,6 +67,14 @@ class FitResult:
     row_spacing: Optional[float]
     work_pixel: float
     notes: List[str] = field(default_factory=list)
+    centres_in: Optional[np.ndarray] = None
+    centres_out: Optional[np.ndarray] = None
+
+    def move(self, i: int, xy) -> np.ndarray:
+        """Points (n, 2) of plot ``i`` moved as the plot was (turned about its centre by the
+        global rotation, then to its fitted centre): holes and other parts follow it."""
+        t = math.radians(self.rotation)
+        return (np.asarray(xy, float)[:, :2] - self.centres_in[i]) @ _rot(t).T + self.centres_out[i]
 
     @property
     def shift_m(self) -> np.ndarray:
@@ -519,4 +527,4 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     prog.set(100)
     return FitResult(out_rings, shift, score, cover, flags, moved, math.degrees(theta),
                      scale, (float(t[0]), float(t[1])), (float(c0[0]), float(c0[1])),
-                     row_bearing, row_spacing, work.px, notes)
+                     row_bearing, row_spacing, work.px, notes, centres, final)

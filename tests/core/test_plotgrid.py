@@ -21,6 +21,11 @@ from easyidp_toolbox.core.roi import open_rois
 UTM = "EPSG:32654"
 
 
+def _load(path):
+    with open(path, encoding="utf-8") as fh:
+        return json.load(fh)
+
+
 @pytest.fixture(scope="module")
 def trial(tmp_path_factory):
     return make_demo_trial(str(tmp_path_factory.mktemp("trial")))
@@ -36,7 +41,7 @@ def _rect(x0, x1, y0, y1):
 def test_demo_trial_recreated_from_its_corners_and_layout(trial):
     """Truth: the corners as written (shuffled points) and the layout give the generator's
     plots to 1 mm, with the same names, numbers, rows, columns, blocks and field book."""
-    doc = json.load(open(trial.corners))
+    doc = _load(trial.corners)
     pts = [f["geometry"]["coordinates"] for f in doc["features"]]
     assert [f["properties"]["corner"] for f in doc["features"]] != [1, 2, 3, 4]   # shuffled
     grid, report = create_plot_grid(UTM, corners=pts, field_book=read_field_book(trial.field_book),
@@ -262,7 +267,7 @@ def test_fit_recovers_the_planted_plots(trial):
     """Truth: from the grid turned by 2°, shifted by 0.30 m and with its spacing 2 % off, every
     plot's fitted outline is within 5 cm of where the crop was planted (median ≤ 2 cm); the
     empty plots are flagged and not moved by a per-plot shift."""
-    truth = json.load(open(trial.truth))
+    truth = _load(trial.truth)
     grid, start = perturbed_start()
     before = np.array([np.hypot(*(s - np.array(truth["plots"][p]["planted"])).T)
                        for s, p in zip(start, grid.plot_id)])
