@@ -104,23 +104,30 @@ class _Work:
         self.w, self.x0, self.y0, self.px, self.py = w, x0, y0, px, py
 
     def sample(self, x, y) -> np.ndarray:
-        """Bilinear between pixel centres; 0 outside."""
-        c = (np.asarray(x) - self.x0) / self.px - 0.5
-        r = (self.y0 - np.asarray(y)) / self.py - 0.5
+        """Bilinear between pixel centres; 0 outside (the weights padded by one pixel of 0,
+        made on the first call: the weights are final by then)."""
+        if getattr(self, "_pad", None) is None:
+            self._pad = np.pad(self.w, 1)
+        pad = self._pad
         h, wd = self.w.shape
-        c0 = np.floor(c).astype(np.intp)
-        r0 = np.floor(r).astype(np.intp)
-        fc, fr = (c - c0).astype(np.float32), (r - r0).astype(np.float32)
-        out = np.zeros(c.shape, np.float32)
-        pad = np.pad(self.w, 1)
-        ci, ri = np.clip(c0 + 1, 0, wd), np.clip(r0 + 1, 0, h)
-        ok = (c0 >= -1) & (c0 < wd) & (r0 >= -1) & (r0 < h)
-        a = pad[ri, ci]
-        b = pad[ri, ci + 1]
-        cc = pad[ri + 1, ci]
-        d = pad[ri + 1, ci + 1]
-        out = (a + (b - a) * fc) * (1 - fr) + (cc + (d - cc) * fc) * fr
-        return np.where(ok, out, 0.0)
+        c = (np.asarray(x) - self.x0) * (1.0 / self.px) + 0.5      # index in the padded array
+        r = (self.y0 - np.asarray(y)) * (1.0 / self.py) + 0.5
+        np.clip(c, 0, wd + 0.999, out=c)
+        np.clip(r, 0, h + 0.999, out=r)
+        c0 = c.astype(np.intp)
+        r0 = r.astype(np.intp)
+        fc = (c - c0).astype(np.float32)
+        fr = (r - r0).astype(np.float32)
+        flat = r0 * (wd + 2) + c0
+        f = pad.ravel()
+        a = f[flat]
+        b = f[flat + 1]
+        top = a + (b - a) * fc
+        flat += wd + 2
+        a = f[flat]
+        b = f[flat + 1]
+        bottom = a + (b - a) * fc
+        return top + (bottom - top) * fr
 
 
 def _index_of(block: np.ndarray, kind: str, bands) -> np.ndarray:
