@@ -37,7 +37,6 @@ from ..errors import EasyIDPError
 from ..progress import as_progress
 
 MAX_WORK_PIXELS = 16_000_000
-STRIP_ROWS = 512
 CENTROID_ITERATIONS = 3
 
 FLAG_BARE = "bare soil or missing"
@@ -104,30 +103,45 @@ class _Work:
         self.w, self.x0, self.y0, self.px, self.py = w, x0, y0, px, py
 
     def sample(self, x, y) -> np.ndarray:
-        """Bilinear between pixel centres; 0 outside (the weights padded by one pixel of 0,
-        made on the first call: the weights are final by then)."""
+        """Bilinear between pixel centres at map points; 0 outside."""
+        c = (np.asarray(x, np.float64) - self.x0) * (1.0 / self.px) - 0.5
+        r = (self.y0 - np.asarray(y, np.float64)) * (1.0 / self.py) - 0.5
+        return self.sample_px(c.astype(np.float32), r.astype(np.float32))
+
+    def sample_px(self, c: np.ndarray, r: np.ndarray) -> np.ndarray:
+        """Bilinear at pixel-centre coordinates (column ``c``, row ``r``: the centre of pixel
+        (0, 0) is (0, 0)), float32, modified in place; 0 outside. The weights are padded by
+        one pixel of 0 on the first call (they are final by then)."""
         if getattr(self, "_pad", None) is None:
             self._pad = np.pad(self.w, 1)
-        pad = self._pad
         h, wd = self.w.shape
-        c = (np.asarray(x) - self.x0) * (1.0 / self.px) + 0.5      # index in the padded array
-        r = (self.y0 - np.asarray(y)) * (1.0 / self.py) + 0.5
+        c += 1.0                                     # index in the padded array
+        r += 1.0
         np.clip(c, 0, wd + 0.999, out=c)
         np.clip(r, 0, h + 0.999, out=r)
-        c0 = c.astype(np.intp)
-        r0 = r.astype(np.intp)
-        fc = (c - c0).astype(np.float32)
-        fr = (r - r0).astype(np.float32)
-        flat = r0 * (wd + 2) + c0
-        f = pad.ravel()
+        c0 = c.astype(np.int32)
+        r0 = r.astype(np.int32)
+        c -= c0
+        r -= r0
+        flat = r0
+        flat *= wd + 2
+        flat += c0
+        f = self._pad.ravel()
         a = f[flat]
-        b = f[flat + 1]
-        top = a + (b - a) * fc
+        top = f[flat + 1]
+        top -= a
+        top *= c
+        top += a
         flat += wd + 2
         a = f[flat]
-        b = f[flat + 1]
-        bottom = a + (b - a) * fc
-        return top + (bottom - top) * fr
+        bottom = f[flat + 1]
+        bottom -= a
+        bottom *= c
+        bottom += a
+        bottom -= top
+        bottom *= r
+        bottom += top
+        return bottom
 
 
 def _index_of(block: np.ndarray, kind: str, bands) -> np.ndarray:
@@ -141,9 +155,14 @@ def _index_of(block: np.ndarray, kind: str, bands) -> np.ndarray:
     return (nir - red) / np.maximum(nir + red, eps)
 
 
-def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> _Work:
-    """The index averaged over k × k pixels over the map ``bbox`` (one sweep, by strips)."""
-    from ..raster.sweep import Window, sweep_windows
+def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, int]:
+    """The index averaged over k × k pixels over the map ``bbox``: every tile or strip that
+    meets it is decoded once (``GeoTiff.read_block``, on a pool of threads, a bounded number at
+    a time) and summed into the k × k cells it covers where it was decoded; nothing is
+    assembled at full resolution, so memory is the working image plus a few blocks."""
+    import os
+    import threading
+    from concurrent.futures import ThreadPoolExecutor, wait, FIRST_COMPLETED
     xmin, ymin, xmax, ymax = bbox
     c_a, r_a = tif.map_to_pixel(np.array([xmin, xmax]), np.array([ymax, ymin]))
     col0, col1 = max(int(math.floor(c_a.min())), 0), min(int(math.ceil(c_a.max())), tif.width)
@@ -152,39 +171,104 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> _Work:
         raise EasyIDPError("Plot grid: the plots do not lie on the orthomosaic (check that the "
                            "grid and the orthomosaic are of the same field and in the same CRS).")
     k = max(1, int(math.ceil(math.sqrt((col1 - col0) * (row1 - row0) / MAX_WORK_PIXELS))))
-    ncols, nrows = (col1 - col0) // k, (row1 - row0) // k
+    ncols, nrows = -(-(col1 - col0) // k), -(-(row1 - row0) // k)
     if ncols < 2 or nrows < 2:
         raise EasyIDPError("Plot grid: the plots cover less than two pixels of the orthomosaic.")
-    strip = k * max(1, STRIP_ROWS // k)
-    windows = [Window(row0 + r, col0, min(strip, nrows * k - r), ncols * k)
-               for r in range(0, nrows * k, strip)]
-    out = np.full((nrows, ncols), np.nan, np.float32)
-    alpha = tif.alpha_band
-    nodata = tif.nodata
+    nb = len(bands)
+    sums = np.zeros((nrows, ncols, nb), np.float32)
+    counts = np.zeros((nrows, ncols), np.float32)
+    alpha, nodata = tif.alpha_band, tif.nodata
+    small = tif.dtype == np.uint8 and k <= 16
+    acc = np.uint16 if small else np.float64
+    all_bands = list(bands) == list(range(tif.bands))
+    lock = threading.Lock()
+    bh, bw = tif.block_height, tif.block_width
+    blocks = [(br, bc) for br in range(row0 // bh, (row1 - 1) // bh + 1)
+              for bc in range(col0 // bw, (col1 - 1) // bw + 1)]
+    fd = os.open(tif.path, os.O_RDONLY)
 
-    def consume(i, arr):
-        w = windows[i]
-        h = w.rows // k
-        a = arr.reshape(h, k, ncols, k, arr.shape[2])
-        sel = list(bands) + ([alpha] if alpha is not None else [])
-        m = np.empty((h, ncols, len(sel)), np.float32)
-        for j, b in enumerate(sel):
-            m[..., j] = a[..., b].sum(axis=(1, 3), dtype=np.float32)
-        m /= k * k
-        vi = _index_of(m, kind, range(len(bands)))
-        bad = np.zeros(vi.shape, bool)
+    def cell_sums(buf):
+        """Sums over k × k cells of an array whose height and width are multiples of k
+        (strided adds: several times faster than ``reduceat`` or a reshaped sum)."""
+        sr = buf[0::k].astype(acc)
+        for i in range(1, k):
+            sr += buf[i::k]
+        out = sr[:, 0::k].copy()
+        for j in range(1, k):
+            out += sr[:, j::k]
+        return out
+
+    def one(br, bc):
+        if prog.cancelled():
+            return
+        blk = tif.read_block(fd, br, bc)
+        r0, c0 = br * bh, bc * bw
+        ra, rb = max(r0, row0), min(r0 + blk.shape[0], row1)
+        ca, cb = max(c0, col0), min(c0 + blk.shape[1], col1)
+        if rb <= ra or cb <= ca:
+            return
+        sub = blk[ra - r0:rb - r0, ca - c0:cb - c0]
+        data = sub if all_bands else sub[..., list(bands)]
+        mask = None
         if alpha is not None:
-            bad |= m[..., -1] < 0.5 * np.iinfo(tif.dtype).max if tif.dtype.kind == "u" else False
+            mask = sub[..., alpha] > 0
         if nodata is not None:
-            bad |= np.all(a[:, 0, :, 0, :][..., list(bands)] == nodata, axis=-1)
-        vi[bad] = np.nan
-        r = (w.row - row0) // k
-        out[r:r + h] = vi
+            nd = np.all(data == nodata, axis=-1)
+            mask = ~nd if mask is None else mask & ~nd
+        if mask is not None:
+            data = data * mask[..., None].astype(data.dtype)
+        h, w = rb - ra, cb - ca
+        off_r, off_c = (ra - row0) % k, (ca - col0) % k     # the block starts inside a cell
+        H, W = -(-(off_r + h) // k) * k, -(-(off_c + w) // k) * k
+        if (off_r, off_c, H, W) != (0, 0, h, w):
+            buf = np.zeros((H, W, data.shape[2]), data.dtype)
+            buf[off_r:off_r + h, off_c:off_c + w] = data
+            data = buf
+            if mask is not None:
+                mb = np.zeros((H, W), bool)
+                mb[off_r:off_r + h, off_c:off_c + w] = mask
+                mask = mb
+        part = cell_sums(data)
+        if mask is None:
+            lr = np.full(H // k, k)
+            lr[0] -= off_r
+            lr[-1] -= H - off_r - h
+            lc = np.full(W // k, k)
+            lc[0] -= off_c
+            lc[-1] -= W - off_c - w
+            cnt = np.outer(lr, lc)
+        else:
+            cnt = cell_sums(mask[..., None])[..., 0]
+        i0, j0 = (ra - row0) // k, (ca - col0) // k
+        with lock:
+            sums[i0:i0 + H // k, j0:j0 + W // k] += part
+            counts[i0:i0 + H // k, j0:j0 + W // k] += cnt
 
-    sweep_windows(tif, windows, consume, prog, workers)
+    try:
+        with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
+            ahead = 4 * (workers or os.cpu_count() or 2)
+            pending, done = set(), 0
+            for br, bc in blocks:
+                pending.add(pool.submit(one, br, bc))
+                if len(pending) >= ahead:
+                    finished, pending = wait(pending, return_when=FIRST_COMPLETED)
+                    for f in finished:
+                        f.result()
+                    done += len(finished)
+                    prog.set(100.0 * done / len(blocks))
+                    prog.check()
+            for f in pending:
+                f.result()
+    finally:
+        os.close(fd)
+    prog.check()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        mean = sums / counts[..., None]
+    vi = _index_of(mean, kind, range(nb)).astype(np.float32)
+    vi[counts < 0.25 * k * k] = np.nan
     x0, y0 = tif.pixel_to_map(col0, row0)
     a, e = tif.geotransform[1], tif.geotransform[5]
-    return _Work(out, float(x0), float(y0), abs(a) * k, abs(e) * k), k
+    return _Work(vi, float(x0), float(y0), abs(a) * k, abs(e) * k), k
 
 
 def _otsu(v: np.ndarray) -> float:
@@ -295,63 +379,116 @@ def _rot(t: float) -> np.ndarray:
     return np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
 
 
-# ---- measuring one plot -----------------------------------------------------------------------
+# ---- measuring plots, many at a time --------------------------------------------------------
 
-class _Plot:
-    def __init__(self, work: _Work, axes: np.ndarray, half: np.ndarray):
-        self.work, self.axes, self.half = work, axes, half   # axes: rows are ux, uy (map)
+BATCH_SAMPLES = 4_000_000      # samples per batch of plots (memory: a few × 16 MB)
+
+
+class _Measure:
+    """Plots of one size (``half``: half sizes along the frame's axes) on the weights, in a
+    frame turned by ``axes`` (rows: unit x, unit y on the map)."""
+
+    def __init__(self, work: _Work, axes: np.ndarray, half: np.ndarray, margin: np.ndarray,
+                 prog):
+        self.work, self.axes, self.half, self.margin, self.prog = work, axes, half, margin, prog
         self.step = min(work.px, work.py)
 
-    def _grid(self, centre, ext_u, ext_v):
-        s = self.step
-        nu, nv = max(int(math.ceil(2 * ext_u / s)), 2), max(int(math.ceil(2 * ext_v / s)), 2)
-        u = (np.arange(nu) + 0.5) * (2 * ext_u / nu) - ext_u
-        v = (np.arange(nv) + 0.5) * (2 * ext_v / nv) - ext_v
-        U, V = np.meshgrid(u, v)
-        x = centre[0] + U * self.axes[0, 0] + V * self.axes[1, 0]
-        y = centre[1] + U * self.axes[0, 1] + V * self.axes[1, 1]
-        return u, v, self.work.sample(x, y)
+    def _lattice(self, ext, step=None):
+        s = step or self.step
+        nu, nv = max(int(math.ceil(2 * ext[0] / s)), 2), max(int(math.ceil(2 * ext[1] / s)), 2)
+        u = ((np.arange(nu) + 0.5) * (2 * ext[0] / nu) - ext[0]).astype(np.float64)
+        v = ((np.arange(nv) + 0.5) * (2 * ext[1] / nv) - ext[1]).astype(np.float64)
+        return u, v
 
-    def box_search(self, centre, half, reach) -> np.ndarray:
-        """The offset (map) of the box of the plot's size holding the most vegetation within
-        ``reach`` (u, v) of ``centre``: the middle of the positions within 0.5 % of the best."""
-        ext = half + reach
-        u, v, S = self._grid(centre, ext[0], ext[1])
+    def _sample(self, centres, u, v):
+        """(m, nv, nu) weights at the lattice around each centre."""
+        wk, ax = self.work, self.axes
+        cc = ((centres[:, 0] - wk.x0) / wk.px - 0.5).astype(np.float32)
+        cr = ((wk.y0 - centres[:, 1]) / wk.py - 0.5).astype(np.float32)
+        du = (u[None, :] * (ax[0, 0] / wk.px) + v[:, None] * (ax[1, 0] / wk.px)).astype(np.float32)
+        dv = (u[None, :] * (-ax[0, 1] / wk.py) + v[:, None] * (-ax[1, 1] / wk.py)).astype(np.float32)
+        return wk.sample_px(cc[:, None, None] + du[None], cr[:, None, None] + dv[None])
+
+    def _batches(self, n, per_plot):
+        b = max(1, BATCH_SAMPLES // max(per_plot, 1))
+        for i in range(0, n, b):
+            self.prog.check()
+            yield slice(i, min(n, i + b))
+
+    def box_search(self, centres, reach) -> np.ndarray:
+        """Offsets (map, (m, 2)) of the box of the plot's size holding the most vegetation
+        within ``reach`` (u, v) of each centre: the middle of the positions within 0.5 % of the
+        best (the box slides over a plateau while the crop, narrower than the plot, is inside)."""
+        # a coarse lattice: the search only has to bring the crop inside the centroid window
+        u, v = self._lattice(self.half + reach, max(self.step, float(min(self.half)) / 8))
         du, dv = u[1] - u[0], v[1] - v[0]
-        bu, bv = max(int(round(2 * half[0] / du)), 1), max(int(round(2 * half[1] / dv)), 1)
+        bu = max(int(round(2 * self.half[0] / du)), 1)
+        bv = max(int(round(2 * self.half[1] / dv)), 1)
+        out = np.zeros((len(centres), 2))
         if bu >= len(u) or bv >= len(v):
-            return np.zeros(2)
-        I = np.zeros((S.shape[0] + 1, S.shape[1] + 1))
-        I[1:, 1:] = S.cumsum(0).cumsum(1)
-        box = I[bv:, bu:] - I[:-bv, bu:] - I[bv:, :-bu] + I[:-bv, :-bu]
-        best = box.max()
-        if best <= 0:
-            return np.zeros(2)
-        jj, ii = np.nonzero(box >= best * 0.995)
-        ou = u[0] - du / 2 + (ii.mean() + bu / 2) * du
-        ov = v[0] - dv / 2 + (jj.mean() + bv / 2) * dv
-        return ou * self.axes[0] + ov * self.axes[1]
+            return out
+        for sl in self._batches(len(centres), len(u) * len(v)):
+            S = self._sample(centres[sl], u, v).astype(np.float64)
+            I = np.zeros((S.shape[0], S.shape[1] + 1, S.shape[2] + 1))
+            I[:, 1:, 1:] = S.cumsum(1).cumsum(2)
+            box = I[:, bv:, bu:] - I[:, :-bv, bu:] - I[:, bv:, :-bu] + I[:, :-bv, :-bu]
+            best = box.max(axis=(1, 2))
+            top = box >= (best * 0.995)[:, None, None]
+            cnt = top.sum(axis=(1, 2))
+            jj = (top.sum(axis=2) * np.arange(top.shape[1])).sum(axis=1) / cnt
+            ii = (top.sum(axis=1) * np.arange(top.shape[2])).sum(axis=1) / cnt
+            ou = u[0] - du / 2 + (ii + bu / 2) * du
+            ov = v[0] - dv / 2 + (jj + bv / 2) * dv
+            ok = best > 0
+            out[sl] = np.where(ok[:, None], ou[:, None] * self.axes[0] + ov[:, None] * self.axes[1],
+                               0.0)
+        return out
 
-    def centre_on_rows(self, centre, half, margin):
-        """(centre, score, cover): the vegetation centroid in the plot grown by ``margin``,
-        recentred :data:`CENTROID_ITERATIONS` times; the score and cover at the result."""
-        c = np.asarray(centre, float)
-        for _ in range(CENTROID_ITERATIONS):
-            u, v, S = self._grid(c, half[0] + margin[0], half[1] + margin[1])
-            tot = S.sum()
-            if tot <= 0:
-                break
-            U, V = np.meshgrid(u, v)
-            c = c + (float((S * U).sum()) / tot) * self.axes[0] + \
-                (float((S * V).sum()) / tot) * self.axes[1]
-        return c
+    def centre_on_rows(self, centres, iterations: int = CENTROID_ITERATIONS):
+        """(centres, scores): each plot moved to the vegetation centroid in the plot grown by the
+        margin, the window recentred ``iterations`` times; the scores as :meth:`score`, from
+        the last window (centred where the last move started)."""
+        u, v = self._lattice(self.half + self.margin)
+        inside = (np.abs(v)[:, None] <= self.half[1]) & (np.abs(u)[None, :] <= self.half[0])
+        c = np.array(centres, float)
+        sc = np.zeros((len(c), 2))
+        for sl in self._batches(len(c), len(u) * len(v)):
+            cs = c[sl]
+            for _ in range(iterations):
+                S = self._sample(cs, u, v)
+                tot = S.sum(axis=(1, 2), dtype=np.float64)
+                mu = (S.sum(axis=1, dtype=np.float64) @ u) / np.maximum(tot, 1e-12)
+                mv = (S.sum(axis=2, dtype=np.float64) @ v) / np.maximum(tot, 1e-12)
+                move = np.where((tot > 0)[:, None], mu[:, None] * self.axes[0] +
+                                mv[:, None] * self.axes[1], 0.0)
+                cs = cs + move
+            ins = (S * inside).sum(axis=(1, 2), dtype=np.float64)
+            sc[sl, 0] = np.where(tot > 0, ins / np.maximum(tot, 1e-12), 0.0)
+            sc[sl, 1] = ins / max(int(inside.sum()), 1)
+            c[sl] = cs
+        return c, sc
 
-    def score(self, centre, half, margin):
-        u, v, S = self._grid(centre, half[0] + margin[0], half[1] + margin[1])
-        inside = (np.abs(u)[None, :] <= half[0]) & (np.abs(v)[:, None] <= half[1])
-        tot = float(S.sum())
-        ins = float(S[inside].sum())
-        return (ins / tot if tot > 0 else 0.0), (ins / max(int(inside.sum()), 1))
+    def score(self, centres) -> np.ndarray:
+        """(m, 2): the share of the vegetation of the grown window inside the plot, and the
+        plot's mean vegetation weight (its cover)."""
+        u, v = self._lattice(self.half + self.margin)
+        inside = (np.abs(v)[:, None] <= self.half[1]) & (np.abs(u)[None, :] <= self.half[0])
+        out = np.zeros((len(centres), 2))
+        for sl in self._batches(len(centres), len(u) * len(v)):
+            S = self._sample(np.asarray(centres[sl], float), u, v)
+            tot = S.sum(axis=(1, 2), dtype=np.float64)
+            ins = (S * inside).sum(axis=(1, 2), dtype=np.float64)
+            out[sl, 0] = np.where(tot > 0, ins / np.maximum(tot, 1e-12), 0.0)
+            out[sl, 1] = ins / max(int(inside.sum()), 1)
+        return out
+
+
+def _groups(half: np.ndarray):
+    """Indices of the plots of each size (half sizes to the millimetre)."""
+    keys = {}
+    for i, h in enumerate(np.round(half, 3)):
+        keys.setdefault((h[0], h[1]), []).append(i)
+    return [np.array(v) for v in keys.values()]
 
 
 # ---- the fit ----------------------------------------------------------------------------------
@@ -460,32 +597,36 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
                      "positions only.")
 
     n = len(rings)
+    groups = _groups(half)
 
-    def measure(pred, R_use, reach_use, use_box=True):
+    def measure(pred, R_use, reach_use, iterations):
+        """(centres, scores) found around ``pred`` (a box search within ``reach_use`` when
+        given, then the centroid), in the frame turned by ``R_use``."""
         rot_axes = (R_use @ axes.T).T
-        pl = _Plot(work, rot_axes, half)
-        out = np.empty_like(pred)
-        for i in range(n):
-            if i % 64 == 0:
-                prog.check()
-            c = pred[i]
-            if use_box:
-                c = c + pl.box_search(c, half[i], reach_use)
-            out[i] = pl.centre_on_rows(c, half[i], margin)
-        return out, pl
+        out, sc = np.empty_like(pred), np.empty((n, 2))
+        for idx in groups:
+            m = _Measure(work, rot_axes, half[idx[0]], margin, prog)
+            c = pred[idx]
+            if reach_use is not None:
+                c = c + m.box_search(c, reach_use)
+            out[idx], sc[idx] = m.centre_on_rows(c, iterations)
+        return out, sc
 
-    def covers(pos, pl):
-        return np.array([pl.score(pos[i], half[i], margin) for i in range(n)])
+    def scores(pos, R_use):
+        rot_axes = (R_use @ axes.T).T
+        out = np.empty((n, 2))
+        for idx in groups:
+            out[idx] = _Measure(work, rot_axes, half[idx[0]], margin, prog).score(pos[idx])
+        return out
 
-    # pass A: from the first rotation
+    # pass A: from the first rotation, searched; pass B: from the global fit of pass A
     R0 = _rot(theta0)
     pred = c0 + (centres - c0) @ R0.T
-    meas, pl = measure(pred, R0, reach)
+    meas, sc = measure(pred, R0, reach, 2)
     prog.set(80)
-    sc = covers(meas, pl)
     good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
     theta, scale, t, M = theta0, (1.0, 1.0), np.zeros(2), R0
-    for reach_next in (0.2 * np.where(np.isfinite(pitch), pitch, size), None):
+    for again in (True, False):
         ok = good.copy()
         for _ in range(3):
             if ok.sum() < 3:
@@ -499,20 +640,17 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
             if (new_ok == ok).all():
                 break
             ok = new_ok
-        if reach_next is None:
+        if not again:
             break
         pred = c0 + t + (centres - c0) @ M.T
-        Rt = _rot(theta)
-        meas, pl = measure(pred, Rt, reach_next)
-        sc = covers(meas, pl)
+        meas, sc = measure(pred, _rot(theta), None, 2)
         good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
     prog.set(90)
 
     # per plot, from the global correction
     Rt = _rot(theta)
     pred = c0 + t + (centres - c0) @ M.T
-    meas, pl = measure(pred, Rt, None, use_box=False)
-    sc = covers(meas, pl)
+    meas, sc = measure(pred, Rt, None, CENTROID_ITERATIONS)
     cover = sc[:, 1]
     med = float(np.median(cover))
     shift = meas - pred
@@ -529,7 +667,9 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     moved = np.array([f == "" for f in flags])
     shift[~moved] = 0.0
     final = pred + shift
-    score = np.array([pl.score(final[i], half[i], margin)[0] for i in range(n)])
+    score = sc[:, 0].copy()
+    if (~moved).any():
+        score[~moved] = scores(final, Rt)[~moved, 0]
     out_rings = [(r - centres[i]) @ Rt.T + final[i] for i, r in enumerate(rings)]
     prog.set(100)
     return FitResult(out_rings, shift, score, cover, flags, moved, math.degrees(theta),
