@@ -207,7 +207,8 @@ def child_fit(raster: str, size: int) -> dict:
     return dict(seconds=seconds, plots=len(rings), median_cm=100 * float(np.median(err)),
                 max_cm=100 * float(err.max()), empty=int(empty.sum()),
                 empty_flagged=int((flagged & empty).sum()), other_flagged=int((flagged & ~empty).sum()),
-                work_pixel=res.work_pixel, summary=res.summary())
+                work_pixel=res.work_pixel, summary=res.summary(),
+                stages=res.seconds)
 
 
 def main(argv=None) -> int:
@@ -238,6 +239,7 @@ def main(argv=None) -> int:
         ["fit the grid", fit["seconds"],
          f"{fit['plots']} plots, peak {run.peak_mb:.0f} MiB, working pixel {fit['work_pixel']:.2f} m"]]))
     print(f"  fit: {fit['summary']}")
+    print("  fit stages: " + ", ".join(f"{k} {v:.2f} s" for k, v in fit["stages"].items()))
     print(f"  vertex error against the planted plots: median {fit['median_cm']:.2f} cm, "
           f"max {fit['max_cm']:.2f} cm; empty plots flagged {fit['empty_flagged']} of "
           f"{fit['empty']}, other plots flagged {fit['other_flagged']}")

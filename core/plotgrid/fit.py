@@ -68,6 +68,7 @@ class FitResult:
     notes: List[str] = field(default_factory=list)
     centres_in: Optional[np.ndarray] = None
     centres_out: Optional[np.ndarray] = None
+    seconds: dict = field(default_factory=dict)     # wall time of each stage
 
     def move(self, i: int, xy) -> np.ndarray:
         """Points (n, 2) of plot ``i`` moved as the plot was (turned about its centre by the
@@ -171,18 +172,28 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
         raise EasyIDPError("Plot grid: the plots do not lie on the orthomosaic (check that the "
                            "grid and the orthomosaic are of the same field and in the same CRS).")
     k = max(1, int(math.ceil(math.sqrt((col1 - col0) * (row1 - row0) / MAX_WORK_PIXELS))))
+    bh, bw = tif.block_height, tif.block_width
+    # tiles whose side k divides, read from a tile corner: every cell lies in one tile, so each
+    # tile's cells are final where it is decoded (no shared sums, no lock)
+    g = math.gcd(bh, bw) if tif.tiled else 0
+    aligned = next((d for d in range(k, 2 * k + 1) if g and g % d == 0), None)
+    if aligned:
+        k = aligned
+        row0, col0 = (row0 // bh) * bh, (col0 // bw) * bw
     ncols, nrows = -(-(col1 - col0) // k), -(-(row1 - row0) // k)
     if ncols < 2 or nrows < 2:
         raise EasyIDPError("Plot grid: the plots cover less than two pixels of the orthomosaic.")
     nb = len(bands)
-    sums = np.zeros((nrows, ncols, nb), np.float32)
-    counts = np.zeros((nrows, ncols), np.float32)
+    if aligned:
+        vi_out = np.full((nrows, ncols), np.nan, np.float32)
+    else:
+        sums = np.zeros((nrows, ncols, nb), np.float32)
+        counts = np.zeros((nrows, ncols), np.float32)
     alpha, nodata = tif.alpha_band, tif.nodata
     small = tif.dtype == np.uint8 and k <= 16
     acc = np.uint16 if small else np.float64
     all_bands = list(bands) == list(range(tif.bands))
     lock = threading.Lock()
-    bh, bw = tif.block_height, tif.block_width
     blocks = [(br, bc) for br in range(row0 // bh, (row1 - 1) // bh + 1)
               for bc in range(col0 // bw, (col1 - 1) // bw + 1)]
     fd = os.open(tif.path, os.O_RDONLY)
@@ -240,6 +251,13 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
         else:
             cnt = cell_sums(mask[..., None])[..., 0]
         i0, j0 = (ra - row0) // k, (ca - col0) // k
+        if aligned:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                vi = _index_of(part.astype(np.float32) / cnt[..., None].astype(np.float32),
+                               kind, range(nb))
+            vi[cnt < 0.25 * k * k] = np.nan
+            vi_out[i0:i0 + H // k, j0:j0 + W // k] = vi
+            return
         with lock:
             sums[i0:i0 + H // k, j0:j0 + W // k] += part
             counts[i0:i0 + H // k, j0:j0 + W // k] += cnt
@@ -262,10 +280,13 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
     finally:
         os.close(fd)
     prog.check()
-    with np.errstate(invalid="ignore", divide="ignore"):
-        mean = sums / counts[..., None]
-    vi = _index_of(mean, kind, range(nb)).astype(np.float32)
-    vi[counts < 0.25 * k * k] = np.nan
+    if aligned:
+        vi = vi_out
+    else:
+        with np.errstate(invalid="ignore", divide="ignore"):
+            mean = sums / counts[..., None]
+        vi = _index_of(mean, kind, range(nb)).astype(np.float32)
+        vi[counts < 0.25 * k * k] = np.nan
     x0, y0 = tif.pixel_to_map(col0, row0)
     a, e = tif.geotransform[1], tif.geotransform[5]
     return _Work(vi, float(x0), float(y0), abs(a) * k, abs(e) * k), k
@@ -573,7 +594,17 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     xs = np.concatenate([r[:, 0] for r in rings])
     ys = np.concatenate([r[:, 1] for r in rings])
     bbox = (xs.min() - grow, ys.min() - grow, xs.max() + grow, ys.max() + grow)
+    import time
+    clock = [time.perf_counter()]
+    seconds = {}
+
+    def lap(name):
+        now = time.perf_counter()
+        seconds[name] = now - clock[0]
+        clock[0] = now
+
     work, k = _read_work(tif, bbox, index, bands, prog.sub(0, 70), workers)
+    lap("read")
     soil, leaf = _weights(work)
     notes = [f"Vegetation index {index.upper()} averaged over {k}×{k} pixels "
              f"({work.px:.3f} m); soil {soil:.3f}, leaf {leaf:.3f}."]
@@ -596,6 +627,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         notes.append("No crop-row pattern found in the spectrum: the rotation comes from the plot "
                      "positions only.")
 
+    lap("weights and crop rows")
     n = len(rings)
     groups = _groups(half)
 
@@ -623,6 +655,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     R0 = _rot(theta0)
     pred = c0 + (centres - c0) @ R0.T
     meas, sc = measure(pred, R0, reach, 2)
+    lap("search")
     prog.set(80)
     good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
     theta, scale, t, M = theta0, (1.0, 1.0), np.zeros(2), R0
@@ -645,6 +678,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         pred = c0 + t + (centres - c0) @ M.T
         meas, sc = measure(pred, _rot(theta), None, 2)
         good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
+    lap("global fit")
     prog.set(90)
 
     # per plot, from the global correction
@@ -671,7 +705,8 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     if (~moved).any():
         score[~moved] = scores(final, Rt)[~moved, 0]
     out_rings = [(r - centres[i]) @ Rt.T + final[i] for i, r in enumerate(rings)]
+    lap("per plot")
     prog.set(100)
     return FitResult(out_rings, shift, score, cover, flags, moved, math.degrees(theta),
                      scale, (float(t[0]), float(t[1])), (float(c0[0]), float(c0[1])),
-                     row_bearing, row_spacing, work.px, notes, centres, final)
+                     row_bearing, row_spacing, work.px, notes, centres, final, seconds)
