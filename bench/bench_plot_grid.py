@@ -15,7 +15,7 @@
 
 The orthomosaic (1 cm, RGB, tiled 256, deflate) is generated once, deterministically, into
 bench_output/ and reused while its manifest matches: a field turned by 2° with up to 40 × 40
-plots (4.7 m apart) of crop rows (0.5 m apart), each planted up to 5 cm off the layout, 2 %
+plots (4.6 m apart) of crop rows (0.5 m apart), each planted up to 5 cm off the layout, 2 %
 of them empty.
 """
 import argparse
@@ -34,14 +34,14 @@ from .common import ratio, run_json_child, table, target
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT = ROOT / "bench_output"
-GEN_VERSION = 1
+GEN_VERSION = 2
 SEED = 20251201
 EPSG = 32654
 PIXEL = 0.01
 TILE = 256
 ORIGIN = (400000.0, 4000000.0)          # raster's top-left corner
-PITCH = 4.7
-PLOT = (3.4, 2.6)                       # along the field's x (rows run along it), along y
+PITCH = 4.6
+PLOT = (3.3, 2.5)                       # along the field's x (rows run along it), along y
 BEARING = 88.0                          # the field's top edge: 2° off east
 EDGE, ROW_SPACING, PLANT = 0.1, 0.5, 0.15
 OFFSET = 0.05
