@@ -748,14 +748,14 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
 
 From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
 
-Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (the share of the vegetation around it that is inside it) and cover (its mean vegetation weight, 0–1).
+Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
 
 The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
       <translation>プロットグリッドを、オルソモザイクに写る実際に播種された作物の位置へ移動します。
 
 植生指数（RGB オルソモザイクの ExG、またはマルチスペクトルの赤と近赤外バンドによる NDVI）から、まず作物の条の方向と条間（画像のスペクトル）を求め、次にグリッド全体の回転・間隔の倍率・移動（各プロットの作物の位置から）、最後に上限以内のプロットごとの移動を求めて、各プロットを播種された条の中心に合わせます。プロットのサイズと形は変わりません。
 
-裸地のプロット（土壌、欠株）、植生の大部分がプロットの外にあるプロット（雑草）、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（周囲の植生のうちプロット内にある割合）、cover（平均植生重み、0–1）が付きます。
+裸地のプロット（土壌、欠株）、植生の大部分がプロットの外にあるプロット（雑草）、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（0–1：周囲の植生が、一様に広がった場合よりどれだけ多くプロット内にあるか）、cover（平均植生重み、0–1）が付きます。
 
 ログには全体の補正と、しきい値より大きく移動したプロットの数が出ます。オルソモザイクはウィンドウごとに一度だけ読み込まれ（任意のサイズ。最大 1600 万画素に平均化）、実行はキャンセルできます。出力はオルソモザイクの CRS で、メートル単位の投影座標系でなければなりません。</translation>
     </message>

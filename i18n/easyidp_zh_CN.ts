@@ -748,14 +748,14 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
 
 From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
 
-Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (the share of the vegetation around it that is inside it) and cover (its mean vegetation weight, 0–1).
+Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
 
 The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
       <translation>把地块网格移到正射影像上实际播种的作物位置。
 
 根据植被指数（RGB 正射影像的 ExG，或多光谱影像用红光和近红外波段计算的 NDVI），先求出作物行的方向和行距（影像的频谱），再求出网格的整体旋转、间隔缩放和平移（依据每个地块作物的位置），最后求出每个地块不超过上限的平移，使地块以其播种行为中心。地块保持尺寸和形状不变。
 
-裸露的地块（土壤、缺苗）、植被大多在地块之外的地块（杂草）以及平移会超过上限的地块保持原位：它们只接受整体校正，moved = 0，原因写在 fit_flag 中。每个地块得到 shift_x、shift_y 和 shift_m（自身的平移，米）、fit_score（周围植被中位于地块内的比例）和 cover（平均植被权重，0–1）。
+裸露的地块（土壤、缺苗）、植被大多在地块之外的地块（杂草）以及平移会超过上限的地块保持原位：它们只接受整体校正，moved = 0，原因写在 fit_flag 中。每个地块得到 shift_x、shift_y 和 shift_m（自身的平移，米）、fit_score（0–1：周围植被位于地块内的程度比均匀分布时高出多少）和 cover（平均植被权重，0–1）。
 
 日志给出整体校正以及平移超过阈值的地块数。正射影像按窗口一次读完（任意大小；平均到最多 1600 万像素），运行可以取消。输出使用正射影像的坐标参考系，它必须是以米为单位的投影坐标系。</translation>
     </message>

@@ -25,7 +25,9 @@
    exceed the bound are *left in place*: they keep the global correction and no shift.
 
 Plots keep their shape and size; they turn by the global rotation about their centre. The score
-of a plot is the share of the vegetation in its plot-plus-margin window that lies inside it.
+of a plot is how much more of the vegetation of its plot-plus-margin window lies inside it than
+an even spread would put there: (f − a) / (1 − a), f the share inside, a the plot's share of the
+window's area (1: all inside; 0: weeds or a crop that fills the alleys as much as the plot).
 """
 import math
 from dataclasses import dataclass, field
@@ -484,7 +486,7 @@ class _Measure:
                                 mv[:, None] * self.axes[1], 0.0)
                 cs = cs + move
             ins = (S * inside).sum(axis=(1, 2), dtype=np.float64)
-            sc[sl, 0] = np.where(tot > 0, ins / np.maximum(tot, 1e-12), 0.0)
+            sc[sl, 0] = _containment(ins, tot, inside)
             sc[sl, 1] = ins / max(int(inside.sum()), 1)
             c[sl] = cs
         return c, sc
@@ -499,9 +501,18 @@ class _Measure:
             S = self._sample(np.asarray(centres[sl], float), u, v)
             tot = S.sum(axis=(1, 2), dtype=np.float64)
             ins = (S * inside).sum(axis=(1, 2), dtype=np.float64)
-            out[sl, 0] = np.where(tot > 0, ins / np.maximum(tot, 1e-12), 0.0)
+            out[sl, 0] = _containment(ins, tot, inside)
             out[sl, 1] = ins / max(int(inside.sum()), 1)
         return out
+
+
+def _containment(ins, tot, inside) -> np.ndarray:
+    """The fit score: how much more of the window's vegetation is inside the plot than if it
+    were spread evenly (0: even, as weeds or a crop that fills the alleys; 1: all inside)."""
+    share = inside.mean()
+    with np.errstate(invalid="ignore", divide="ignore"):
+        frac = np.where(tot > 0, ins / np.maximum(tot, 1e-12), 0.0)
+    return np.clip((frac - share) / (1 - share), 0.0, 1.0) if share < 1 else frac
 
 
 def _groups(half: np.ndarray):

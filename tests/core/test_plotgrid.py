@@ -311,3 +311,73 @@ def test_fit_bad_input(trial):
         fit_plot_grid(start, trial.orthomosaic, index="ndvi")
     with pytest.raises(Exception, match=r"Band numbers \[1, 2, 5\]"):
         fit_plot_grid(start, trial.orthomosaic, bands=(1, 2, 5))
+
+
+def _fit_errors(trial, raster, **kw):
+    truth = _load(trial.truth)
+    grid, start = perturbed_start()
+    res = fit_plot_grid(start, raster, **kw)
+    err = np.array([np.hypot(*(r - np.array(truth["plots"][p]["planted"])).T)
+                    for r, p in zip(res.rings, grid.plot_id)])
+    flagged = sorted(p for p, f in zip(grid.plot_id, res.flag) if f)
+    return err, flagged, res
+
+
+def test_fit_multispectral_ndvi_and_the_other_reading_paths(trial, tmp_path, monkeypatch):
+    """Truth: the trial as a 4-band uint16 multispectral raster (NIR from the green band, with
+    a nodata value), fitted on NDVI; and the RGB trial read in strips and in tiles with 2 × 2
+    cells (the general and the tile-aligned reading): the same errors and flags."""
+    import tifffile
+    from easyidp_toolbox.core.raster.geotiff import open_geotiff
+    from easyidp_toolbox.core.raster.geotiff_write import epsg_geo_tags, write_geotiff
+    from easyidp_toolbox.core.plotgrid import fit as fit_module
+    rgb = tifffile.imread(trial.orthomosaic).astype(np.uint16)
+    gt = open_geotiff(trial.orthomosaic).geotransform
+    ms = np.stack([rgb[..., 2] * 10, rgb[..., 1] * 10, rgb[..., 0] * 10, rgb[..., 1] * 30], -1)
+    ms[:5] = 0                                           # a nodata strip along the top
+    path = str(tmp_path / "ms.tif")
+    write_geotiff(path, ms.astype(np.uint16), gt, epsg_geo_tags(32654), nodata_text="0", tile=256)
+    err, flagged, res = _fit_errors(trial, path, index="ndvi", bands=(3, 4))
+    assert np.median(err) <= 0.02 and err.max() <= 0.05 and flagged == sorted(EMPTY)
+    assert "NDVI" in res.notes[0]
+    strips = str(tmp_path / "strips.tif")
+    write_geotiff(strips, tifffile.imread(trial.orthomosaic), gt, epsg_geo_tags(32654), rgb=True,
+                  rowsperstrip=7)
+    monkeypatch.setattr(fit_module, "MAX_WORK_PIXELS", 1_000_000)      # cells of 2 × 2 pixels
+    for raster in (strips, trial.orthomosaic):
+        err, flagged, res = _fit_errors(trial, raster)
+        assert abs(res.work_pixel - 0.04) < 1e-9
+        assert np.median(err) <= 0.02 and err.max() <= 0.05 and flagged == sorted(EMPTY)
+    with pytest.raises(Exception, match="not RGB: choose the NDVI index"):
+        fit_plot_grid(perturbed_start()[1], path)
+
+
+def test_fit_flags_a_weedy_plot_and_keeps_a_shift_within_the_bound(trial, tmp_path):
+    """Truth: weeds (vegetation blobs) sown over one plot and its surroundings make it 'weak'
+    and left in place; with a bound of 1 cm the plots planted further off are left in place."""
+    import tifffile
+    from easyidp_toolbox.core.raster.geotiff import open_geotiff
+    from easyidp_toolbox.core.raster.geotiff_write import epsg_geo_tags, write_geotiff
+    truth = _load(trial.truth)
+    img = tifffile.imread(trial.orthomosaic).copy()
+    info = open_geotiff(trial.orthomosaic)
+    weedy = "1-05-03"
+    c = np.array(truth["plots"][weedy]["planted"]).mean(axis=0)
+    col, row = info.map_to_pixel(c[0], c[1])
+    rng = np.random.default_rng(5)
+    for _ in range(400):                                # blobs over a 5 × 4 m area
+        r0 = int(row + rng.uniform(-100, 100))
+        c0 = int(col + rng.uniform(-125, 125))
+        img[max(r0 - 8, 0):r0 + 8, max(c0 - 8, 0):c0 + 8] = (60, 140, 48)
+    path = str(tmp_path / "weedy.tif")
+    write_geotiff(path, img, info.geotransform, epsg_geo_tags(32654), rgb=True, tile=256)
+    err, flagged, res = _fit_errors(trial, path)
+    grid, _ = perturbed_start()
+    i = grid.plot_id.index(weedy)
+    assert res.flag[i] and not res.moved[i], res.flag[i]
+    offsets = {p: np.hypot(*truth["plots"][p]["offset"]) for p in grid.plot_id}
+    err, flagged, res = _fit_errors(trial, trial.orthomosaic, max_shift=0.01)
+    for p, f, m, s in zip(grid.plot_id, res.flag, res.moved, res.shift_m):
+        assert s <= 0.01
+        if offsets[p] > 0.02 and p not in EMPTY:
+            assert f == "shift beyond the bound" and not m
