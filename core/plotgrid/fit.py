@@ -559,8 +559,9 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     prog = as_progress(progress, is_cancelled)
     tif = orthomosaic if isinstance(orthomosaic, GeoTiff) else open_geotiff(str(orthomosaic), crs=crs)
     rings = [np.asarray(r, float)[:, :2] for r in rings]
-    if not rings:
-        raise EasyIDPError("Plot grid: the grid has no plots.")
+    if len(rings) < 3:
+        raise EasyIDPError(f"Plot grid: {len(rings)} plots; the fit needs at least three (it "
+                           "estimates the grid's rotation, spacing and shift from them).")
     if index == "auto":
         if tif.kind in ("rgb", "rgba") or (bands is not None and len(bands) == 3):
             index = "exg"
