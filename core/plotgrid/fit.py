@@ -39,7 +39,7 @@ from ..errors import EasyIDPError
 from ..progress import as_progress
 
 MAX_WORK_PIXELS = 16_000_000
-CENTROID_ITERATIONS = 3
+CENTROID_ITERATIONS = 2
 
 FLAG_BARE = "bare soil or missing"
 FLAG_WEAK = "vegetation mostly outside the plot (weeds, or a missing plot)"
@@ -467,11 +467,11 @@ class _Measure:
                                0.0)
         return out
 
-    def centre_on_rows(self, centres, iterations: int = CENTROID_ITERATIONS):
+    def centre_on_rows(self, centres, iterations: int = CENTROID_ITERATIONS, coarse: int = 1):
         """(centres, scores): each plot moved to the vegetation centroid in the plot grown by the
         margin, the window recentred ``iterations`` times; the scores as :meth:`score`, from
         the last window (centred where the last move started)."""
-        u, v = self._lattice(self.half + self.margin)
+        u, v = self._lattice(self.half + self.margin, self.step * coarse)
         inside = (np.abs(v)[:, None] <= self.half[1]) & (np.abs(u)[None, :] <= self.half[0])
         c = np.array(centres, float)
         sc = np.zeros((len(c), 2))
@@ -643,7 +643,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     n = len(rings)
     groups = _groups(half)
 
-    def measure(pred, R_use, reach_use, iterations):
+    def measure(pred, R_use, reach_use, iterations, coarse=1):
         """(centres, scores) found around ``pred`` (a box search within ``reach_use`` when
         given, then the centroid), in the frame turned by ``R_use``."""
         rot_axes = (R_use @ axes.T).T
@@ -653,7 +653,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
             c = pred[idx]
             if reach_use is not None:
                 c = c + m.box_search(c, reach_use)
-            out[idx], sc[idx] = m.centre_on_rows(c, iterations)
+            out[idx], sc[idx] = m.centre_on_rows(c, iterations, coarse)
         return out, sc
 
     def scores(pos, R_use):
@@ -666,7 +666,8 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     # pass A: from the first rotation, searched; pass B: from the global fit of pass A
     R0 = _rot(theta0)
     pred = c0 + (centres - c0) @ R0.T
-    meas, sc = measure(pred, R0, reach, 2)
+    # passes A and B only feed the global fit (many plots): a lattice twice as coarse will do
+    meas, sc = measure(pred, R0, reach, 1, coarse=2)
     lap("search")
     prog.set(80)
     good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
@@ -688,7 +689,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         if not again:
             break
         pred = c0 + t + (centres - c0) @ M.T
-        meas, sc = measure(pred, _rot(theta), None, 2)
+        meas, sc = measure(pred, _rot(theta), None, 1, coarse=2)
         good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
     lap("global fit")
     prog.set(90)
@@ -696,7 +697,10 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     # per plot, from the global correction
     Rt = _rot(theta)
     pred = c0 + t + (centres - c0) @ M.T
-    meas, sc = measure(pred, Rt, None, CENTROID_ITERATIONS)
+    # from where pass B found each plot (its crop is inside the window by then), on the fine
+    # lattice; plots pass B saw no crop in start from the prediction
+    start = np.where((sc[:, 1] > 0)[:, None], meas, pred)
+    meas, sc = measure(start, Rt, None, 1)
     cover = sc[:, 1]
     med = float(np.median(cover))
     shift = meas - pred
