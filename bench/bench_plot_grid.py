@@ -177,14 +177,14 @@ def child_decode(raster: str) -> dict:
     from ..core.raster.geotiff import open_geotiff
     tif = open_geotiff(raster)
     fd = os.open(raster, os.O_RDONLY)
-    t = time.perf_counter()
+    t, cpu = time.perf_counter(), time.process_time()
     try:
         with ThreadPoolExecutor(os.cpu_count()) as pool:
             blocks = [(r, c) for r in range(tif.blocks_down) for c in range(tif.blocks_across)]
             n = sum(1 for _ in pool.map(lambda rc: tif.read_block(fd, *rc).shape, blocks))
     finally:
         os.close(fd)
-    return dict(seconds=time.perf_counter() - t, blocks=n)
+    return dict(seconds=time.perf_counter() - t, cpu=time.process_time() - cpu, blocks=n)
 
 
 def child_fit(raster: str, size: int) -> dict:
@@ -197,14 +197,14 @@ def child_fit(raster: str, size: int) -> dict:
     t = math.radians(1.0)
     R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
     rings = [(q - c) @ R.T + c + (0.25, 0.0) for q in start.corners]
-    t0 = time.perf_counter()
+    t0, cpu = time.perf_counter(), time.process_time()
     res = fit_plot_grid(rings, raster)
-    seconds = time.perf_counter() - t0
+    seconds, cpu = time.perf_counter() - t0, time.process_time() - cpu
     ux, uy = np.array(grid.frame.ux), np.array(grid.frame.uy)
     planted = grid.corners + (off[:, :1] * ux + off[:, 1:] * uy)[:, None, :]
     err = np.array([np.hypot(*(r - p).T) for r, p in zip(res.rings, planted)])
     flagged = np.array([bool(f) for f in res.flag])
-    return dict(seconds=seconds, plots=len(rings), median_cm=100 * float(np.median(err)),
+    return dict(seconds=seconds, cpu=cpu, plots=len(rings), median_cm=100 * float(np.median(err)),
                 max_cm=100 * float(err.max()), empty=int(empty.sum()),
                 empty_flagged=int((flagged & empty).sum()), other_flagged=int((flagged & ~empty).sum()),
                 work_pixel=res.work_pixel, summary=res.summary(),
@@ -248,7 +248,10 @@ def main(argv=None) -> int:
         ["fit the grid (best of 2)", fit["seconds"],
          f"{fit['plots']} plots, peak {run.peak_mb:.0f} MiB, working pixel {fit['work_pixel']:.2f} m; "
          f"runs {fit_runs}"]]))
-    print(f"  load average when done: {load:.1f} on {os.cpu_count()} cores")
+    print(f"  load average when done: {load:.1f} on {os.cpu_count()} cores; CPU seconds (all "
+          f"threads): decode {min(d['cpu'] for d in decodes):.2f}, fit "
+          f"{min(f[1]['cpu'] for f in fits):.2f}, ratio "
+          f"{min(f[1]['cpu'] for f in fits) / min(d['cpu'] for d in decodes):.2f}")
     print(f"  fit: {fit['summary']}")
     print("  fit stages: " + ", ".join(f"{k} {v:.2f} s" for k, v in fit["stages"].items()))
     print(f"  vertex error against the planted plots: median {fit['median_cm']:.2f} cm, "

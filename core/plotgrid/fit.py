@@ -412,7 +412,7 @@ def _rot(t: float) -> np.ndarray:
 
 # ---- measuring plots, many at a time --------------------------------------------------------
 
-BATCH_SAMPLES = 4_000_000      # samples per batch of plots (memory: a few × 16 MB)
+BATCH_SAMPLES = 1_000_000      # samples per batch of plots (memory: a few × 4 MB per thread)
 
 
 class _Measure:
@@ -420,9 +420,10 @@ class _Measure:
     frame turned by ``axes`` (rows: unit x, unit y on the map)."""
 
     def __init__(self, work: _Work, axes: np.ndarray, half: np.ndarray, margin: np.ndarray,
-                 prog):
+                 prog, pool=None):
         self.work, self.axes, self.half, self.margin, self.prog = work, axes, half, margin, prog
         self.step = min(work.px, work.py)
+        self.pool = pool
 
     def _lattice(self, ext, step=None):
         s = step or self.step
@@ -440,11 +441,21 @@ class _Measure:
         dv = (u[None, :] * (-ax[0, 1] / wk.py) + v[:, None] * (-ax[1, 1] / wk.py)).astype(np.float32)
         return wk.sample_px(cc[:, None, None] + du[None], cr[:, None, None] + dv[None])
 
-    def _batches(self, n, per_plot):
+    def _each(self, n, per_plot, fn) -> None:
+        """``fn(slice)`` over batches of the n plots, on the pool's threads (numpy's gathers
+        and reductions release the GIL); the batches write disjoint rows of the outputs."""
         b = max(1, BATCH_SAMPLES // max(per_plot, 1))
-        for i in range(0, n, b):
+        slices = [slice(i, min(n, i + b)) for i in range(0, n, b)]
+
+        def run(sl):
             self.prog.check()
-            yield slice(i, min(n, i + b))
+            fn(sl)
+        if self.pool is None or len(slices) < 2:
+            for sl in slices:
+                run(sl)
+        else:
+            for _ in self.pool.map(run, slices):
+                pass
 
     def box_search(self, centres, reach) -> np.ndarray:
         """Offsets (map, (m, 2)) of the box of the plot's size holding the most vegetation
@@ -458,7 +469,7 @@ class _Measure:
         out = np.zeros((len(centres), 2))
         if bu >= len(u) or bv >= len(v):
             return out
-        for sl in self._batches(len(centres), len(u) * len(v)):
+        def batch(sl):
             S = self._sample(centres[sl], u, v).astype(np.float64)
             I = np.zeros((S.shape[0], S.shape[1] + 1, S.shape[2] + 1))
             I[:, 1:, 1:] = S.cumsum(1).cumsum(2)
@@ -473,6 +484,7 @@ class _Measure:
             ok = best > 0
             out[sl] = np.where(ok[:, None], ou[:, None] * self.axes[0] + ov[:, None] * self.axes[1],
                                0.0)
+        self._each(len(centres), len(u) * len(v), batch)
         return out
 
     def centre_on_rows(self, centres, iterations: int = CENTROID_ITERATIONS, coarse: int = 1):
@@ -483,7 +495,7 @@ class _Measure:
         inside = (np.abs(v)[:, None] <= self.half[1]) & (np.abs(u)[None, :] <= self.half[0])
         c = np.array(centres, float)
         sc = np.zeros((len(c), 2))
-        for sl in self._batches(len(c), len(u) * len(v)):
+        def batch(sl):
             cs = c[sl]
             for _ in range(iterations):
                 S = self._sample(cs, u, v)
@@ -497,6 +509,7 @@ class _Measure:
             sc[sl, 0] = _containment(ins, tot, inside)
             sc[sl, 1] = ins / max(int(inside.sum()), 1)
             c[sl] = cs
+        self._each(len(c), len(u) * len(v), batch)
         return c, sc
 
     def score(self, centres) -> np.ndarray:
@@ -505,12 +518,13 @@ class _Measure:
         u, v = self._lattice(self.half + self.margin)
         inside = (np.abs(v)[:, None] <= self.half[1]) & (np.abs(u)[None, :] <= self.half[0])
         out = np.zeros((len(centres), 2))
-        for sl in self._batches(len(centres), len(u) * len(v)):
+        def batch(sl):
             S = self._sample(np.asarray(centres[sl], float), u, v)
             tot = S.sum(axis=(1, 2), dtype=np.float64)
             ins = (S * inside).sum(axis=(1, 2), dtype=np.float64)
             out[sl, 0] = _containment(ins, tot, inside)
             out[sl, 1] = ins / max(int(inside.sum()), 1)
+        self._each(len(centres), len(u) * len(v), batch)
         return out
 
 
@@ -648,86 +662,89 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
                      "positions only.")
 
     lap("weights and crop rows")
-    n = len(rings)
-    groups = _groups(half)
+    import os
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
+        n = len(rings)
+        groups = _groups(half)
 
-    def measure(pred, R_use, reach_use, iterations, coarse=1):
-        """(centres, scores) found around ``pred`` (a box search within ``reach_use`` when
-        given, then the centroid), in the frame turned by ``R_use``."""
-        rot_axes = (R_use @ axes.T).T
-        out, sc = np.empty_like(pred), np.empty((n, 2))
-        for idx in groups:
-            m = _Measure(work, rot_axes, half[idx[0]], margin, prog)
-            c = pred[idx]
-            if reach_use is not None:
-                c = c + m.box_search(c, reach_use)
-            out[idx], sc[idx] = m.centre_on_rows(c, iterations, coarse)
-        return out, sc
+        def measure(pred, R_use, reach_use, iterations, coarse=1):
+            """(centres, scores) found around ``pred`` (a box search within ``reach_use`` when
+            given, then the centroid), in the frame turned by ``R_use``."""
+            rot_axes = (R_use @ axes.T).T
+            out, sc = np.empty_like(pred), np.empty((n, 2))
+            for idx in groups:
+                m = _Measure(work, rot_axes, half[idx[0]], margin, prog, pool)
+                c = pred[idx]
+                if reach_use is not None:
+                    c = c + m.box_search(c, reach_use)
+                out[idx], sc[idx] = m.centre_on_rows(c, iterations, coarse)
+            return out, sc
 
-    def scores(pos, R_use):
-        rot_axes = (R_use @ axes.T).T
-        out = np.empty((n, 2))
-        for idx in groups:
-            out[idx] = _Measure(work, rot_axes, half[idx[0]], margin, prog).score(pos[idx])
-        return out
+        def scores(pos, R_use):
+            rot_axes = (R_use @ axes.T).T
+            out = np.empty((n, 2))
+            for idx in groups:
+                out[idx] = _Measure(work, rot_axes, half[idx[0]], margin, prog, pool).score(pos[idx])
+            return out
 
-    # pass A: from the first rotation, searched; pass B: from the global fit of pass A
-    R0 = _rot(theta0)
-    pred = c0 + (centres - c0) @ R0.T
-    # passes A and B only feed the global fit (many plots): a lattice twice as coarse will do
-    meas, sc = measure(pred, R0, reach, 1, coarse=2)
-    lap("search")
-    prog.set(80)
-    good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
-    theta, scale, t, M = theta0, (1.0, 1.0), np.zeros(2), R0
-    for again in (True, False):
-        ok = good.copy()
-        for _ in range(3):
-            if ok.sum() < 3:
-                raise EasyIDPError("Plot grid: fewer than three plots have crop where the grid "
-                                   "puts them: check that the grid belongs to this orthomosaic "
-                                   "and that the crop is visible (or lower the cover threshold).")
-            theta, scale, t, M = _similarity(centres, meas, ok, c0, axes)
-            res = np.hypot(*(meas - (c0 + t + (centres - c0) @ M.T)).T)
-            lim = max(3 * np.median(res[ok]), 2 * work.px, 0.02)
-            new_ok = good & (res <= lim)
-            if (new_ok == ok).all():
-                break
-            ok = new_ok
-        if not again:
-            break
-        pred = c0 + t + (centres - c0) @ M.T
-        meas, sc = measure(pred, _rot(theta), None, 1, coarse=2)
+        # pass A: from the first rotation, searched; pass B: from the global fit of pass A
+        R0 = _rot(theta0)
+        pred = c0 + (centres - c0) @ R0.T
+        # passes A and B only feed the global fit (many plots): a lattice twice as coarse will do
+        meas, sc = measure(pred, R0, reach, 1, coarse=2)
+        lap("search")
+        prog.set(80)
         good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
-    lap("global fit")
-    prog.set(90)
+        theta, scale, t, M = theta0, (1.0, 1.0), np.zeros(2), R0
+        for again in (True, False):
+            ok = good.copy()
+            for _ in range(3):
+                if ok.sum() < 3:
+                    raise EasyIDPError("Plot grid: fewer than three plots have crop where the grid "
+                                       "puts them: check that the grid belongs to this orthomosaic "
+                                       "and that the crop is visible (or lower the cover threshold).")
+                theta, scale, t, M = _similarity(centres, meas, ok, c0, axes)
+                res = np.hypot(*(meas - (c0 + t + (centres - c0) @ M.T)).T)
+                lim = max(3 * np.median(res[ok]), 2 * work.px, 0.02)
+                new_ok = good & (res <= lim)
+                if (new_ok == ok).all():
+                    break
+                ok = new_ok
+            if not again:
+                break
+            pred = c0 + t + (centres - c0) @ M.T
+            meas, sc = measure(pred, _rot(theta), None, 1, coarse=2)
+            good = sc[:, 1] >= min_cover * np.median(sc[:, 1])
+        lap("global fit")
+        prog.set(90)
 
-    # per plot, from the global correction
-    Rt = _rot(theta)
-    pred = c0 + t + (centres - c0) @ M.T
-    # from where pass B found each plot (its crop is inside the window by then), on the fine
-    # lattice; plots pass B saw no crop in start from the prediction
-    start = np.where((sc[:, 1] > 0)[:, None], meas, pred)
-    meas, sc = measure(start, Rt, None, 1)
-    cover = sc[:, 1]
-    med = float(np.median(cover))
-    shift = meas - pred
-    flags = []
-    for i in range(n):
-        if cover[i] < min_cover * med:
-            flags.append(FLAG_BARE)
-        elif sc[i, 0] < min_score:
-            flags.append(FLAG_WEAK)
-        elif math.hypot(*shift[i]) > max_shift:
-            flags.append(FLAG_BOUND)
-        else:
-            flags.append("")
-    moved = np.array([f == "" for f in flags])
-    shift[~moved] = 0.0
-    final = pred + shift
-    score = sc[:, 0].copy()
-    if (~moved).any():
-        score[~moved] = scores(final, Rt)[~moved, 0]
+        # per plot, from the global correction
+        Rt = _rot(theta)
+        pred = c0 + t + (centres - c0) @ M.T
+        # from where pass B found each plot (its crop is inside the window by then), on the fine
+        # lattice; plots pass B saw no crop in start from the prediction
+        start = np.where((sc[:, 1] > 0)[:, None], meas, pred)
+        meas, sc = measure(start, Rt, None, 1)
+        cover = sc[:, 1]
+        med = float(np.median(cover))
+        shift = meas - pred
+        flags = []
+        for i in range(n):
+            if cover[i] < min_cover * med:
+                flags.append(FLAG_BARE)
+            elif sc[i, 0] < min_score:
+                flags.append(FLAG_WEAK)
+            elif math.hypot(*shift[i]) > max_shift:
+                flags.append(FLAG_BOUND)
+            else:
+                flags.append("")
+        moved = np.array([f == "" for f in flags])
+        shift[~moved] = 0.0
+        final = pred + shift
+        score = sc[:, 0].copy()
+        if (~moved).any():
+            score[~moved] = scores(final, Rt)[~moved, 0]
     out_rings = [(r - centres[i]) @ Rt.T + final[i] for i, r in enumerate(rings)]
     lap("per plot")
     prog.set(100)
