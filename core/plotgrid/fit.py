@@ -196,8 +196,13 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
     acc = np.uint16 if small else np.float64
     all_bands = list(bands) == list(range(tif.bands))
     lock = threading.Lock()
-    blocks = [(br, bc) for br in range(row0 // bh, (row1 - 1) // bh + 1)
-              for bc in range(col0 // bw, (col1 - 1) // bw + 1)]
+    # tasks: runs of up to 4096 px of tiles along a tile row (one strip for stripped rasters),
+    # decoded tile by tile and reduced together, so a task makes few numpy calls: many small
+    # ones per tile keep two threads waiting on each other for the GIL
+    per_task = max(1, 4096 // bw)
+    across = list(range(col0 // bw, (col1 - 1) // bw + 1))
+    blocks = [(br, tuple(across[i:i + per_task])) for br in range(row0 // bh, (row1 - 1) // bh + 1)
+              for i in range(0, len(across), per_task)]
     fd = os.open(tif.path, os.O_RDONLY)
 
     def cell_sums(buf):
@@ -213,11 +218,13 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
             out += sr[:, j::k]
         return out
 
-    def one(br, bc):
+    def one(br, bcs):
         if prog.cancelled():
             return
-        blk = tif.read_block(fd, br, bc)
-        r0, c0 = br * bh, bc * bw
+        tiles = [tif.read_block(fd, br, bc) for bc in bcs]
+        blk = tiles[0] if len(tiles) == 1 else np.concatenate(tiles, axis=1)
+        del tiles
+        r0, c0 = br * bh, bcs[0] * bw
         ra, rb = max(r0, row0), min(r0 + blk.shape[0], row1)
         ca, cb = max(c0, col0), min(c0 + blk.shape[1], col1)
         if rb <= ra or cb <= ca:
@@ -274,7 +281,7 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
 
     try:
         with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
-            ahead = 4 * (workers or os.cpu_count() or 2)
+            ahead = 2 * (workers or os.cpu_count() or 2)
             pending, done = set(), 0
             for br, bc in blocks:
                 pending.add(pool.submit(one, br, bc))
