@@ -324,10 +324,10 @@ def _otsu(v: np.ndarray) -> float:
 def _weights(work: _Work) -> Tuple[float, float]:
     """Turn the index image into vegetation weights in place; returns (soil, leaf) levels."""
     v = work.w
-    fin = v[np.isfinite(v)]
-    if fin.size < 16:
+    flat = v.ravel()[:: max(1, v.size // 1_000_000)]        # the levels from about 1 M cells
+    sample = flat[np.isfinite(flat)]
+    if sample.size < 16:
         raise EasyIDPError("Plot grid: the orthomosaic has no valid pixels under the plots.")
-    sample = fin[:: max(1, fin.size // 2_000_000)]
     t = _otsu(sample)
     lo = float(np.median(sample[sample <= t])) if np.any(sample <= t) else float(sample.min())
     hi = float(np.median(sample[sample > t])) if np.any(sample > t) else float(sample.max())
