@@ -4,6 +4,9 @@ Plain data in (numpy arrays, file paths, CRS as pyproj.CRS / EPSG / WKT), plain 
 Never imports qgis or PyQt. Progress and cancellation come in as callables
 (``progress(percent)``, ``is_cancelled()``).
 
+Plot grids from a field layout, and their fit to the crop rows of an orthomosaic:
+``core.plotgrid`` (``create_plot_grid``, ``fit_plot_grid``).
+
 ROI heights: ``core.raster.roi_heights`` (from a DSM) and ``core.pointcloud.roi_heights``
 (from a point cloud).
 
@@ -13,6 +16,7 @@ centre of the top-left pixel is (0.5, 0.5).
 """
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
+from .plotgrid import PlotGrid, create_plot_grid, fit_plot_grid
 from .progress import Progress
 from .reconstruction import Reconstruction, open_reconstruction
 from .roi import ROI, ROISet, open_rois, read_geojson, roi_from_coordinates
@@ -22,4 +26,5 @@ __all__ = [
     "ROI", "ROISet", "roi_from_coordinates", "open_rois", "read_geojson",
     "PointCloud", "read_point_cloud", "write_point_cloud", "crop_point_cloud", "canopy_summary",
     "Reconstruction", "open_reconstruction",
+    "PlotGrid", "create_plot_grid", "fit_plot_grid",
 ]

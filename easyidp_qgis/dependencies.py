@@ -31,7 +31,7 @@ from qgis.PyQt.QtCore import QCoreApplication
 ALL = "*"
 RASTER_TOOLS = ("croprasterbyrois", "roiheightsfromdsm", "camerafootprints",
                 "pointcloudroistatistics", "createdemosurvey", "seasontraits", "backprojectrois",
-                "forwardprojectpolygons", "orthorectifyrois", "photostatistics")
+                "forwardprojectpolygons", "orthorectifyrois", "photostatistics", "fitplotgrid")
 CLOUD_TOOLS = ("croppointcloudbyrois", "pointcloudroistatistics", "createdemosurvey",
                "seasontraits")
 

@@ -36,10 +36,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>切り出しの周囲の余白（ピクセル）</translation>
     </message>
     <message>
-      <source>ROIs</source>
-      <translation>ROI</translation>
-    </message>
-    <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>写真フォルダ（写真を移動した場合。ファイル名で照合）</translation>
     </message>
@@ -356,6 +352,246 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
       <translation>生育シーズン：{f} に {n} 日分</translation>
     </message>
     <message>
+      <source>Create plot grid</source>
+      <translation>プロットグリッドを作成</translation>
+    </message>
+    <message>
+      <source>ROIs</source>
+      <translation>ROI</translation>
+    </message>
+    <message>
+      <source>Makes the plot polygons of a trial from its field layout: rows (ranges) × columns (passes) of plots, in blocks, numbered and joined to the field book.
+
+Anchor: four corner points of the field in any order (they are sorted clockwise from the upper-left corner, the one whose edge to the next points closest to east; the log says the order used), a field-boundary polygon (its minimum-area rectangle), or an origin (the upper-left corner) and the bearing of the top edge (90 = east). Columns are counted along the top edge (x), rows down the left edge (y).
+
+Layout, per axis: plot size, gap between plots (or the spacing, centre to centre), blocks and the gap between blocks. With corners or a boundary, a size or gap left empty is solved so that the plots fill the field. A negative buffer shrinks every plot on each side (a positive one grows it); plots stay rectangles.
+
+Numbering: row by row, column by column or serpentine, from any corner, from the start id; the name pattern takes {plot_no}, {row}, {col}, {block}, {block_row}, {block_col}, {row_letter}, {range} and {pass}, e.g. {block}-{row:02d}-{col:02d}.
+
+Field book: a table (e.g. a CSV layer) joined by plot id, plot number, or row and column; rows that match no plot and plots without a row are listed in the log.
+
+The CRS must be projected in metres: a geographic CRS is refused with the UTM zone to use. Corners that are not a rectangle, and plots that would overlap, are refused with the amount.</source>
+      <translation>圃場のレイアウトから試験のプロットポリゴンを作成します：ブロックに分かれた行（レンジ）× 列（パス）のプロットに番号を付け、フィールドブックを結合します。
+
+アンカー：圃場の四隅の点（順序は任意。左上の角、すなわち次の角への辺が最も東に近い角から時計回りに並べ替え、使った順序をログに示します）、圃場境界ポリゴン（その最小面積外接矩形）、または原点（左上の角）と上辺の方位角（90 = 東）。列は上辺に沿って（x）、行は左辺に沿って下へ（y）数えます。
+
+レイアウト（軸ごと）：プロットサイズ、プロット間の間隔（または中心間距離）、ブロック数とブロック間の間隔。四隅または境界を使う場合、空欄のサイズや間隔はプロットが圃場を埋めるように求められます。負のバッファは各プロットを各辺で縮め（正の値は広げ）、プロットは矩形のままです。
+
+番号付け：行ごと、列ごと、または蛇行順に、任意の角から、開始番号から。名前のパターンには {plot_no}、{row}、{col}、{block}、{block_row}、{block_col}、{row_letter}、{range}、{pass} を使えます（例：{block}-{row:02d}-{col:02d}）。
+
+フィールドブック：表（例：CSV レイヤ）をプロット ID、プロット番号、または行と列で結合します。どのプロットにも一致しない行と、行のないプロットはログに列挙されます。
+
+CRS はメートル単位の投影座標系でなければなりません：地理座標系は使うべき UTM ゾーンを示して拒否されます。矩形にならない四隅や重なるプロットは、そのずれの量を示して拒否されます。</translation>
+    </message>
+    <message>
+      <source>Four corner points (any order)</source>
+      <translation>四隅の点（順序は任意）</translation>
+    </message>
+    <message>
+      <source>Field boundary polygon (its minimum-area rectangle)</source>
+      <translation>圃場境界ポリゴン（その最小面積外接矩形）</translation>
+    </message>
+    <message>
+      <source>Origin point (upper-left corner) and bearing</source>
+      <translation>原点（左上の角）と方位角</translation>
+    </message>
+    <message>
+      <source>Row by row</source>
+      <translation>行ごと</translation>
+    </message>
+    <message>
+      <source>Serpentine rows (back and forth)</source>
+      <translation>蛇行（行を往復）</translation>
+    </message>
+    <message>
+      <source>Column by column</source>
+      <translation>列ごと</translation>
+    </message>
+    <message>
+      <source>Serpentine columns</source>
+      <translation>蛇行（列を往復）</translation>
+    </message>
+    <message>
+      <source>Top left</source>
+      <translation>左上</translation>
+    </message>
+    <message>
+      <source>Top right</source>
+      <translation>右上</translation>
+    </message>
+    <message>
+      <source>Bottom left</source>
+      <translation>左下</translation>
+    </message>
+    <message>
+      <source>Bottom right</source>
+      <translation>右下</translation>
+    </message>
+    <message>
+      <source>Plot id (the name)</source>
+      <translation>プロット ID（名前）</translation>
+    </message>
+    <message>
+      <source>Plot number</source>
+      <translation>プロット番号</translation>
+    </message>
+    <message>
+      <source>Row and column</source>
+      <translation>行と列</translation>
+    </message>
+    <message>
+      <source>Anchor</source>
+      <translation>アンカー</translation>
+    </message>
+    <message>
+      <source>Field corners (4 points)</source>
+      <translation>圃場の四隅（4 点）</translation>
+    </message>
+    <message>
+      <source>Field boundary (a polygon)</source>
+      <translation>圃場の境界（ポリゴン）</translation>
+    </message>
+    <message>
+      <source>Origin (upper-left corner of the field)</source>
+      <translation>原点（圃場の左上の角）</translation>
+    </message>
+    <message>
+      <source>Rows (ranges)</source>
+      <translation>行数（レンジ）</translation>
+    </message>
+    <message>
+      <source>Columns (passes)</source>
+      <translation>列数（パス）</translation>
+    </message>
+    <message>
+      <source>Plot size along a row (m; empty: fill the field)</source>
+      <translation>行方向のプロットサイズ（m。空欄：圃場を埋める）</translation>
+    </message>
+    <message>
+      <source>Plot size down a column (m; empty: fill the field)</source>
+      <translation>列方向のプロットサイズ（m。空欄：圃場を埋める）</translation>
+    </message>
+    <message>
+      <source>Gap between columns of plots (m; empty: solved)</source>
+      <translation>プロット列の間隔（m。空欄：求める）</translation>
+    </message>
+    <message>
+      <source>Alley between rows of plots (m; empty: solved)</source>
+      <translation>プロット行の間の通路（m。空欄：求める）</translation>
+    </message>
+    <message>
+      <source>Spacing of the columns, centre to centre (m; instead of the gap)</source>
+      <translation>列の中心間距離（m。間隔の代わり）</translation>
+    </message>
+    <message>
+      <source>Spacing of the rows, centre to centre (m; instead of the alley)</source>
+      <translation>行の中心間距離（m。通路の代わり）</translation>
+    </message>
+    <message>
+      <source>Blocks along a row</source>
+      <translation>行方向のブロック数</translation>
+    </message>
+    <message>
+      <source>Blocks down a column</source>
+      <translation>列方向のブロック数</translation>
+    </message>
+    <message>
+      <source>Gap between blocks along a row (m; empty: the plot gap)</source>
+      <translation>行方向のブロック間隔（m。空欄：プロット間隔）</translation>
+    </message>
+    <message>
+      <source>Gap between blocks down a column (m; empty: the alley)</source>
+      <translation>列方向のブロック間隔（m。空欄：通路）</translation>
+    </message>
+    <message>
+      <source>Numbering order</source>
+      <translation>番号の順序</translation>
+    </message>
+    <message>
+      <source>Numbering starts at</source>
+      <translation>番号の開始位置</translation>
+    </message>
+    <message>
+      <source>Start id (first plot number)</source>
+      <translation>開始番号（最初のプロットの番号）</translation>
+    </message>
+    <message>
+      <source>Name pattern</source>
+      <translation>名前のパターン</translation>
+    </message>
+    <message>
+      <source>Field book (a table, e.g. a CSV layer)</source>
+      <translation>フィールドブック（表、例：CSV レイヤ）</translation>
+    </message>
+    <message>
+      <source>Join the field book by</source>
+      <translation>フィールドブックの結合キー</translation>
+    </message>
+    <message>
+      <source>Field-book column of the plot id or number (default: plot_id or plot_no)</source>
+      <translation>フィールドブックのプロット ID または番号の列（既定：plot_id または plot_no）</translation>
+    </message>
+    <message>
+      <source>Field-book column of the row (default: row)</source>
+      <translation>フィールドブックの行の列（既定：row）</translation>
+    </message>
+    <message>
+      <source>Field-book column of the column (default: col)</source>
+      <translation>フィールドブックの列番号の列（既定：col）</translation>
+    </message>
+    <message>
+      <source>Output CRS (projected, in metres; default: the anchor's)</source>
+      <translation>出力 CRS（メートル単位の投影座標系。既定：アンカーの CRS）</translation>
+    </message>
+    <message>
+      <source>Plot grid</source>
+      <translation>プロットグリッド</translation>
+    </message>
+    <message>
+      <source>Bearing of the top edge (degrees clockwise from north)</source>
+      <translation>上辺の方位角（北から時計回りの度）</translation>
+    </message>
+    <message>
+      <source>Buffer (m; negative shrinks every plot on each side)</source>
+      <translation>バッファ（m。負の値は各プロットを各辺で縮める）</translation>
+    </message>
+    <message>
+      <source>Corner tolerance (m: how far the corners may be from a rectangle)</source>
+      <translation>四隅の許容差（m：四隅が矩形から離れてよい距離）</translation>
+    </message>
+    <message>
+      <source>Origin: give the upper-left corner of the field (or choose another anchor).</source>
+      <translation>原点：圃場の左上の角を指定してください（または別のアンカーを選んでください）。</translation>
+    </message>
+    <message>
+      <source>Plot grid {rows} × {cols}</source>
+      <translation>プロットグリッド {rows} × {cols}</translation>
+    </message>
+    <message>
+      <source>{n} plots in {crs}.</source>
+      <translation>{n} 個のプロット（{crs}）。</translation>
+    </message>
+    <message>
+      <source>Field corners: give a point layer with the four corners of the field (or choose another anchor).</source>
+      <translation>圃場の四隅：圃場の四隅を含むポイントレイヤを指定してください（または別のアンカーを選んでください）。</translation>
+    </message>
+    <message>
+      <source>Field boundary: give a polygon layer with the field's outline (or choose another anchor).</source>
+      <translation>圃場の境界：圃場の輪郭を含むポリゴンレイヤを指定してください（または別のアンカーを選んでください）。</translation>
+    </message>
+    <message>
+      <source>Field book '{name}': {n} columns joined ({fields}).</source>
+      <translation>フィールドブック「{name}」：{n} 列を結合しました（{fields}）。</translation>
+    </message>
+    <message>
+      <source>Field corners: the layer '{layer}' has {n} points; exactly four are needed, one per corner of the field.</source>
+      <translation>圃場の四隅：レイヤ「{layer}」には {n} 個の点があります。角ごとに 1 点、ちょうど 4 点が必要です。</translation>
+    </message>
+    <message>
+      <source>Field boundary: the layer '{layer}' has no polygon.</source>
+      <translation>圃場の境界：レイヤ「{layer}」にポリゴンがありません。</translation>
+    </message>
+    <message>
       <source>Crop point cloud by ROIs</source>
       <translation>ROI で点群を切り出し</translation>
     </message>
@@ -502,6 +738,110 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>ROI '{name}' skipped: {reason}</source>
       <translation>ROI '{name}' をスキップしました：{reason}</translation>
+    </message>
+    <message>
+      <source>Fit plot grid to crop rows</source>
+      <translation>プロットグリッドを作物の条に合わせる</translation>
+    </message>
+    <message>
+      <source>Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.
+
+From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
+
+Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
+
+The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
+      <translation>プロットグリッドを、オルソモザイクに写る実際に播種された作物の位置へ移動します。
+
+植生指数（RGB オルソモザイクの ExG、またはマルチスペクトルの赤と近赤外バンドによる NDVI）から、まず作物の条の方向と条間（画像のスペクトル）を求め、次にグリッド全体の回転・間隔の倍率・移動（各プロットの作物の位置から）、最後に上限以内のプロットごとの移動を求めて、各プロットを播種された条の中心に合わせます。プロットのサイズと形は変わりません。
+
+裸地のプロット（土壌、欠株）、植生の大部分がプロットの外にあるプロット（雑草）、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（0–1：周囲の植生が、一様に広がった場合よりどれだけ多くプロット内にあるか）、cover（平均植生重み、0–1）が付きます。
+
+ログには全体の補正と、しきい値より大きく移動したプロットの数が出ます。オルソモザイクはウィンドウごとに一度だけ読み込まれ（任意のサイズ。最大 1600 万画素に平均化）、実行はキャンセルできます。出力はオルソモザイクの CRS で、メートル単位の投影座標系でなければなりません。</translation>
+    </message>
+    <message>
+      <source>Automatic (ExG for an RGB orthomosaic)</source>
+      <translation>自動（RGB オルソモザイクには ExG）</translation>
+    </message>
+    <message>
+      <source>ExG (2G − R − B)/(R + G + B), RGB</source>
+      <translation>ExG (2G − R − B)/(R + G + B)、RGB</translation>
+    </message>
+    <message>
+      <source>NDVI (NIR − R)/(NIR + R), multispectral</source>
+      <translation>NDVI (NIR − R)/(NIR + R)、マルチスペクトル</translation>
+    </message>
+    <message>
+      <source>Plot grid (polygons)</source>
+      <translation>プロットグリッド（ポリゴン）</translation>
+    </message>
+    <message>
+      <source>Name field (labels and the log; default: plot_id or the feature id)</source>
+      <translation>名前フィールド（ラベルとログ用。既定：plot_id または地物 ID）</translation>
+    </message>
+    <message>
+      <source>Orthomosaic (GeoTIFF)</source>
+      <translation>オルソモザイク（GeoTIFF）</translation>
+    </message>
+    <message>
+      <source>Vegetation index</source>
+      <translation>植生指数</translation>
+    </message>
+    <message>
+      <source>Red band (ExG, NDVI)</source>
+      <translation>赤バンド（ExG、NDVI）</translation>
+    </message>
+    <message>
+      <source>Green band (ExG)</source>
+      <translation>緑バンド（ExG）</translation>
+    </message>
+    <message>
+      <source>Blue band (ExG)</source>
+      <translation>青バンド（ExG）</translation>
+    </message>
+    <message>
+      <source>Near-infrared band (NDVI)</source>
+      <translation>近赤外バンド（NDVI）</translation>
+    </message>
+    <message>
+      <source>Fitted plot grid</source>
+      <translation>合わせたプロットグリッド</translation>
+    </message>
+    <message>
+      <source>Plot grid: the layer has no plots.</source>
+      <translation>プロットグリッド：レイヤにプロットがありません。</translation>
+    </message>
+    <message>
+      <source>Largest per-plot shift (m)</source>
+      <translation>プロットごとの最大移動量（m）</translation>
+    </message>
+    <message>
+      <source>Report plots moved by more than (m)</source>
+      <translation>この値より大きく移動したプロットを報告（m）</translation>
+    </message>
+    <message>
+      <source>Search radius before the global correction (m; empty: 0.45 of the plot spacing)</source>
+      <translation>全体補正前の探索半径（m。空欄：プロット間隔の 0.45 倍）</translation>
+    </message>
+    <message>
+      <source>Bare below this share of the median plot cover</source>
+      <translation>プロット被覆の中央値に対するこの割合未満を裸地とする</translation>
+    </message>
+    <message>
+      <source>Weak fit below this score</source>
+      <translation>スコアがこの値未満なら適合が弱いとする</translation>
+    </message>
+    <message>
+      <source>{grid}: fitted to {ortho}</source>
+      <translation>{grid}：{ortho} に合わせた</translation>
+    </message>
+    <message>
+      <source>Plot '{name}' left in place: {reason}.</source>
+      <translation>プロット「{name}」はその場に残しました：{reason}。</translation>
+    </message>
+    <message>
+      <source>… and {n} more plots left in place.</source>
+      <translation>… ほかに {n} 個のプロットをその場に残しました。</translation>
     </message>
     <message>
       <source>Forward-project photo polygons to the map</source>

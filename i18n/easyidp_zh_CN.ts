@@ -36,10 +36,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>裁剪图四周的边距（像素）</translation>
     </message>
     <message>
-      <source>ROIs</source>
-      <translation>感兴趣区</translation>
-    </message>
-    <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>照片文件夹（照片被移动时使用；按文件名匹配）</translation>
     </message>
@@ -356,6 +352,246 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
       <translation>生长季：{n} 个日期，位于 {f}</translation>
     </message>
     <message>
+      <source>Create plot grid</source>
+      <translation>创建地块网格</translation>
+    </message>
+    <message>
+      <source>ROIs</source>
+      <translation>感兴趣区</translation>
+    </message>
+    <message>
+      <source>Makes the plot polygons of a trial from its field layout: rows (ranges) × columns (passes) of plots, in blocks, numbered and joined to the field book.
+
+Anchor: four corner points of the field in any order (they are sorted clockwise from the upper-left corner, the one whose edge to the next points closest to east; the log says the order used), a field-boundary polygon (its minimum-area rectangle), or an origin (the upper-left corner) and the bearing of the top edge (90 = east). Columns are counted along the top edge (x), rows down the left edge (y).
+
+Layout, per axis: plot size, gap between plots (or the spacing, centre to centre), blocks and the gap between blocks. With corners or a boundary, a size or gap left empty is solved so that the plots fill the field. A negative buffer shrinks every plot on each side (a positive one grows it); plots stay rectangles.
+
+Numbering: row by row, column by column or serpentine, from any corner, from the start id; the name pattern takes {plot_no}, {row}, {col}, {block}, {block_row}, {block_col}, {row_letter}, {range} and {pass}, e.g. {block}-{row:02d}-{col:02d}.
+
+Field book: a table (e.g. a CSV layer) joined by plot id, plot number, or row and column; rows that match no plot and plots without a row are listed in the log.
+
+The CRS must be projected in metres: a geographic CRS is refused with the UTM zone to use. Corners that are not a rectangle, and plots that would overlap, are refused with the amount.</source>
+      <translation>根据田间布局生成试验的地块多边形：按区组排列的行（range）× 列（pass）地块，编号并连接田间记录本。
+
+锚定：田块的四个角点，顺序任意（从左上角开始按顺时针排序，左上角即其到下一个角点的边最接近正东方向的角；日志会给出所用的顺序）；田块边界多边形（取其最小面积外接矩形）；或原点（左上角）与上边的方位角（90 = 正东）。列沿上边（x）计数，行沿左边向下（y）计数。
+
+布局（每个轴）：地块尺寸、地块间距（或中心到中心的间隔）、区组数及区组间距。使用角点或边界时，留空的尺寸或间距会被求解，使地块铺满田块。负的缓冲距离使每个地块各边内缩（正值则外扩）；地块保持为矩形。
+
+编号：逐行、逐列或蛇形，可从任一角开始，从起始编号开始；名称模板可用 {plot_no}、{row}、{col}、{block}、{block_row}、{block_col}、{row_letter}、{range} 和 {pass}，例如 {block}-{row:02d}-{col:02d}。
+
+田间记录本：一个表（例如 CSV 图层），按地块 ID、地块编号或行列连接；不匹配任何地块的记录行和没有记录行的地块会在日志中列出。
+
+坐标参考系必须是以米为单位的投影坐标系：地理坐标系会被拒绝，并提示应使用的 UTM 带。不构成矩形的角点以及会重叠的地块会被拒绝，并给出偏差量。</translation>
+    </message>
+    <message>
+      <source>Four corner points (any order)</source>
+      <translation>四个角点（顺序任意）</translation>
+    </message>
+    <message>
+      <source>Field boundary polygon (its minimum-area rectangle)</source>
+      <translation>田块边界多边形（其最小面积外接矩形）</translation>
+    </message>
+    <message>
+      <source>Origin point (upper-left corner) and bearing</source>
+      <translation>原点（左上角）与方位角</translation>
+    </message>
+    <message>
+      <source>Row by row</source>
+      <translation>逐行</translation>
+    </message>
+    <message>
+      <source>Serpentine rows (back and forth)</source>
+      <translation>蛇形行（往返）</translation>
+    </message>
+    <message>
+      <source>Column by column</source>
+      <translation>逐列</translation>
+    </message>
+    <message>
+      <source>Serpentine columns</source>
+      <translation>蛇形列</translation>
+    </message>
+    <message>
+      <source>Top left</source>
+      <translation>左上</translation>
+    </message>
+    <message>
+      <source>Top right</source>
+      <translation>右上</translation>
+    </message>
+    <message>
+      <source>Bottom left</source>
+      <translation>左下</translation>
+    </message>
+    <message>
+      <source>Bottom right</source>
+      <translation>右下</translation>
+    </message>
+    <message>
+      <source>Plot id (the name)</source>
+      <translation>地块 ID（名称）</translation>
+    </message>
+    <message>
+      <source>Plot number</source>
+      <translation>地块编号</translation>
+    </message>
+    <message>
+      <source>Row and column</source>
+      <translation>行和列</translation>
+    </message>
+    <message>
+      <source>Anchor</source>
+      <translation>锚定</translation>
+    </message>
+    <message>
+      <source>Field corners (4 points)</source>
+      <translation>田块角点（4 个点）</translation>
+    </message>
+    <message>
+      <source>Field boundary (a polygon)</source>
+      <translation>田块边界（多边形）</translation>
+    </message>
+    <message>
+      <source>Origin (upper-left corner of the field)</source>
+      <translation>原点（田块左上角）</translation>
+    </message>
+    <message>
+      <source>Rows (ranges)</source>
+      <translation>行数（range）</translation>
+    </message>
+    <message>
+      <source>Columns (passes)</source>
+      <translation>列数（pass）</translation>
+    </message>
+    <message>
+      <source>Plot size along a row (m; empty: fill the field)</source>
+      <translation>沿行方向的地块尺寸（米；留空：铺满田块）</translation>
+    </message>
+    <message>
+      <source>Plot size down a column (m; empty: fill the field)</source>
+      <translation>沿列方向的地块尺寸（米；留空：铺满田块）</translation>
+    </message>
+    <message>
+      <source>Gap between columns of plots (m; empty: solved)</source>
+      <translation>地块列之间的间距（米；留空：求解）</translation>
+    </message>
+    <message>
+      <source>Alley between rows of plots (m; empty: solved)</source>
+      <translation>地块行之间的走道（米；留空：求解）</translation>
+    </message>
+    <message>
+      <source>Spacing of the columns, centre to centre (m; instead of the gap)</source>
+      <translation>列的中心间隔（米；代替间距）</translation>
+    </message>
+    <message>
+      <source>Spacing of the rows, centre to centre (m; instead of the alley)</source>
+      <translation>行的中心间隔（米；代替走道）</translation>
+    </message>
+    <message>
+      <source>Blocks along a row</source>
+      <translation>沿行方向的区组数</translation>
+    </message>
+    <message>
+      <source>Blocks down a column</source>
+      <translation>沿列方向的区组数</translation>
+    </message>
+    <message>
+      <source>Gap between blocks along a row (m; empty: the plot gap)</source>
+      <translation>沿行方向的区组间距（米；留空：地块间距）</translation>
+    </message>
+    <message>
+      <source>Gap between blocks down a column (m; empty: the alley)</source>
+      <translation>沿列方向的区组间距（米；留空：走道）</translation>
+    </message>
+    <message>
+      <source>Numbering order</source>
+      <translation>编号顺序</translation>
+    </message>
+    <message>
+      <source>Numbering starts at</source>
+      <translation>编号起点</translation>
+    </message>
+    <message>
+      <source>Start id (first plot number)</source>
+      <translation>起始编号（第一个地块的编号）</translation>
+    </message>
+    <message>
+      <source>Name pattern</source>
+      <translation>名称模板</translation>
+    </message>
+    <message>
+      <source>Field book (a table, e.g. a CSV layer)</source>
+      <translation>田间记录本（一个表，例如 CSV 图层）</translation>
+    </message>
+    <message>
+      <source>Join the field book by</source>
+      <translation>田间记录本的连接依据</translation>
+    </message>
+    <message>
+      <source>Field-book column of the plot id or number (default: plot_id or plot_no)</source>
+      <translation>田间记录本中地块 ID 或编号的列（默认：plot_id 或 plot_no）</translation>
+    </message>
+    <message>
+      <source>Field-book column of the row (default: row)</source>
+      <translation>田间记录本中行的列（默认：row）</translation>
+    </message>
+    <message>
+      <source>Field-book column of the column (default: col)</source>
+      <translation>田间记录本中列号的列（默认：col）</translation>
+    </message>
+    <message>
+      <source>Output CRS (projected, in metres; default: the anchor's)</source>
+      <translation>输出坐标参考系（投影坐标系，单位为米；默认：锚定的坐标系）</translation>
+    </message>
+    <message>
+      <source>Plot grid</source>
+      <translation>地块网格</translation>
+    </message>
+    <message>
+      <source>Bearing of the top edge (degrees clockwise from north)</source>
+      <translation>上边的方位角（从北顺时针的度数）</translation>
+    </message>
+    <message>
+      <source>Buffer (m; negative shrinks every plot on each side)</source>
+      <translation>缓冲距离（米；负值使每个地块各边内缩）</translation>
+    </message>
+    <message>
+      <source>Corner tolerance (m: how far the corners may be from a rectangle)</source>
+      <translation>角点容差（米：角点距矩形的最大偏差）</translation>
+    </message>
+    <message>
+      <source>Origin: give the upper-left corner of the field (or choose another anchor).</source>
+      <translation>原点：请给出田块的左上角（或选择其他锚定方式）。</translation>
+    </message>
+    <message>
+      <source>Plot grid {rows} × {cols}</source>
+      <translation>地块网格 {rows} × {cols}</translation>
+    </message>
+    <message>
+      <source>{n} plots in {crs}.</source>
+      <translation>{n} 个地块，坐标系 {crs}。</translation>
+    </message>
+    <message>
+      <source>Field corners: give a point layer with the four corners of the field (or choose another anchor).</source>
+      <translation>田块角点：请给出含田块四个角点的点图层（或选择其他锚定方式）。</translation>
+    </message>
+    <message>
+      <source>Field boundary: give a polygon layer with the field's outline (or choose another anchor).</source>
+      <translation>田块边界：请给出含田块轮廓的多边形图层（或选择其他锚定方式）。</translation>
+    </message>
+    <message>
+      <source>Field book '{name}': {n} columns joined ({fields}).</source>
+      <translation>田间记录本“{name}”：连接了 {n} 列（{fields}）。</translation>
+    </message>
+    <message>
+      <source>Field corners: the layer '{layer}' has {n} points; exactly four are needed, one per corner of the field.</source>
+      <translation>田块角点：图层“{layer}”有 {n} 个点；需要恰好四个，每个角一个。</translation>
+    </message>
+    <message>
+      <source>Field boundary: the layer '{layer}' has no polygon.</source>
+      <translation>田块边界：图层“{layer}”没有多边形。</translation>
+    </message>
+    <message>
       <source>Crop point cloud by ROIs</source>
       <translation>按感兴趣区裁剪点云</translation>
     </message>
@@ -502,6 +738,110 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>ROI '{name}' skipped: {reason}</source>
       <translation>已跳过感兴趣区“{name}”：{reason}</translation>
+    </message>
+    <message>
+      <source>Fit plot grid to crop rows</source>
+      <translation>将地块网格拟合到作物行</translation>
+    </message>
+    <message>
+      <source>Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.
+
+From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
+
+Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
+
+The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
+      <translation>把地块网格移到正射影像上实际播种的作物位置。
+
+根据植被指数（RGB 正射影像的 ExG，或多光谱影像用红光和近红外波段计算的 NDVI），先求出作物行的方向和行距（影像的频谱），再求出网格的整体旋转、间隔缩放和平移（依据每个地块作物的位置），最后求出每个地块不超过上限的平移，使地块以其播种行为中心。地块保持尺寸和形状不变。
+
+裸露的地块（土壤、缺苗）、植被大多在地块之外的地块（杂草）以及平移会超过上限的地块保持原位：它们只接受整体校正，moved = 0，原因写在 fit_flag 中。每个地块得到 shift_x、shift_y 和 shift_m（自身的平移，米）、fit_score（0–1：周围植被位于地块内的程度比均匀分布时高出多少）和 cover（平均植被权重，0–1）。
+
+日志给出整体校正以及平移超过阈值的地块数。正射影像按窗口一次读完（任意大小；平均到最多 1600 万像素），运行可以取消。输出使用正射影像的坐标参考系，它必须是以米为单位的投影坐标系。</translation>
+    </message>
+    <message>
+      <source>Automatic (ExG for an RGB orthomosaic)</source>
+      <translation>自动（RGB 正射影像用 ExG）</translation>
+    </message>
+    <message>
+      <source>ExG (2G − R − B)/(R + G + B), RGB</source>
+      <translation>ExG (2G − R − B)/(R + G + B)，RGB</translation>
+    </message>
+    <message>
+      <source>NDVI (NIR − R)/(NIR + R), multispectral</source>
+      <translation>NDVI (NIR − R)/(NIR + R)，多光谱</translation>
+    </message>
+    <message>
+      <source>Plot grid (polygons)</source>
+      <translation>地块网格（多边形）</translation>
+    </message>
+    <message>
+      <source>Name field (labels and the log; default: plot_id or the feature id)</source>
+      <translation>名称字段（用于标注和日志；默认：plot_id 或要素 ID）</translation>
+    </message>
+    <message>
+      <source>Orthomosaic (GeoTIFF)</source>
+      <translation>正射影像（GeoTIFF）</translation>
+    </message>
+    <message>
+      <source>Vegetation index</source>
+      <translation>植被指数</translation>
+    </message>
+    <message>
+      <source>Red band (ExG, NDVI)</source>
+      <translation>红光波段（ExG、NDVI）</translation>
+    </message>
+    <message>
+      <source>Green band (ExG)</source>
+      <translation>绿光波段（ExG）</translation>
+    </message>
+    <message>
+      <source>Blue band (ExG)</source>
+      <translation>蓝光波段（ExG）</translation>
+    </message>
+    <message>
+      <source>Near-infrared band (NDVI)</source>
+      <translation>近红外波段（NDVI）</translation>
+    </message>
+    <message>
+      <source>Fitted plot grid</source>
+      <translation>拟合后的地块网格</translation>
+    </message>
+    <message>
+      <source>Plot grid: the layer has no plots.</source>
+      <translation>地块网格：图层中没有地块。</translation>
+    </message>
+    <message>
+      <source>Largest per-plot shift (m)</source>
+      <translation>每个地块的最大平移（米）</translation>
+    </message>
+    <message>
+      <source>Report plots moved by more than (m)</source>
+      <translation>报告平移超过此值的地块（米）</translation>
+    </message>
+    <message>
+      <source>Search radius before the global correction (m; empty: 0.45 of the plot spacing)</source>
+      <translation>整体校正前的搜索半径（米；留空：地块间隔的 0.45 倍）</translation>
+    </message>
+    <message>
+      <source>Bare below this share of the median plot cover</source>
+      <translation>覆盖度低于地块覆盖度中位数的此比例视为裸露</translation>
+    </message>
+    <message>
+      <source>Weak fit below this score</source>
+      <translation>得分低于此值视为拟合较弱</translation>
+    </message>
+    <message>
+      <source>{grid}: fitted to {ortho}</source>
+      <translation>{grid}：已拟合到 {ortho}</translation>
+    </message>
+    <message>
+      <source>Plot '{name}' left in place: {reason}.</source>
+      <translation>地块“{name}”保持原位：{reason}。</translation>
+    </message>
+    <message>
+      <source>… and {n} more plots left in place.</source>
+      <translation>… 另有 {n} 个地块保持原位。</translation>
     </message>
     <message>
       <source>Forward-project photo polygons to the map</source>

@@ -14,6 +14,7 @@ import time
 import numpy as np
 
 from .demo_photo_statistics import run_photo_statistics_demo
+from .demo_plot_grid import run_plot_grid_demo
 from .demo_season import SEASON_DATES, run_season_demo
 from .qgis_process import qgis_process_env, run_algorithm
 
@@ -110,6 +111,7 @@ def main(out: str) -> int:
     plots_apart = _plots_apart(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
     season = run_season_demo(steps, s["SEASON_SURVEYS"], out)
+    plot_grid = run_plot_grid_demo(steps, out)
 
     png = _overview(os.path.join(out, "overview.png"), s["ORTHOMOSAIC"],
                     [plots, ms["OUTPUT_FOOTPRINTS"]])
@@ -143,6 +145,8 @@ def main(out: str) -> int:
     for line in forward:
         print(line)
     for line in photo_stats:
+        print(line)
+    for line in plot_grid:
         print(line)
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "

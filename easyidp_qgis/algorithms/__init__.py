@@ -2,8 +2,10 @@
 from .back_project_rois import BackProjectROIs
 from .camera_footprints import CameraFootprints
 from .create_demo_survey import CreateDemoSurvey
+from .create_plot_grid import CreatePlotGrid
 from .crop_point_cloud_by_rois import CropPointCloudByROIs
 from .crop_raster_by_rois import CropRasterByROIs
+from .fit_plot_grid import FitPlotGrid
 from .forward_project_polygons import ForwardProjectPolygons
 from .orthorectify_rois import OrthorectifyROIs
 from .photo_statistics import PhotoStatisticsAlgorithm
@@ -13,4 +15,5 @@ from .season_traits import SeasonTraits
 
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
               PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits, BackProjectROIs,
-              ForwardProjectPolygons, OrthorectifyROIs, PhotoStatisticsAlgorithm]
+              ForwardProjectPolygons, OrthorectifyROIs, PhotoStatisticsAlgorithm, CreatePlotGrid,
+              FitPlotGrid]

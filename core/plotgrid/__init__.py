@@ -1,0 +1,16 @@
+"""Plot grids: make the plot polygons of a trial from its field layout
+(:func:`create_plot_grid`), join its field book, and fit the grid to the crop rows of an
+orthomosaic (:func:`fit_plot_grid`, in :mod:`.fit`).
+"""
+from .create import create_plot_grid, write_plot_grid
+from .fieldbook import JoinReport, join_field_book, read_field_book
+from .fit import FitResult, fit_plot_grid
+from .layout import (CORNER_ORDER, ORDERS, START_CORNERS, Axis, GridFrame, Numbering, PlotGrid,
+                     PlotGridError, frame_from_bearing, frame_from_boundary, frame_from_corners,
+                     make_plot_grid, minimum_area_rectangle, sort_corners, utm_zone)
+
+__all__ = ["create_plot_grid", "write_plot_grid", "join_field_book", "read_field_book",
+           "JoinReport", "fit_plot_grid", "FitResult", "Axis", "GridFrame", "Numbering",
+           "PlotGrid", "PlotGridError", "frame_from_bearing", "frame_from_boundary",
+           "frame_from_corners", "make_plot_grid", "minimum_area_rectangle", "sort_corners",
+           "utm_zone", "CORNER_ORDER", "ORDERS", "START_CORNERS"]

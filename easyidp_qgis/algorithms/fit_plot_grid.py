@@ -1,0 +1,181 @@
+"""Processing tool: Fit plot grid to crop rows (easyidp:fitplotgrid)."""
+from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry, QgsPointXY,
+                       QgsProcessing, QgsProcessingException, QgsProcessingParameterBand,
+                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterField, QgsProcessingParameterNumber,
+                       QgsProcessingParameterRasterLayer, QgsWkbTypes)
+from qgis.PyQt.QtCore import QVariant
+
+from .. import presentation
+from ..layers import crs_string, geotiff_source, optional_number, rois_from_source
+from .base import EasyIDPAlgorithm, translatable
+
+INDICES = [("auto", translatable("Automatic (ExG for an RGB orthomosaic)")),
+           ("exg", translatable("ExG (2G − R − B)/(R + G + B), RGB")),
+           ("ndvi", translatable("NDVI (NIR − R)/(NIR + R), multispectral"))]
+NEW_FIELDS = (("shift_x", QVariant.Double), ("shift_y", QVariant.Double),
+              ("shift_m", QVariant.Double), ("fit_score", QVariant.Double),
+              ("cover", QVariant.Double), ("moved", QVariant.Int), ("fit_flag", QVariant.String))
+
+
+class FitPlotGrid(EasyIDPAlgorithm):
+    GRID = "GRID"
+    NAME_FIELD = "NAME_FIELD"
+    ORTHOMOSAIC = "ORTHOMOSAIC"
+    INDEX = "INDEX"
+    RED = "RED_BAND"
+    GREEN = "GREEN_BAND"
+    BLUE = "BLUE_BAND"
+    NIR = "NIR_BAND"
+    MAX_SHIFT = "MAX_SHIFT"
+    THRESHOLD = "THRESHOLD"
+    SEARCH = "SEARCH"
+    MIN_COVER = "MIN_COVER"
+    MIN_SCORE = "MIN_SCORE"
+    OUTPUT = "OUTPUT"
+
+    NAME = "fitplotgrid"
+    DISPLAY = "Fit plot grid to crop rows"
+    GROUP = "ROIs"
+    GROUP_ID = "rois"
+    HELP = (
+        "Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.\n\n"
+        "From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with "
+        "its red and NIR bands) it finds the direction and spacing of the crop rows (the image's "
+        "spectrum), then the grid's global rotation, spacing scale and shift (from where every "
+        "plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its "
+        "planted rows. Plots keep their size and shape.\n\n"
+        "Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them "
+        "(weeds), or whose shift would exceed the bound are left in place: they keep the global "
+        "correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, "
+        "shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation "
+        "around it lies inside it than an even spread would put there) and cover (its mean "
+        "vegetation weight, 0–1).\n\n"
+        "The log gives the global correction and how many plots moved by more than the "
+        "threshold. The orthomosaic is read in one pass by windows (any size; it is averaged "
+        "to at most 16 million pixels), and the run can be cancelled. The output is in the "
+        "orthomosaic's CRS, which must be projected in metres.")
+
+    def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
+        self.addParameter(QgsProcessingParameterFeatureSource(
+            self.GRID, self.tr("Plot grid (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+        self.addParameter(QgsProcessingParameterField(
+            self.NAME_FIELD, self.tr("Name field (labels and the log; default: plot_id or the "
+                                     "feature id)"),
+            parentLayerParameterName=self.GRID, optional=True))
+        self.addParameter(QgsProcessingParameterRasterLayer(
+            self.ORTHOMOSAIC, self.tr("Orthomosaic (GeoTIFF)")))
+        self.addParameter(QgsProcessingParameterEnum(
+            self.INDEX, self.tr("Vegetation index"), options=[self.tr(i[1]) for i in INDICES],
+            defaultValue=0))
+        self.addParameter(self.decimals(QgsProcessingParameterNumber(
+            self.MAX_SHIFT, self.tr("Largest per-plot shift (m)"),
+            QgsProcessingParameterNumber.Double, defaultValue=0.25, minValue=0.0), 3))
+        self.addParameter(self.decimals(QgsProcessingParameterNumber(
+            self.THRESHOLD, self.tr("Report plots moved by more than (m)"),
+            QgsProcessingParameterNumber.Double, defaultValue=0.05, minValue=0.0), 3))
+        advanced = []
+        for name, text, default in ((self.RED, translatable("Red band (ExG, NDVI)"), 1),
+                                    (self.GREEN, translatable("Green band (ExG)"), 2),
+                                    (self.BLUE, translatable("Blue band (ExG)"), 3),
+                                    (self.NIR, translatable("Near-infrared band (NDVI)"), 4)):
+            advanced.append(QgsProcessingParameterBand(
+                name, self.tr(text), default, self.ORTHOMOSAIC, optional=True))
+        advanced.append(self.decimals(QgsProcessingParameterNumber(
+            self.SEARCH, self.tr("Search radius before the global correction (m; empty: 0.45 of "
+                                 "the plot spacing)"),
+            QgsProcessingParameterNumber.Double, optional=True, minValue=0.0), 3))
+        advanced.append(self.decimals(QgsProcessingParameterNumber(
+            self.MIN_COVER, self.tr("Bare below this share of the median plot cover"),
+            QgsProcessingParameterNumber.Double, defaultValue=0.3, minValue=0.0, maxValue=1.0), 2))
+        advanced.append(self.decimals(QgsProcessingParameterNumber(
+            self.MIN_SCORE, self.tr("Weak fit below this score"),
+            QgsProcessingParameterNumber.Double, defaultValue=0.6, minValue=0.0, maxValue=1.0), 2))
+        for p in advanced:
+            p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            self.addParameter(p)
+        self.addParameter(QgsProcessingParameterFeatureSink(
+            self.OUTPUT, self.tr("Fitted plot grid"), QgsProcessing.TypeVectorPolygon))
+
+    def run_tool(self, parameters, context, feedback):
+        from ...core.plotgrid import fit_plot_grid
+        from ...core.plotgrid.layout import check_metric_crs
+        from ...core.raster.geotiff import open_geotiff
+
+        layer = self.parameterAsRasterLayer(parameters, self.ORTHOMOSAIC, context)
+        tif = open_geotiff(geotiff_source(layer, self.tr("Orthomosaic")),
+                           crs=crs_string(layer.crs()))
+        source = self.parameterAsSource(parameters, self.GRID, context)
+        name_field = self.parameterAsString(parameters, self.NAME_FIELD, context)
+        if not name_field and source is not None and \
+                source.fields().indexFromName("plot_id") >= 0:
+            name_field = "plot_id"
+        rois, features = rois_from_source(source, name_field, self.tr("Plot grid"), feedback,
+                                          layer.crs(), context)
+        if not rois.rois:
+            raise QgsProcessingException(self.tr("Plot grid: the layer has no plots."))
+        centre = rois.rois[0].parts[0][0].mean(axis=0)
+        check_metric_crs(tif.crs, centre, self.tr("Orthomosaic"))
+        index = INDICES[self.parameterAsEnum(parameters, self.INDEX, context)][0]
+        band = lambda n: self.parameterAsInt(parameters, n, context)  # noqa: E731
+        bands = None
+        if index == "ndvi":
+            bands = (band(self.RED), band(self.NIR))
+        elif index == "exg" or parameters.get(self.RED) not in (None, ""):
+            bands = (band(self.RED), band(self.GREEN), band(self.BLUE))
+        max_shift = self.parameterAsDouble(parameters, self.MAX_SHIFT, context)
+        threshold = self.parameterAsDouble(parameters, self.THRESHOLD, context)
+        result = fit_plot_grid(
+            [r.parts[0][0] for r in rois], tif, index=index, bands=bands, max_shift=max_shift,
+            search=optional_number(self, parameters, self.SEARCH, context),
+            min_cover=self.parameterAsDouble(parameters, self.MIN_COVER, context),
+            min_score=self.parameterAsDouble(parameters, self.MIN_SCORE, context),
+            progress=lambda p: feedback.setProgress(5 + 0.9 * p), is_cancelled=feedback.isCanceled)
+        for note in result.notes:
+            feedback.pushInfo(note)
+        feedback.pushInfo(result.summary(threshold))
+        left = [(roi.name, flag) for roi, flag in zip(rois, result.flag) if flag]
+        for name, flag in left[:50]:
+            feedback.pushWarning(self.tr("Plot '{name}' left in place: {reason}.").format(
+                name=name, reason=flag))
+        if len(left) > 50:
+            feedback.pushWarning(self.tr("… and {n} more plots left in place.").format(
+                n=len(left) - 50))
+
+        fields = QgsFields(source.fields())
+        for name, kind in NEW_FIELDS:
+            if fields.indexFromName(name) < 0:
+                fields.append(QgsField(name, kind))
+        sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
+                                             QgsWkbTypes.MultiPolygon, layer.crs())
+        if sink is None:
+            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        shift_m = result.shift_m
+        for i, (feat, roi) in enumerate(zip(features, rois)):
+            values = {"shift_x": float(result.shift[i, 0]), "shift_y": float(result.shift[i, 1]),
+                      "shift_m": float(shift_m[i]), "fit_score": float(result.score[i]),
+                      "cover": float(result.cover[i]), "moved": int(result.moved[i]),
+                      "fit_flag": result.flag[i]}
+            attrs = list(feat.attributes()) + [None] * (fields.count() - len(feat.attributes()))
+            for name, _ in NEW_FIELDS:
+                attrs[fields.indexFromName(name)] = values[name]
+            out = QgsFeature(fields)
+            out.setAttributes(attrs)
+            polys = [[[QgsPointXY(float(x), float(y)) for x, y in
+                       _closed(result.move(i, ring))] for ring in part] for part in roi.parts]
+            out.setGeometry(QgsGeometry.fromMultiPolygonXY(polys))
+            sink.addFeature(out, QgsFeatureSink.FastInsert)
+        label = f'"{name_field}"' if name_field else None
+        presentation.present(
+            self, context, dest_id, self.OUTPUT,
+            presentation.outline_style("#00e5ff", 0.5, dashed_when='"moved" = 0',
+                                       dashed_colour="#ff3b30", label=label, label_scale=2000),
+            self.tr("{grid}: fitted to {ortho}").format(grid=source.sourceName(),
+                                                        ortho=layer.name()))
+        feedback.setProgress(100)
+        return {self.OUTPUT: dest_id}
+
+
+def _closed(xy):
+    return list(xy) + [xy[0]]
