@@ -1,14 +1,15 @@
 """Processing tool: Create plot grid (easyidp:createplotgrid)."""
 from qgis.core import (QgsCoordinateTransform, QgsFeature,
-                       QgsFeatureSink, QgsField, QgsFields, QgsGeometry, QgsPointXY, QgsProcessing,
-                       QgsProcessingException, QgsProcessingParameterCrs,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+                       QgsField, QgsFields, QgsGeometry, QgsPointXY, QgsProcessingException, QgsProcessingParameterCrs,
+                       QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterNumber,
-                       QgsProcessingParameterPoint, QgsProcessingParameterString, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
+                       QgsProcessingParameterPoint, QgsProcessingParameterString)
 
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from .. import presentation
+from ..outputs import close_sink
 from ..layers import crs_string, optional_number
 from .base import EasyIDPAlgorithm, translatable
 
@@ -28,13 +29,13 @@ JOINS = [("plot_id", translatable("Plot id (the name)")),
 
 
 def qvariant_type(values):
-    """The QVariant type of a column of Python values (None ignored)."""
+    """The field type of a column of Python values (None ignored)."""
     kinds = {type(v) for v in values if v is not None}
     if kinds and kinds <= {int, bool}:
-        return QVariant.Int
+        return FieldType.Int
     if kinds and kinds <= {int, bool, float}:
-        return QVariant.Double
-    return QVariant.String
+        return FieldType.Double
+    return FieldType.QString
 
 
 class CreatePlotGrid(EasyIDPAlgorithm):
@@ -99,49 +100,49 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             self.ANCHOR, self.tr("Anchor"), options=[self.tr(a[1]) for a in ANCHORS],
             defaultValue=0))
         self.addParameter(QgsProcessingParameterFeatureSource(
-            self.CORNERS, self.tr("Field corners (4 points)"), [QgsProcessing.TypeVectorPoint],
+            self.CORNERS, self.tr("Field corners (4 points)"), [ProcessingSourceType.VectorPoint],
             optional=True))
         self.addParameter(QgsProcessingParameterFeatureSource(
-            self.BOUNDARY, self.tr("Field boundary (a polygon)"), [QgsProcessing.TypeVectorPolygon],
+            self.BOUNDARY, self.tr("Field boundary (a polygon)"), [ProcessingSourceType.VectorPolygon],
             optional=True))
         self.addParameter(QgsProcessingParameterPoint(
             self.ORIGIN, self.tr("Origin (upper-left corner of the field)"), optional=True))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.BEARING, self.tr("Bearing of the top edge (degrees clockwise from north)"),
-            QgsProcessingParameterNumber.Double, defaultValue=90.0, minValue=-360.0,
+            ProcessingNumberParameterType.Double, defaultValue=90.0, minValue=-360.0,
             maxValue=360.0), 3))
         self.addParameter(QgsProcessingParameterNumber(
-            self.ROWS, self.tr("Rows (ranges)"), QgsProcessingParameterNumber.Integer,
+            self.ROWS, self.tr("Rows (ranges)"), ProcessingNumberParameterType.Integer,
             defaultValue=4, minValue=1))
         self.addParameter(QgsProcessingParameterNumber(
-            self.COLS, self.tr("Columns (passes)"), QgsProcessingParameterNumber.Integer,
+            self.COLS, self.tr("Columns (passes)"), ProcessingNumberParameterType.Integer,
             defaultValue=4, minValue=1))
         for name, text in ((self.SIZE_X, translatable("Plot size along a row (m; empty: fill the field)")),
                            (self.SIZE_Y, translatable("Plot size down a column (m; empty: fill the field)")),
                            (self.GAP_X, translatable("Gap between columns of plots (m; empty: solved)")),
                            (self.GAP_Y, translatable("Alley between rows of plots (m; empty: solved)"))):
             self.addParameter(self.decimals(QgsProcessingParameterNumber(
-                name, self.tr(text), QgsProcessingParameterNumber.Double, optional=True,
+                name, self.tr(text), ProcessingNumberParameterType.Double, optional=True,
                 minValue=0.0), 3))
         advanced = []
         for name, text in ((self.SPACING_X, translatable("Spacing of the columns, centre to centre (m; instead of the gap)")),
                            (self.SPACING_Y, translatable("Spacing of the rows, centre to centre (m; instead of the alley)"))):
             advanced.append(self.decimals(QgsProcessingParameterNumber(
-                name, self.tr(text), QgsProcessingParameterNumber.Double, optional=True,
+                name, self.tr(text), ProcessingNumberParameterType.Double, optional=True,
                 minValue=0.0), 3))
         for name, text in ((self.BLOCKS_X, translatable("Blocks along a row")),
                            (self.BLOCKS_Y, translatable("Blocks down a column"))):
             self.addParameter(QgsProcessingParameterNumber(
-                name, self.tr(text), QgsProcessingParameterNumber.Integer, defaultValue=1,
+                name, self.tr(text), ProcessingNumberParameterType.Integer, defaultValue=1,
                 minValue=1))
         for name, text in ((self.BLOCK_GAP_X, translatable("Gap between blocks along a row (m; empty: the plot gap)")),
                            (self.BLOCK_GAP_Y, translatable("Gap between blocks down a column (m; empty: the alley)"))):
             self.addParameter(self.decimals(QgsProcessingParameterNumber(
-                name, self.tr(text), QgsProcessingParameterNumber.Double, optional=True,
+                name, self.tr(text), ProcessingNumberParameterType.Double, optional=True,
                 minValue=0.0), 3))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.BUFFER, self.tr("Buffer (m; negative shrinks every plot on each side)"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.0), 3))
+            ProcessingNumberParameterType.Double, defaultValue=0.0), 3))
         self.addParameter(QgsProcessingParameterEnum(
             self.ORDER, self.tr("Numbering order"), options=[self.tr(o[1]) for o in ORDERS],
             defaultValue=0))
@@ -150,12 +151,12 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterNumber(
             self.START_ID, self.tr("Start id (first plot number)"),
-            QgsProcessingParameterNumber.Integer, defaultValue=1))
+            ProcessingNumberParameterType.Integer, defaultValue=1))
         self.addParameter(QgsProcessingParameterString(
             self.PATTERN, self.tr("Name pattern"), defaultValue="{plot_no}"))
         self.addParameter(QgsProcessingParameterFeatureSource(
             self.FIELD_BOOK, self.tr("Field book (a table, e.g. a CSV layer)"),
-            [QgsProcessing.TypeVector], optional=True))
+            [ProcessingSourceType.Vector], optional=True))
         self.addParameter(QgsProcessingParameterEnum(
             self.JOIN_BY, self.tr("Join the field book by"), options=[self.tr(j[1]) for j in JOINS],
             defaultValue=0))
@@ -166,15 +167,15 @@ class CreatePlotGrid(EasyIDPAlgorithm):
                 name, self.tr(text), parentLayerParameterName=self.FIELD_BOOK, optional=True))
         advanced.append(self.decimals(QgsProcessingParameterNumber(
             self.TOLERANCE, self.tr("Corner tolerance (m: how far the corners may be from a rectangle)"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.25, minValue=0.0), 3))
+            ProcessingNumberParameterType.Double, defaultValue=0.25, minValue=0.0), 3))
         advanced.append(QgsProcessingParameterCrs(
             self.CRS, self.tr("Output CRS (projected, in metres; default: the anchor's)"),
             optional=True))
         for p in advanced:
-            p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
             self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
-            self.OUTPUT, self.tr("Plot grid"), QgsProcessing.TypeVectorPolygon))
+            self.OUTPUT, self.tr("Plot grid"), ProcessingSourceType.VectorPolygon))
 
     # ---- reading the anchor -----------------------------------------------------------------
 
@@ -273,13 +274,13 @@ class CreatePlotGrid(EasyIDPAlgorithm):
                 feedback.pushWarning(line)
 
         fields = QgsFields()
-        fields.append(QgsField("plot_id", QVariant.String))
+        fields.append(QgsField("plot_id", FieldType.QString))
         for name in ("plot_no", "row", "col", "block"):
-            fields.append(QgsField(name, QVariant.Int))
+            fields.append(QgsField(name, FieldType.Int))
         for name, values in grid.fields.items():
             fields.append(QgsField(name, qvariant_type(values)))
         sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                             QgsWkbTypes.Polygon, crs)
+                                             WkbType.Polygon, crs)
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         names = grid.field_names()
@@ -293,7 +294,8 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             feat.setAttributes([attrs[n] for n in names])
             ring = [QgsPointXY(float(x), float(y)) for x, y in grid.corners[i]]
             feat.setGeometry(QgsGeometry.fromPolygonXY([ring + ring[:1]]))
-            sink.addFeature(feat, QgsFeatureSink.FastInsert)
+            sink.addFeature(feat, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         presentation.present(
             self, context, dest_id, self.OUTPUT,
             presentation.outline_style("#ffd400", 0.5, label='"plot_id"', label_scale=2000),

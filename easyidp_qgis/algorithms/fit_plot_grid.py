@@ -1,22 +1,24 @@
 """Processing tool: Fit plot grid to crop rows (easyidp:fitplotgrid)."""
-from qgis.core import (QgsFeature, QgsFeatureSink, QgsField, QgsFields, QgsGeometry, QgsPointXY,
-                       QgsProcessing, QgsProcessingException, QgsProcessingParameterBand,
-                       QgsProcessingParameterDefinition, QgsProcessingParameterEnum,
+from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsPointXY,
+                       QgsProcessingException, QgsProcessingParameterBand,
+                       QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterNumber,
-                       QgsProcessingParameterRasterLayer, QgsWkbTypes)
-from qgis.PyQt.QtCore import QVariant
+                       QgsProcessingParameterRasterLayer)
 
+from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from .. import presentation
+from ..outputs import close_sink
 from ..layers import crs_string, geotiff_source, optional_number, rois_from_source
 from .base import EasyIDPAlgorithm, translatable
 
 INDICES = [("auto", translatable("Automatic (ExG for an RGB orthomosaic)")),
            ("exg", translatable("ExG (2G − R − B)/(R + G + B), RGB")),
            ("ndvi", translatable("NDVI (NIR − R)/(NIR + R), multispectral"))]
-NEW_FIELDS = (("shift_x", QVariant.Double), ("shift_y", QVariant.Double),
-              ("shift_m", QVariant.Double), ("fit_score", QVariant.Double),
-              ("cover", QVariant.Double), ("moved", QVariant.Int), ("fit_flag", QVariant.String))
+NEW_FIELDS = (("shift_x", FieldType.Double), ("shift_y", FieldType.Double),
+              ("shift_m", FieldType.Double), ("fit_score", FieldType.Double),
+              ("cover", FieldType.Double), ("moved", FieldType.Int), ("fit_flag", FieldType.QString))
 
 
 class FitPlotGrid(EasyIDPAlgorithm):
@@ -59,7 +61,7 @@ class FitPlotGrid(EasyIDPAlgorithm):
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFeatureSource(
-            self.GRID, self.tr("Plot grid (polygons)"), [QgsProcessing.TypeVectorPolygon]))
+            self.GRID, self.tr("Plot grid (polygons)"), [ProcessingSourceType.VectorPolygon]))
         self.addParameter(QgsProcessingParameterField(
             self.NAME_FIELD, self.tr("Name field (labels and the log; default: plot_id or the "
                                      "feature id)"),
@@ -71,10 +73,10 @@ class FitPlotGrid(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.MAX_SHIFT, self.tr("Largest per-plot shift (m)"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.25, minValue=0.0), 3))
+            ProcessingNumberParameterType.Double, defaultValue=0.25, minValue=0.0), 3))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
             self.THRESHOLD, self.tr("Report plots moved by more than (m)"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.05, minValue=0.0), 3))
+            ProcessingNumberParameterType.Double, defaultValue=0.05, minValue=0.0), 3))
         advanced = []
         for name, text, default in ((self.RED, translatable("Red band (ExG, NDVI)"), 1),
                                     (self.GREEN, translatable("Green band (ExG)"), 2),
@@ -85,18 +87,18 @@ class FitPlotGrid(EasyIDPAlgorithm):
         advanced.append(self.decimals(QgsProcessingParameterNumber(
             self.SEARCH, self.tr("Search radius before the global correction (m; empty: 0.45 of "
                                  "the plot spacing)"),
-            QgsProcessingParameterNumber.Double, optional=True, minValue=0.0), 3))
+            ProcessingNumberParameterType.Double, optional=True, minValue=0.0), 3))
         advanced.append(self.decimals(QgsProcessingParameterNumber(
             self.MIN_COVER, self.tr("Bare below this share of the median plot cover"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.3, minValue=0.0, maxValue=1.0), 2))
+            ProcessingNumberParameterType.Double, defaultValue=0.3, minValue=0.0, maxValue=1.0), 2))
         advanced.append(self.decimals(QgsProcessingParameterNumber(
             self.MIN_SCORE, self.tr("Weak fit below this score"),
-            QgsProcessingParameterNumber.Double, defaultValue=0.6, minValue=0.0, maxValue=1.0), 2))
+            ProcessingNumberParameterType.Double, defaultValue=0.6, minValue=0.0, maxValue=1.0), 2))
         for p in advanced:
-            p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
+            p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
             self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
-            self.OUTPUT, self.tr("Fitted plot grid"), QgsProcessing.TypeVectorPolygon))
+            self.OUTPUT, self.tr("Fitted plot grid"), ProcessingSourceType.VectorPolygon))
 
     def run_tool(self, parameters, context, feedback):
         from ...core.plotgrid import fit_plot_grid
@@ -148,7 +150,7 @@ class FitPlotGrid(EasyIDPAlgorithm):
             if fields.indexFromName(name) < 0:
                 fields.append(QgsField(name, kind))
         sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                             QgsWkbTypes.MultiPolygon, layer.crs())
+                                             WkbType.MultiPolygon, layer.crs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         shift_m = result.shift_m
@@ -165,7 +167,8 @@ class FitPlotGrid(EasyIDPAlgorithm):
             polys = [[[QgsPointXY(float(x), float(y)) for x, y in
                        _closed(result.move(i, ring))] for ring in part] for part in roi.parts]
             out.setGeometry(QgsGeometry.fromMultiPolygonXY(polys))
-            sink.addFeature(out, QgsFeatureSink.FastInsert)
+            sink.addFeature(out, FeatureSinkFlag.FastInsert)
+        close_sink(sink)
         label = f'"{name_field}"' if name_field else None
         presentation.present(
             self, context, dest_id, self.OUTPUT,

@@ -28,6 +28,12 @@ def survey(tmp_path_factory):
 
 
 @pytest.fixture(scope="module")
+def trial(tmp_path_factory):
+    from easyidp_toolbox.core.demo.trial import make_demo_trial
+    return make_demo_trial(str(tmp_path_factory.mktemp("gpkg_trial")))
+
+
+@pytest.fixture(scope="module")
 def season(tmp_path_factory):
     return small_season(tmp_path_factory.mktemp("gpkg_season"), dates=2)
 
@@ -64,7 +70,7 @@ def _labelme_shapes(folder) -> int:
     return sum(len(json.loads(Path(f).read_text())["shapes"]) for f in glob.glob(f"{folder}/*.json"))
 
 
-def case_backprojectrois(s, season, out):
+def case_backprojectrois(s, season, out, trial):
     params = {"ROIS": s.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": s.metashape_project,
               "HEIGHT_SOURCE": 1, "DSM": s.dsm, "OUTPUT": out / "plots_in_photos.gpkg",
               "OUTPUT_SUMMARY": out / "plots_best_photo.gpkg", "OUTPUT_JSON": out / "b.json"}
@@ -77,13 +83,13 @@ def case_backprojectrois(s, season, out):
     return params, expect
 
 
-def case_camerafootprints(s, season, out):
+def case_camerafootprints(s, season, out, trial):
     params = {"PROJECT": s.metashape_project, "DSM": s.dsm, "OUTPUT_CAMERAS": out / "cameras.gpkg",
               "OUTPUT_FOOTPRINTS": out / "footprints.gpkg"}
     return params, lambda res, log: {"OUTPUT_CAMERAS": CAMERAS, "OUTPUT_FOOTPRINTS": CAMERAS}
 
 
-def case_croprasterbyrois(s, season, out):
+def case_croprasterbyrois(s, season, out, trial):
     params = {"INPUT": s.orthomosaic, "ROIS": s.plots_gpkg, "NAME_FIELD": "plot_id",
               "OUTPUT_FOLDER": out / "crops", "OUTPUT_INDEX": out / "crops_index.gpkg"}
 
@@ -93,7 +99,7 @@ def case_croprasterbyrois(s, season, out):
     return params, expect
 
 
-def case_croppointcloudbyrois(s, season, out):
+def case_croppointcloudbyrois(s, season, out, trial):
     params = {"INPUT": s.point_cloud_laz, "ROIS": s.plots_gpkg, "NAME_FIELD": "plot_id",
               "OUTPUT_FOLDER": out / "clouds", "OUTPUT_INDEX": out / "clouds_index.gpkg"}
 
@@ -103,7 +109,7 @@ def case_croppointcloudbyrois(s, season, out):
     return params, expect
 
 
-def case_orthorectifyrois(s, season, out):
+def case_orthorectifyrois(s, season, out, trial):
     params = {"ROIS": s.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": s.metashape_project,
               "DSM": s.dsm, "OUTPUT_FOLDER": out / "ortho", "OUTPUT_INDEX": out / "ortho_index.gpkg"}
 
@@ -113,17 +119,17 @@ def case_orthorectifyrois(s, season, out):
     return params, expect
 
 
-def case_pointcloudroistatistics(s, season, out):
+def case_pointcloudroistatistics(s, season, out, trial):
     params = {"INPUT": s.point_cloud_laz, "ROIS": s.plots_gpkg, "OUTPUT": out / "cloud_stats.gpkg"}
     return params, lambda res, log: {"OUTPUT": PLOTS}
 
 
-def case_roiheightsfromdsm(s, season, out):
+def case_roiheightsfromdsm(s, season, out, trial):
     params = {"ROIS": s.plots_gpkg, "DSM": s.dsm, "OUTPUT": out / "heights.gpkg"}
     return params, lambda res, log: {"OUTPUT": PLOTS}
 
 
-def case_forwardprojectpolygons(s, season, out):
+def case_forwardprojectpolygons(s, season, out, trial):
     folder = Path(s.labelme[0]).parent
     params = {"INPUT_FOLDER": folder, "PROJECT": s.metashape_project, "DSM": s.dsm,
               "OUTPUT": out / "labelme_on_map.gpkg"}
@@ -135,7 +141,7 @@ def case_forwardprojectpolygons(s, season, out):
     return params, expect
 
 
-def case_photostatistics(s, season, out):
+def case_photostatistics(s, season, out, trial):
     params = {"ROIS": s.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": s.metashape_project,
               "HEIGHT_SOURCE": 1, "DSM": s.dsm, "OUTPUT_VIEWS": out / "photo_views.gpkg",
               "OUTPUT": out / "photo_statistics.gpkg"}
@@ -147,7 +153,7 @@ def case_photostatistics(s, season, out):
     return params, expect
 
 
-def case_seasontraits(s, season, out):
+def case_seasontraits(s, season, out, trial):
     params = {"SURVEYS": season.surveys, "ROIS": season.plots, "NAME_FIELD": "plot_id",
               "GROUND": season.ground, "WORKERS": 1, "OUTPUT_TABLE": out / "season_traits.gpkg",
               "OUTPUT_LAYER": out / "season_latest.gpkg"}
@@ -157,6 +163,24 @@ def case_seasontraits(s, season, out):
         values = _log_count(log, r"^(\d+) values of \d+ traits for %d ROIs on 2 dates" % plots)
         return {"OUTPUT_TABLE": values, "OUTPUT_LAYER": plots}
     return params, expect
+
+
+def case_createplotgrid(s, season, out, trial):
+    from easyidp_toolbox.core.demo.trial import TRIAL
+    params = {"ANCHOR": 0, "CORNERS": trial.corners, "ROWS": TRIAL["rows"], "COLS": TRIAL["cols"],
+              "SIZE_X": TRIAL["size_x"], "SIZE_Y": TRIAL["size_y"], "GAP_X": TRIAL["gap_x"],
+              "GAP_Y": TRIAL["gap_y"], "OUTPUT": out / "plot_grid.gpkg"}
+    return params, lambda res, log: {"OUTPUT": TRIAL["rows"] * TRIAL["cols"]}
+
+
+def case_fitplotgrid(s, season, out, trial):
+    from easyidp_toolbox.core.demo.trial import FIELD_BEARING, TRIAL, trial_corners
+    from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
+    grid, _ = create_plot_grid("EPSG:32654", origin=trial_corners()[0], bearing=FIELD_BEARING,
+                               **TRIAL)
+    params = {"GRID": write_plot_grid(str(out / "plot_grid.gpkg"), grid),
+              "ORTHOMOSAIC": trial.orthomosaic, "OUTPUT": out / "fitted.gpkg"}
+    return params, lambda res, log: {"OUTPUT": TRIAL["rows"] * TRIAL["cols"]}
 
 
 CASES = {name[len("case_"):]: f for name, f in dict(globals()).items() if name.startswith("case_")}
@@ -173,8 +197,8 @@ def test_every_layer_writing_tool_is_covered(provider):
 
 
 @pytest.mark.parametrize("tool", sorted(CASES))
-def test_geopackage_outputs_through_qgis_process(qp_env, survey, season, tmp_path, tool):
-    params, expect = CASES[tool](survey, season, tmp_path)
+def test_geopackage_outputs_through_qgis_process(qp_env, survey, season, trial, tmp_path, tool):
+    params, expect = CASES[tool](survey, season, tmp_path, trial)
     res, log = _run(qp_env, f"easyidp:{tool}", params)
     counts = expect(res, log)
     layers = {k for k, v in params.items() if k.startswith("OUTPUT") and str(v).endswith(".gpkg")}
