@@ -1538,8 +1538,8 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>終了ステータス {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap)</source>
-      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM）</translation>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
     </message>
     <message>
       <source>Point cloud (.las, .laz or .ply)</source>

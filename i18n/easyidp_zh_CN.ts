@@ -1538,8 +1538,8 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>退出状态 {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap)</source>
-      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM）</translation>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
     </message>
     <message>
       <source>Point cloud (.las, .laz or .ply)</source>
