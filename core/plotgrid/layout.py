@@ -206,19 +206,44 @@ def check_metric_crs(crs, xy, what: str = "Field corners") -> None:
         raise PlotGridError(f"{what}: the layer has no CRS. Set its CRS (a projected CRS in "
                             "metres, e.g. the UTM zone of the field).")
     unit = crs.axis_info[0].unit_name if crs.axis_info else ""
-    if crs.is_projected and unit in ("metre", "meter", "m"):
-        return
     from ..crs import transformer
     from pyproj import CRS
+    lon = lat = None
     try:
         lon, lat = transformer(crs, CRS.from_epsg(4326)).transform(float(xy[0]), float(xy[1]))
         code, name = utm_zone(lon, lat)
         hint = f"reproject it to {name} (EPSG:{code})"
     except Exception:
         hint = "reproject it to the UTM zone of the field"
+    if crs.is_projected and unit in ("metre", "meter", "m"):
+        scale = _scale_factor(crs, lon, lat)
+        if scale is None or abs(scale - 1) <= MAX_SCALE_ERROR:
+            return
+        raise PlotGridError(
+            f"{what}: the CRS {crs.name} stretches distances by {scale:.3f} at the field, so "
+            f"plots laid out in its metres would be {abs(scale - 1) * 100:.0f} % off: {hint} "
+            "and run again.")
     kind = "geographic (degrees)" if crs.is_geographic else f"in {unit or 'unknown units'}"
     raise PlotGridError(f"{what}: the CRS {crs.name} is {kind}, but plot sizes are in metres: "
                         f"{hint} and run again.")
+
+
+MAX_SCALE_ERROR = 0.01
+"""A projected CRS whose point scale at the field is off 1 by more than this (Web Mercator:
+1/cos(latitude)) is refused: its metres are not metres on the ground."""
+
+
+def _scale_factor(crs, lon, lat):
+    """The point scale (mean of the meridional and parallel scales) of ``crs`` at (lon, lat),
+    or None when it cannot be computed."""
+    if lon is None:
+        return None
+    try:
+        from pyproj import Proj
+        f = Proj(crs).get_factors(lon, lat)
+        return float((f.meridional_scale + f.parallel_scale) / 2)
+    except Exception:
+        return None
 
 
 # ---- the layout ----------------------------------------------------------------------------

@@ -200,6 +200,17 @@ def test_geographic_crs_names_the_utm_zone():
                          gap_y=0)
 
 
+def test_web_mercator_metres_are_refused_with_the_utm_zone():
+    """Hand: at latitude 35.7° Web Mercator stretches distances by 1/cos(35.7°) = 1.2314."""
+    from pyproj import Transformer
+    x, y = Transformer.from_crs(4326, 3857, always_xy=True).transform(141.0, 35.7)
+    with pytest.raises(PlotGridError, match=r"stretches distances by 1\.231 at the field.*23 % "
+                                            r"off: reproject it to WGS 84 / UTM zone 54N"):
+        create_plot_grid("EPSG:3857", 1, 1, origin=(x, y), size_x=1, size_y=1, gap_x=0, gap_y=0)
+    create_plot_grid("EPSG:32654", 1, 1, origin=(500000, 3950000), size_x=1, size_y=1, gap_x=0,
+                     gap_y=0)                                    # UTM: scale 0.9996, accepted
+
+
 def test_corners_that_make_no_rectangle_say_by_how_much():
     # hand: a symmetric trapezoid, top edge 20 m, bottom edge 22 m, 10 m apart: the nearest
     # rectangle is 21 × 10 m, and every corner is 0.5 m from it
