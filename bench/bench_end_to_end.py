@@ -402,6 +402,7 @@ def main(argv=None) -> int:
         if a.only and name not in a.only:
             continue
         tool_walls, cpu, locks, errors, eng, scripts, starts = [], [], 0, [], [], [], []
+        load = os.getloadavg()[0]          # the machine is shared: how busy it was
         for k in range(repeat):
             starts.append(startup_run(EXE, env))
             folder = _fresh(OUT / "runs" / name)
@@ -432,7 +433,7 @@ def main(argv=None) -> int:
         rows.append([name, workload, startup, tool, _median(cpu), engine, _median(scripts),
                      ratio(tool, engine),
                      ratio(tool - startup, engine), over, goal,
-                     "PASS" if tool <= goal else "MISS", locks, len(errors)])
+                     "PASS" if tool <= goal else "MISS", locks, len(errors), load])
         for line in errors[:3]:
             print(f"    {name}: {line}")
         print(f"  {name}: tool {tool:.2f} s, engine {engine:.2f} s", flush=True)
@@ -443,7 +444,7 @@ def main(argv=None) -> int:
           "Python start, imports and ROI reading included)")
     print(table(["case", "workload", "start-up", "tool", "tool CPU", "engine", "engine script", "tool/engine",
                  "(tool-start)/engine", "tool-start-engine", "goal", "verdict", "locks",
-                 "ERROR lines"], rows))
+                 "ERROR lines", "load avg"], rows))
 
     for name, steps in shares.items():
         total = figures[name]["tool"]
