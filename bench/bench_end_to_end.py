@@ -47,15 +47,7 @@ EPSG = 32654
 
 # --- the engine: the same calls in the core, in a child ------------------------------------------
 # argv: CASE ARGS_JSON; prints {"seconds": ..., "steps": {...}, ...} on its last line.
-ENGINE = _LOAD_ROIS + r"""
-import json, sys, time
-case, a = sys.argv[1], json.loads(sys.argv[2])
-if "rois_json" in a:
-    rois = load_rois(a["rois_json"])
-elif "rois" in a:
-    from easyidp_toolbox.core.roi import open_rois
-    rois = open_rois(a["rois"], name_field=a.get("name_field"))
-# the core modules every case uses, imported before the clock starts (the call is timed)
+_IMPORTS = r"""
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.pointcloud import canopy_summary, crop_point_cloud, read_point_cloud
 from easyidp_toolbox.core.projection import DSMHeights, back_project
@@ -67,7 +59,22 @@ from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.projection import DSMSurface, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.season import read_survey_table, run_season
-marks = []
+"""
+IMPORT_TIME = "import json, time\nt0 = time.perf_counter()\n" + _IMPORTS + \
+    "print(json.dumps({'seconds': time.perf_counter() - t0}))\n"
+"""Times the import of the core modules the tools call (the tools import them inside the run:
+it is part of every tool's time and of no start-up)."""
+
+ENGINE = _LOAD_ROIS + r"""
+import json, sys, time
+case, a = sys.argv[1], json.loads(sys.argv[2])
+if "rois_json" in a:
+    rois = load_rois(a["rois_json"])
+elif "rois" in a:
+    from easyidp_toolbox.core.roi import open_rois
+    rois = open_rois(a["rois"], name_field=a.get("name_field"))
+# the core modules every case uses, imported before the clock starts (the call is timed)
+""" + _IMPORTS + r"""marks = []
 def progress(p):
     marks.append((float(p), time.perf_counter()))
 out = {}
@@ -392,6 +399,11 @@ def main(argv=None) -> int:
     print(f"\nqgis_process start-up (median of {repeat}): run native:buffer on one point "
           f"{startup_all:.2f} s; --version {version:.2f} s. Each tool run below is paired with "
           "a start-up run just before it (the machine is shared: its load drifts)", flush=True)
+    imports = _median([run_json_child([sys.executable, "-c", IMPORT_TIME], timeout=600,
+                                      label="imports", strict=True)[1]["seconds"]
+                       for _ in range(repeat)])
+    print(f"Importing the core modules the tools call (inside each tool's run, so in neither "
+          f"the start-up nor the engine figures): {imports:.2f} s", flush=True)
 
     ref = REF_PYTHON.exists() and not a.no_ref
     ref_env = reference_env(dict(os.environ))
@@ -402,6 +414,7 @@ def main(argv=None) -> int:
         if a.only and name not in a.only:
             continue
         tool_walls, cpu, locks, errors, eng, scripts, starts = [], [], 0, [], [], [], []
+        load = os.getloadavg()[0]          # the machine is shared: how busy it was
         for k in range(repeat):
             starts.append(startup_run(EXE, env))
             folder = _fresh(OUT / "runs" / name)
@@ -432,7 +445,7 @@ def main(argv=None) -> int:
         rows.append([name, workload, startup, tool, _median(cpu), engine, _median(scripts),
                      ratio(tool, engine),
                      ratio(tool - startup, engine), over, goal,
-                     "PASS" if tool <= goal else "MISS", locks, len(errors)])
+                     "PASS" if tool <= goal else "MISS", locks, len(errors), load])
         for line in errors[:3]:
             print(f"    {name}: {line}")
         print(f"  {name}: tool {tool:.2f} s, engine {engine:.2f} s", flush=True)
@@ -443,7 +456,7 @@ def main(argv=None) -> int:
           "Python start, imports and ROI reading included)")
     print(table(["case", "workload", "start-up", "tool", "tool CPU", "engine", "engine script", "tool/engine",
                  "(tool-start)/engine", "tool-start-engine", "goal", "verdict", "locks",
-                 "ERROR lines"], rows))
+                 "ERROR lines", "load avg"], rows))
 
     for name, steps in shares.items():
         total = figures[name]["tool"]
