@@ -35,7 +35,7 @@ SPEC = json.loads(os.environ["EASYIDP_DRIVER"])
 STARTED = time.time()
 faulthandler.enable(all_threads=True)   # a crash of QGIS shows the Python stacks on stderr
 FOUND = {"steps": [], "modal": [], "python_errors": [], "doing": "starting"}
-# the dialogs a session opens itself (a tool's dialog is modal on QGIS 3.22 while a model runs)
+# the dialogs a session opens itself
 OWN_DIALOGS = (QgsProcessingAlgorithmDialogBase, QgsModelDesignerDialog)
 
 
@@ -62,9 +62,19 @@ def _dialog_text(w) -> str:
     return "\n".join(p.strip() for p in parts if p and p.strip())
 
 
+def _own(w) -> bool:
+    """A dialog the session opened, or one of its parts (QGIS 3.22 shows a tool's progress in a
+    modal dialog of the tool's dialog while a model runs)."""
+    while w is not None:
+        if isinstance(w, OWN_DIALOGS):
+            return True
+        w = w.parentWidget()
+    return False
+
+
 def _close_modal() -> None:
     w = QApplication.activeModalWidget()
-    if w is None or isinstance(w, OWN_DIALOGS):
+    if w is None or (_own(w) and not isinstance(w, QMessageBox)):    # a question is never own
         return
     FOUND["modal"].append(f"{type(w).__name__} while {FOUND['doing']}: {_dialog_text(w)}")
     _write(SPEC["out"] + ".partial")
