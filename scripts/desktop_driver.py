@@ -9,7 +9,7 @@ see ``desktop_session.py``; its findings go to ``session``). QGIS quits when don
 ``driver_error``; ``probe`` plants a dialog or a hang (the driver's own test).
 
 Nothing waits for a click that never comes: every modal dialog (a question, QGIS's Python error
-dialog) is closed as soon as it shows, its title and text kept in ``modal``; every message-log
+dialog; not the tool dialogs a session opens) is closed as soon as it shows, its title and text kept in ``modal``; every message-log
 entry tagged "Python error" is kept in ``python_errors``. ``deadline`` (seconds, from the spec)
 ends the run: the findings so far are written, with a ``driver_error`` that says what was being
 done and quotes those dialogs and errors, and QGIS exits. What is known is also kept in
@@ -24,7 +24,8 @@ import time
 import traceback
 
 from qgis.core import QgsApplication
-from qgis.gui import QgsMessageBarItem
+from qgis.gui import (QgsMessageBarItem, QgsModelDesignerDialog,
+                      QgsProcessingAlgorithmDialogBase)
 from qgis.PyQt.QtCore import QPoint, QRect, QTimer
 from qgis.PyQt.QtWidgets import (QApplication, QDialog, QLabel, QMessageBox, QPushButton,
                                  QTextEdit)
@@ -34,6 +35,8 @@ SPEC = json.loads(os.environ["EASYIDP_DRIVER"])
 STARTED = time.time()
 faulthandler.enable(all_threads=True)   # a crash of QGIS shows the Python stacks on stderr
 FOUND = {"steps": [], "modal": [], "python_errors": [], "doing": "starting"}
+# the dialogs a session opens itself
+OWN_DIALOGS = (QgsProcessingAlgorithmDialogBase, QgsModelDesignerDialog)
 
 
 def _write(path: str) -> None:
@@ -59,9 +62,19 @@ def _dialog_text(w) -> str:
     return "\n".join(p.strip() for p in parts if p and p.strip())
 
 
+def _own(w) -> bool:
+    """A dialog the session opened, or one of its parts (QGIS 3.22 shows a tool's progress in a
+    modal dialog of the tool's dialog while a model runs)."""
+    while w is not None:
+        if isinstance(w, OWN_DIALOGS):
+            return True
+        w = w.parentWidget()
+    return False
+
+
 def _close_modal() -> None:
     w = QApplication.activeModalWidget()
-    if w is None:
+    if w is None or (_own(w) and not isinstance(w, QMessageBox)):    # a question is never own
         return
     FOUND["modal"].append(f"{type(w).__name__} while {FOUND['doing']}: {_dialog_text(w)}")
     _write(SPEC["out"] + ".partial")
