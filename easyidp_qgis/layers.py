@@ -245,8 +245,7 @@ def add_project_parameters(alg):
                           "(needed when there are several)"), optional=True))
     p = QgsProcessingParameterCrs(
         alg.PROJECT_CRS, alg.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without "
-                                "OpenDroneMap; Metashape chunk CRS that PROJ cannot use)"),
-        optional=True)
+                                "OpenDroneMap)"), optional=True)
     p.setFlags(p.flags() | QgsProcessingParameterDefinition.FlagAdvanced)
     alg.addParameter(p)
 
