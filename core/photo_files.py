@@ -46,8 +46,8 @@ def _rank(path: str) -> int:
 
 
 class PhotoFiles:
-    """The photo files under one or more folders (with their subfolders; hidden ones skipped),
-    by :func:`photo_key`."""
+    """The files under one or more folders (with their subfolders; hidden ones skipped), by
+    :func:`photo_key`: photos by their stem, other files by their whole name."""
 
     def __init__(self, folders: Union[str, os.PathLike, Sequence], recursive: bool = True):
         if isinstance(folders, (str, os.PathLike)):
@@ -60,12 +60,17 @@ class PhotoFiles:
                                  "that holds the raw photos.")
             for root, dirs, files in os.walk(folder):
                 dirs[:] = sorted(d for d in dirs if not d.startswith(".")) if recursive else []
-                for name in sorted(files):
-                    if os.path.splitext(name)[1].lower() in PHOTO_EXTENSIONS:
+                for name in sorted(files):        # any file: a photo of an unlisted type
+                    if not name.startswith("."):     # (.ARW…) is then found by its full name
                         self.by_key.setdefault(photo_key(name), []).append(os.path.join(root, name))
 
     def __len__(self) -> int:
-        return len(self.by_key)
+        return len(self.photos())
+
+    def photos(self) -> List[str]:
+        """The files with a photo extension (:data:`PHOTO_EXTENSIONS`), one per key."""
+        return [p[0] for p in self.by_key.values()
+                if os.path.splitext(p[0])[1].lower() in PHOTO_EXTENSIONS]
 
     def find(self, label: str, project_path: Optional[str] = None) -> Tuple[Optional[str], str]:
         """(path, "") of the photo of camera ``label`` (stored path ``project_path``), or
@@ -116,11 +121,12 @@ def resolve_photos(labels: Sequence[str], project_paths: Sequence[Optional[str]]
             else:
                 missing[label] = why
         if not found and labels:
-            sample = ", ".join(sorted(os.path.basename(p[0]) for p in files.by_key.values())[:5])
+            sample = ", ".join(sorted(os.path.basename(p) for p in files.photos()
+                                      or [q[0] for q in files.by_key.values()])[:5])
             raise InputError(f"The photos folder {', '.join(str(f) for f in files.folders)} "
                              f"holds none of the project's {len(labels)} photos (looked for "
                              f"e.g. {file_name(project_paths[0] or '') or labels[0]}; it has "
-                             f"{sample or 'no photos'}). Choose the folder of this project's "
+                             f"{sample or 'no files'}). Choose the folder of this project's "
                              "raw photos.")
         return found, missing
     folders: Dict[str, Optional[PhotoFiles]] = {}

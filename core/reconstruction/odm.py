@@ -385,8 +385,7 @@ def open_opensfm(path, chunk=None, crs=None) -> Reconstruction:
             poses[k] = None
     if files is not None:
         keys = {photo_key(k) for k in poses}
-        missing = sorted(os.path.basename(paths[0]) for key, paths in files.by_key.items()
-                         if key not in keys)
+        missing = sorted(os.path.basename(p) for p in files.photos() if photo_key(p) not in keys)
         if missing:
             notes.append(f"{len(missing)} photo(s) in {layout.photos} are in no reconstruction: "
                          + ", ".join(missing[:10]) + (" …" if len(missing) > 10 else ""))

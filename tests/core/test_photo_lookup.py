@@ -143,3 +143,12 @@ def test_pix4d_windows_image_paths_kept_and_reported(realdata, tmp_path):
     _touch(tmp_path / "photos" / "DJI_0172.jpg")
     found, _ = resolve_photos(["DJI_0172.JPG"], [cams["DJI_0172.JPG"].photo_path], tmp_path / "photos")
     assert found["DJI_0172.JPG"] == str(tmp_path / "photos" / "DJI_0172.jpg")
+
+
+def test_photo_of_an_unlisted_type_found_by_its_whole_name(tmp_path):
+    raw = _touch(tmp_path / "IMG_0001.ARW")
+    _touch(tmp_path / "IMG_0001.json")                   # a sidecar is not the photo
+    found, _ = resolve_photos(["IMG_0001.arw"], [None], tmp_path)
+    assert found == {"IMG_0001.arw": str(raw)}
+    with pytest.raises(InputError, match=r"looked for e\.g\. IMG_0001; it has IMG_0001\.ARW"):
+        resolve_photos(["IMG_0001"], [None], tmp_path)   # neither the .ARW nor the .json

@@ -113,7 +113,7 @@ def _enu(lon, lat):
                      [np.cos(la) * np.cos(lo), np.cos(la) * np.sin(lo), np.sin(la)]])
 
 
-def _chunk_xml(tmp_path, reference):
+def chunk_xml(tmp_path, reference):
     """A cameras XML with one nadir camera (x east, y south) over Bern; the chunk frame is the
     CH1903+ geocentric frame (Bessel), as Metashape's chunk transform gives it."""
     lv95 = CRS.from_epsg(2056)
@@ -142,7 +142,7 @@ def test_lv95_chunk_places_cameras_and_projects_like_pyproj(tmp_path):
     """Truth by construction: the camera centre was put in the chunk through pyproj's LV95 →
     Bessel geocentric; a ground point 10 m east and 20 m north of the nadir point, 100 m below
     the camera, must land 100 px right of and 200 px above the principal point (pinhole)."""
-    path, _ = _chunk_xml(tmp_path, LV95_METASHAPE)
+    path, _ = chunk_xml(tmp_path, LV95_METASHAPE)
     recon = open_reconstruction(path)
     assert recon.crs.to_epsg() == 2056
     assert any("its own AUTHORITY" in n for n in recon.notes)
@@ -168,7 +168,7 @@ def test_lv95_chunk_places_cameras_and_projects_like_pyproj(tmp_path):
 
 
 def test_lv95_chunk_that_proj_cannot_use_asks_for_the_crs(tmp_path):
-    path, _ = _chunk_xml(tmp_path, LV95_SHIFTED)
+    path, _ = chunk_xml(tmp_path, LV95_SHIFTED)
     with pytest.raises(InputError) as e:
         open_reconstruction(path)
     assert "cameras.xml" in str(e.value) and "CH1903+ / LV95" in str(e.value)
