@@ -92,8 +92,6 @@ def write_raster(path: Path, size: int) -> None:
     sown = np.zeros((n, n), bool)
     offs[gr, gc] = off
     sown[gr, gc] = ~empty
-    gap = np.array([PITCH - PLOT[0], PITCH - PLOT[1]])
-    rng = np.random.default_rng(SEED + 1)
     soil = np.array([122, 96, 72], np.float32)
     leaf = np.array([58, 132, 46], np.float32)
 

@@ -10,7 +10,6 @@ align, and features matched between photos meet on the map. Run with -s to see t
 """
 import json
 import os
-import shutil
 
 import cv2
 import numpy as np
