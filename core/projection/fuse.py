@@ -112,11 +112,11 @@ def _consensus(members, n_photos: int):
 
 
 def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Sequence[str]] = None,
-               nms_iou: float = 0.5, group_iou: float = 0.2, max_distance: Optional[float] = None,
+               nms_iou: float = 0.5, group_iou: float = 0.3, max_distance: Optional[float] = None,
                min_visible: float = 0.5, occlusion: bool = True, dsm_crs=None,
                progress=None) -> List[FusedObject]:
     """Fuse forward-projected detections (see the module docstring). ``dsm``: GeoTIFF path of
-    the DSM the shapes were projected on (heights and the expected-views test; its CRS must be
+    the DSM the shapes were projected on (or an opened ``GeoTiff``) (heights and the expected-views test; its CRS must be
     that of the shapes, ``dsm_crs`` overriding its GeoKeys); ``photos``: labels of every photo
     searched, also those without a detection (default: the photos of ``shapes``)."""
     import shapely
@@ -236,8 +236,8 @@ def _components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _dsm_crs(dsm):
-    from ..raster.geotiff import open_geotiff
-    return open_geotiff(dsm).crs
+    from ..raster.geotiff import GeoTiff, open_geotiff
+    return (dsm if isinstance(dsm, GeoTiff) else open_geotiff(dsm)).crs
 
 
 __all__ = ["fuse_views", "FusedObject"]

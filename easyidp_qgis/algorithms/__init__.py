@@ -4,6 +4,7 @@ from .camera_footprints import CameraFootprints
 from .create_demo_survey import CreateDemoSurvey
 from .crop_point_cloud_by_rois import CropPointCloudByROIs
 from .crop_raster_by_rois import CropRasterByROIs
+from .export_training_set import ExportTrainingSet
 from .forward_project_polygons import ForwardProjectPolygons
 from .orthorectify_rois import OrthorectifyROIs
 from .photo_statistics import PhotoStatisticsAlgorithm
@@ -13,4 +14,4 @@ from .season_traits import SeasonTraits
 
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
               PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits, BackProjectROIs,
-              ForwardProjectPolygons, OrthorectifyROIs, PhotoStatisticsAlgorithm]
+              ForwardProjectPolygons, OrthorectifyROIs, PhotoStatisticsAlgorithm, ExportTrainingSet]
