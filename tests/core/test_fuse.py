@@ -9,7 +9,6 @@ The medium survey (1600 × 1200 photos, 1.8 cm per pixel) is used: at the small 
 a 3 px vertex noise is a third of a weed's radius.
 """
 import json
-import os
 
 import numpy as np
 import pytest
