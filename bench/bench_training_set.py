@@ -60,7 +60,7 @@ def main(argv=None) -> int:
         classes = ["a" if k % 2 else "b" for k in range(n_obj)]
         rss0, t0 = _rss_mib(), time.perf_counter()
         res = export_training_set(rois, classes, recon, s.dsm, os.path.join(tmp, "set"),
-                                  val_fraction=0.2, split="region")
+                                  val_fraction=0.0)
         t_export, rss1 = time.perf_counter() - t0, _rss_mib()
         labels = sum(res.annotations.values())
         print(f"1. export {n_obj:,} objects × {len(recon.aligned_cameras)} photos: "

@@ -172,10 +172,8 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
             best = max(members, key=lambda k: scores[kept[k]])
             outline = max(_flat_polygons(kg[best]), key=lambda p: p.area)
             ring = np.asarray(outline.exterior.coords)[:-1]
-        a_scale = np.nanmean([f.area_m2 / kg[k].area for f, k in zip(fs, members)
-                              if np.isfinite(f.area_m2)] or [np.nan])
-        p_scale = np.nanmean([f.perimeter_m / kg[k].length for f, k in zip(fs, members)
-                              if np.isfinite(f.perimeter_m)] or [np.nan])
+        a_scale = _mean([f.area_m2 / kg[k].area for f, k in zip(fs, members)])
+        p_scale = _mean([f.perimeter_m / kg[k].length for f, k in zip(fs, members)])
         sc = [f.score for f in fs if f.score is not None]
         c = outline.centroid
         out.append(FusedObject(
@@ -210,6 +208,13 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
                              * o.views / max(e, o.views))
     prog.set(100)
     return out
+
+
+def _mean(values) -> float:
+    """Mean of the finite values; NaN when there is none."""
+    v = np.asarray(values, np.float64)
+    v = v[np.isfinite(v)]
+    return float(v.mean()) if len(v) else float("nan")
 
 
 def _flat_polygons(g) -> list:
