@@ -55,22 +55,23 @@ def main(argv=None) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         s = make_demo_survey(os.path.join(tmp, "survey"), seed=0, size="small")
         recon = open_reconstruction(s.metashape_project)
-        _, _, rings = _discs(n_obj, SURVEY_FIELD, rng)
+        _, _, rings = _discs(max(n_obj, 1), SURVEY_FIELD, rng)
         rois = ROISet([ROI(f"o{k}", [[r]]) for k, r in enumerate(rings)], s.crs)
-        classes = ["a" if k % 2 else "b" for k in range(n_obj)]
-        rss0, t0 = _rss_mib(), time.perf_counter()
-        res = export_training_set(rois, classes, recon, s.dsm, os.path.join(tmp, "set"),
-                                  val_fraction=0.0)
-        t_export, rss1 = time.perf_counter() - t0, _rss_mib()
-        labels = sum(res.annotations.values())
-        print(f"1. export {n_obj:,} objects × {len(recon.aligned_cameras)} photos: "
-              f"{t_export:.1f} s, {labels:,} labels, {sum(res.images.values())} images; "
-              f"peak RSS {rss1:.0f} MiB (+{rss1 - rss0:.0f})", flush=True)
+        classes = ["a" if k % 2 else "b" for k in range(len(rois))]
+        if n_obj:                                  # --objects 0: fusion only
+            rss0, t0 = _rss_mib(), time.perf_counter()
+            res = export_training_set(rois, classes, recon, s.dsm, os.path.join(tmp, "set"),
+                                      val_fraction=0.0)
+            t_export, rss1 = time.perf_counter() - t0, _rss_mib()
+            labels = sum(res.annotations.values())
+            print(f"1. export {n_obj:,} objects × {len(recon.aligned_cameras)} photos: "
+                  f"{t_export:.1f} s, {labels:,} labels, {sum(res.images.values())} images; "
+                  f"peak RSS {rss1:.0f} MiB (+{rss1 - rss0:.0f})", flush=True)
 
         # detections on the map: objects × views with noise, plus false positives
         photos = [c.label for c in recon.aligned_cameras]
         n_true = int(n_det / 1.05)
-        per = rng.integers(6, 13, size=n_true // 9 + 1)
+        per = rng.integers(6, 13, size=n_true)
         n_o = int(np.searchsorted(np.cumsum(per), n_true)) + 1
         centres, radii, base = _discs(n_o, SURVEY_FIELD, rng)
         shapes = []
