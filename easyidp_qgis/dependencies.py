@@ -31,7 +31,8 @@ from qgis.PyQt.QtCore import QCoreApplication
 ALL = "*"
 RASTER_TOOLS = ("croprasterbyrois", "roiheightsfromdsm", "camerafootprints",
                 "pointcloudroistatistics", "createdemosurvey", "seasontraits", "backprojectrois",
-                "forwardprojectpolygons", "orthorectifyrois", "photostatistics", "fitplotgrid")
+                "forwardprojectpolygons", "orthorectifyrois", "photostatistics", "fitplotgrid",
+                "exporttrainingset")
 CLOUD_TOOLS = ("croppointcloudbyrois", "pointcloudroistatistics", "createdemosurvey",
                "seasontraits")
 
@@ -68,7 +69,8 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("shapefile", "pyshp>=3.1.6", ()),                # core.open_rois on shapefiles
     Dependency("scipy", "scipy>=1.10", ("orthorectifyrois",)),  # map_coordinates resampling
     Dependency("shapely", "shapely>=2.0", ("forwardprojectpolygons",)),  # merging the views
-    Dependency("skimage", "scikit-image>=0.22", ("seasontraits", "photostatistics")),  # Otsu
+    Dependency("skimage", "scikit-image>=0.22", ("seasontraits", "photostatistics",
+                                                     "forwardprojectpolygons")),  # Otsu; fuse contours
     Dependency("PIL", "pillow>=9.4", ("photostatistics",)),             # preview captions
     Dependency("matplotlib", "matplotlib>=3.6", ("seasontraits",)),      # growth curves
     Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)

@@ -740,6 +740,122 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
       <translation>ROI '{name}' をスキップしました：{reason}</translation>
     </message>
     <message>
+      <source>Export a training set on the raw photos</source>
+      <translation>生写真上に学習データセットを書き出す</translation>
+    </message>
+    <message>
+      <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
+
+Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
+
+Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by the overlap; outlines are clipped to each tile and a part smaller than the minimum visible share of the object is dropped. Without, whole photos are copied.
+
+Split: objects go to train or validation by field region (square cells of the region size, in the DSM's map units) or by photo (the split of the object's best photo); an image holding objects of both splits is left out, so no object is in both.
+
+Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts and rules). Existing files are never replaced unless 'Overwrite existing files' is on.</source>
+      <translation>地図上で一度だけラベル付けしたオブジェクト（ポリゴン、または半径付きのポイント）を、生写真上の深層学習用データセットに変換します：COCO インスタンス（ポリゴンとボックス）、YOLO のセグメント／検出ラベルとその data.yaml、LabelMe ファイル。
+
+各オブジェクトは、それが写るすべての写真に逆投影されます（高さは DSM から、レンズ歪みを含み、DSM で遮蔽を判定し、「ROI の逆投影」と同じく写真を順位付け）。オブジェクトは、少なくとも最小可視割合がフレーム内にあり DSM に隠されていない写真でのみラベル付けされ、輪郭はフレームで切り取られます（隠れた部分は切り取りません）。オブジェクトごとの最良写真：上位 k 枚のみ残します（0 = すべて）。
+
+タイル：タイルサイズを指定すると、写真はそのサイズ（ピクセル）のタイルに重なりを持たせて分割されます。輪郭は各タイルで正確に切り取られ、オブジェクトの最小可視割合より小さい部分は捨てられます。指定しなければ写真全体をコピーします。
+
+分割：オブジェクトは圃場の領域（領域サイズの正方形セル、DSM の地図単位）ごと、または写真（オブジェクトの最良写真の分割）ごとに学習または検証に割り当てられます。両方の分割のオブジェクトを含む画像は除外されるので、同じオブジェクトが両方に入ることはありません。
+
+出力フォルダー：images/{train,val}、labels/{train,val} と data.yaml（YOLO セグメント）、yolo_detect/（YOLO 検出）、coco/instances_{train,val}.json、labelme/{train,val}、training_set.json（件数と規則）。「既存のファイルを上書き」がオンでない限り、既存のファイルは置き換えません。</translation>
+    </message>
+    <message>
+      <source>Random seed of the split</source>
+      <translation>分割の乱数シード</translation>
+    </message>
+    <message>
+      <source>Labelled objects (polygons or points)</source>
+      <translation>ラベル付きオブジェクト（ポリゴンまたはポイント）</translation>
+    </message>
+    <message>
+      <source>Class field</source>
+      <translation>クラスフィールド</translation>
+    </message>
+    <message>
+      <source>Instance id field (default: feature id)</source>
+      <translation>インスタンス ID フィールド（既定：地物 ID）</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF)</source>
+      <translation>DSM（GeoTIFF）</translation>
+    </message>
+    <message>
+      <source>Best photos per object (0 = all)</source>
+      <translation>オブジェクトごとの最良写真数（0 = すべて）</translation>
+    </message>
+    <message>
+      <source>Tile size (pixels; 0 = whole photos)</source>
+      <translation>タイルサイズ（ピクセル、0 = 写真全体）</translation>
+    </message>
+    <message>
+      <source>Tile overlap (pixels)</source>
+      <translation>タイルの重なり（ピクセル）</translation>
+    </message>
+    <message>
+      <source>Train/validation split</source>
+      <translation>学習／検証の分割</translation>
+    </message>
+    <message>
+      <source>Training set folder</source>
+      <translation>学習データセットのフォルダー</translation>
+    </message>
+    <message>
+      <source>Labelled objects: no layer given, or it could not be loaded.</source>
+      <translation>ラベル付きオブジェクト：レイヤーが指定されていないか、読み込めません。</translation>
+    </message>
+    <message>
+      <source>Labelled objects</source>
+      <translation>ラベル付きオブジェクト</translation>
+    </message>
+    <message>
+      <source>Radius of the disc around labelled points (map units)</source>
+      <translation>ラベル付きポイントの周りの円の半径（地図単位）</translation>
+    </message>
+    <message>
+      <source>Minimum visible, unoccluded share of an object</source>
+      <translation>オブジェクトの見えていて遮られていない最小割合</translation>
+    </message>
+    <message>
+      <source>Validation fraction</source>
+      <translation>検証データの割合</translation>
+    </message>
+    <message>
+      <source>Region size for the split (map units of the DSM)</source>
+      <translation>分割に使う領域の大きさ（DSM の地図単位）</translation>
+    </message>
+    <message>
+      <source>Labelled objects: polygons or points are needed, not lines.</source>
+      <translation>ラベル付きオブジェクト：ラインではなくポリゴンかポイントが必要です。</translation>
+    </message>
+    <message>
+      <source>By field region</source>
+      <translation>圃場の領域ごと</translation>
+    </message>
+    <message>
+      <source>By photo</source>
+      <translation>写真ごと</translation>
+    </message>
+    <message>
+      <source>Object '{name}': {why}</source>
+      <translation>オブジェクト '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>Labelled points need a positive disc radius (map units).</source>
+      <translation>ラベル付きポイントには正の円の半径（地図単位）が必要です。</translation>
+    </message>
+    <message>
+      <source>Labelled objects: the layer has no field '{f}'.</source>
+      <translation>ラベル付きオブジェクト：レイヤーにフィールド '{f}' がありません。</translation>
+    </message>
+    <message>
+      <source>Labelled objects: object '{name}' has no class in the field '{f}'. Fill it or filter the layer.</source>
+      <translation>ラベル付きオブジェクト：オブジェクト '{name}' のフィールド '{f}' にクラスがありません。入力するかレイヤーを絞り込んでください。</translation>
+    </message>
+    <message>
       <source>Fit plot grid to crop rows</source>
       <translation>プロットグリッドを作物の条に合わせる</translation>
     </message>
@@ -854,14 +970,16 @@ Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe 
 
 Edges are densified in the photo (a vertex every few pixels) so that long edges follow the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped and its polygon marked complete = false (and reported), never silently reshaped.
 
-Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit). Output in the DSM's CRS, heights from the DSM.</source>
+Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir); 'fuse' is for detections with scores (COCO results with the COCO images file, YOLO with confidence, LabelMe): duplicates in a photo are suppressed, the views of one object grouped by overlap and distance, and each object gets the outline most of its views agree on, its number of views, the photos that could have seen it (expected_views), mean and max score, its position and DSM height, and a confidence (mean score × views / expected views). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit), and for 'fuse' expected_views, max_score and confidence. Output in the DSM's CRS, heights from the DSM.</source>
       <translation>元画像（撮影写真）上で描画または検出したポリゴン（LabelMe、COCO、YOLO、または「ROI を元画像へ逆投影」が書き出す写真ピクセルのレイヤ）を、正しい位置、面積、周長で地図へ投影します：各頂点のピクセルは、解かれたカメラを通る光線（レンズ歪みを含む）となり、その光線が DSM と最初に交わる点が地図上の頂点になります。どのような地形や樹冠でも正確です（平坦な地面を仮定したホモグラフィではありません）。
 
 入力は次のいずれか 1 つです：ファイル（LabelMe .json、COCO .json、YOLO .txt）、フォルダ（LabelMe .json ファイルまたは YOLO .txt ファイル。クラス名には classes.txt または data.yaml）、または写真ピクセルのレイヤ（x = 列、y = −行、フィールド 'photo'）。各画像はファイル名でプロジェクトの写真と照合されます。プロジェクトにない画像や、サイズがカメラと異なる画像は、その名前を示して拒否されます。
 
 辺は写真上で高密度化され（数ピクセルごとに 1 頂点）、長い辺も地表に沿います。光線が DSM に当たらない、DSM の外に出る、または NoData 値に入る頂点は除外され、そのポリゴンには complete = false が設定されます（報告もされます）。黙って形が変えられることはありません。
 
-統合：「なし」は写真ごとに 1 つのポリゴンを残します。「視点の和集合」は、複数の写真に写る同じラベルの重なり合うポリゴンを 1 つに統合します。「最良の視点」は最良の視点（complete、最高スコア、最も天底に近いもの）を残します。フィールド：photo、label、score、area_m2 と perimeter_m（平面上、メートル単位）、views、complete、missing（交点のない頂点）。出力は DSM の CRS で、高さは DSM から取得します。</translation>
+統合：「なし」は写真ごとに 1 つのポリゴンを残します。「視点の和集合」は、複数の写真に写る同じラベルの重なり合うポリゴンを 1 つに統合します。「最良の視点」は最良の視点（complete、最高スコア、最も天底に近いもの）を残します。フィールド：photo、label、score、area_m2 と perimeter_m（平面上、メートル単位）、views、complete、missing（交点のない頂点）。出力は DSM の CRS で、高さは DSM から取得します。
+
+「融合」（fuse）はスコア付きの検出（COCO 結果と COCO 画像ファイル、信頼度付き YOLO、LabelMe）向けです：写真内の重複を抑制し、同じオブジェクトの複数のビューを重なりと距離でまとめ、各オブジェクトに多数のビューが一致する輪郭、ビュー数、それを写し得た写真数（expected_views）、平均・最大スコア、位置と DSM 高さ、信頼度（平均スコア × ビュー数 / 期待ビュー数）を与えます。フィールド expected_views、max_score、confidence。</translation>
     </message>
     <message>
       <source>Annotation file (LabelMe .json, COCO .json or YOLO .txt)</source>
@@ -876,12 +994,12 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>…または写真ピクセルのポリゴンレイヤ（x = 列、y = −行）</translation>
     </message>
     <message>
-      <source>DSM (GeoTIFF)</source>
-      <translation>DSM（GeoTIFF）</translation>
-    </message>
-    <message>
       <source>Merge the same object seen in several photos</source>
       <translation>複数の写真に写る同じ物体を統合</translation>
+    </message>
+    <message>
+      <source>COCO images file that a COCO results list refers to</source>
+      <translation>COCO 結果リストが参照する COCO 画像ファイル</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -914,6 +1032,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>Best view</source>
       <translation>最良の視点</translation>
+    </message>
+    <message>
+      <source>Fuse detections (NMS, consensus outline, confidence)</source>
+      <translation>検出の融合（NMS、合意輪郭、信頼度）</translation>
     </message>
     <message>
       <source>{n} lines or points skipped: only polygons are forward-projected by this tool.</source>

@@ -740,6 +740,122 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
       <translation>已跳过感兴趣区“{name}”：{reason}</translation>
     </message>
     <message>
+      <source>Export a training set on the raw photos</source>
+      <translation>在原始照片上导出训练集</translation>
+    </message>
+    <message>
+      <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
+
+Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
+
+Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by the overlap; outlines are clipped to each tile and a part smaller than the minimum visible share of the object is dropped. Without, whole photos are copied.
+
+Split: objects go to train or validation by field region (square cells of the region size, in the DSM's map units) or by photo (the split of the object's best photo); an image holding objects of both splits is left out, so no object is in both.
+
+Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts and rules). Existing files are never replaced unless 'Overwrite existing files' is on.</source>
+      <translation>将在地图上只标注一次的对象（多边形，或带半径的点）转换为原始照片上的深度学习训练集：COCO 实例（多边形和边界框）、YOLO 分割与检测标签及其 data.yaml，以及 LabelMe 文件。
+
+每个对象被反投影到所有能看到它的照片中（高度取自 DSM，包含镜头畸变，在 DSM 上检验遮挡，并像“反投影 ROI”一样对照片排序）。当对象至少有最小可见比例位于画幅内且未被 DSM 遮挡时，才在该照片中标注；其轮廓裁剪到画幅（被遮挡部分不切除）。每个对象的最佳照片：只保留排名前 k 张（0 = 全部）。
+
+瓦片：给出瓦片大小时，照片被切成该大小（像素）、按重叠量相互重叠的瓦片；轮廓被精确裁剪到每个瓦片，小于对象最小可见比例的部分被舍弃。不给出时复制整张照片。
+
+划分：对象按田间区域（区域大小的正方形格网，DSM 的地图单位）或按照片（对象最佳照片所属的划分）分到训练集或验证集；同时包含两个划分对象的图像被排除，因此没有对象同时出现在两者中。
+
+输出文件夹：images/{train,val}、labels/{train,val} 和 data.yaml（YOLO 分割）、yolo_detect/（YOLO 检测）、coco/instances_{train,val}.json、labelme/{train,val} 以及 training_set.json（数量与规则）。除非开启“覆盖已有文件”，否则不会替换已有文件。</translation>
+    </message>
+    <message>
+      <source>Random seed of the split</source>
+      <translation>划分的随机种子</translation>
+    </message>
+    <message>
+      <source>Labelled objects (polygons or points)</source>
+      <translation>已标注对象（多边形或点）</translation>
+    </message>
+    <message>
+      <source>Class field</source>
+      <translation>类别字段</translation>
+    </message>
+    <message>
+      <source>Instance id field (default: feature id)</source>
+      <translation>实例 ID 字段（默认：要素 ID）</translation>
+    </message>
+    <message>
+      <source>DSM (GeoTIFF)</source>
+      <translation>数字表面模型 DSM（GeoTIFF）</translation>
+    </message>
+    <message>
+      <source>Best photos per object (0 = all)</source>
+      <translation>每个对象保留的最佳照片数（0 = 全部）</translation>
+    </message>
+    <message>
+      <source>Tile size (pixels; 0 = whole photos)</source>
+      <translation>瓦片大小（像素；0 = 整张照片）</translation>
+    </message>
+    <message>
+      <source>Tile overlap (pixels)</source>
+      <translation>瓦片重叠（像素）</translation>
+    </message>
+    <message>
+      <source>Train/validation split</source>
+      <translation>训练/验证划分</translation>
+    </message>
+    <message>
+      <source>Training set folder</source>
+      <translation>训练集文件夹</translation>
+    </message>
+    <message>
+      <source>Labelled objects: no layer given, or it could not be loaded.</source>
+      <translation>已标注对象：未给出图层，或无法加载。</translation>
+    </message>
+    <message>
+      <source>Labelled objects</source>
+      <translation>已标注对象</translation>
+    </message>
+    <message>
+      <source>Radius of the disc around labelled points (map units)</source>
+      <translation>标注点周围圆盘的半径（地图单位）</translation>
+    </message>
+    <message>
+      <source>Minimum visible, unoccluded share of an object</source>
+      <translation>对象可见且未被遮挡的最小比例</translation>
+    </message>
+    <message>
+      <source>Validation fraction</source>
+      <translation>验证集比例</translation>
+    </message>
+    <message>
+      <source>Region size for the split (map units of the DSM)</source>
+      <translation>划分用区域大小（DSM 的地图单位）</translation>
+    </message>
+    <message>
+      <source>Labelled objects: polygons or points are needed, not lines.</source>
+      <translation>已标注对象：需要多边形或点，而不是线。</translation>
+    </message>
+    <message>
+      <source>By field region</source>
+      <translation>按田间区域</translation>
+    </message>
+    <message>
+      <source>By photo</source>
+      <translation>按照片</translation>
+    </message>
+    <message>
+      <source>Object '{name}': {why}</source>
+      <translation>对象 '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>Labelled points need a positive disc radius (map units).</source>
+      <translation>标注点需要正的圆盘半径（地图单位）。</translation>
+    </message>
+    <message>
+      <source>Labelled objects: the layer has no field '{f}'.</source>
+      <translation>已标注对象：图层没有字段 '{f}'。</translation>
+    </message>
+    <message>
+      <source>Labelled objects: object '{name}' has no class in the field '{f}'. Fill it or filter the layer.</source>
+      <translation>已标注对象：对象 '{name}' 在字段 '{f}' 中没有类别。请填写或筛选图层。</translation>
+    </message>
+    <message>
       <source>Fit plot grid to crop rows</source>
       <translation>将地块网格拟合到作物行</translation>
     </message>
@@ -854,14 +970,16 @@ Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe 
 
 Edges are densified in the photo (a vertex every few pixels) so that long edges follow the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped and its polygon marked complete = false (and reported), never silently reshaped.
 
-Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit). Output in the DSM's CRS, heights from the DSM.</source>
+Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir); 'fuse' is for detections with scores (COCO results with the COCO images file, YOLO with confidence, LabelMe): duplicates in a photo are suppressed, the views of one object grouped by overlap and distance, and each object gets the outline most of its views agree on, its number of views, the photos that could have seen it (expected_views), mean and max score, its position and DSM height, and a confidence (mean score × views / expected views). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit), and for 'fuse' expected_views, max_score and confidence. Output in the DSM's CRS, heights from the DSM.</source>
       <translation>将在原始照片上绘制或检测到的多边形（LabelMe、COCO、YOLO，或“将感兴趣区反投影到原始照片”写出的照片像素图层）投影到地图上，得到其真实位置、面积和周长：每个顶点的像素成为穿过解算相机（含镜头畸变）的一条射线，射线与 DSM 的第一个交点即为该顶点在地图上的位置。在任何地形和冠层上都精确（并非平地单应变换）。
 
 输入，以下之一：一个文件（LabelMe .json、COCO .json、YOLO .txt）；一个文件夹（LabelMe .json 文件或 YOLO .txt 文件，类别名称来自 classes.txt 或 data.yaml）；或一个照片像素图层（x = 列，y = −行，字段 photo）。每幅图像按文件名与工程中的照片匹配；不在工程中或尺寸与相机不符的图像会被拒绝，并给出其名称。
 
 边在照片中加密（每隔几个像素一个顶点），使长边贴合地表。射线未击中 DSM、离开 DSM 或进入无数据值区域的顶点会被删除，其多边形标记为 complete = false（并报告），绝不会悄然改变形状。
 
-合并：“无”为每张照片保留一个多边形；“多视图合并”将多张照片中同一标签的重叠多边形合并为一个；“最佳视图”保留最佳视图（完整、评分最高、最接近天底）。字段：photo、label、score、area_m2 和 perimeter_m（平面，米）、views、complete、missing（未击中的顶点）。输出采用 DSM 的坐标系，高度取自 DSM。</translation>
+合并：“无”为每张照片保留一个多边形；“多视图合并”将多张照片中同一标签的重叠多边形合并为一个；“最佳视图”保留最佳视图（完整、评分最高、最接近天底）。字段：photo、label、score、area_m2 和 perimeter_m（平面，米）、views、complete、missing（未击中的顶点）。输出采用 DSM 的坐标系，高度取自 DSM。
+
+“融合”（fuse）用于带分数的检测（COCO 结果加 COCO 图像文件、带置信度的 YOLO、LabelMe）：抑制同一照片中的重复检测，按重叠和距离将同一对象的多个视图分组，每个对象得到多数视图一致的轮廓、视图数、本可看到它的照片数（expected_views）、平均和最大分数、位置及 DSM 高度，以及置信度（平均分数 × 视图数 / 期望视图数）；字段 expected_views、max_score、confidence。</translation>
     </message>
     <message>
       <source>Annotation file (LabelMe .json, COCO .json or YOLO .txt)</source>
@@ -876,12 +994,12 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>…或照片像素多边形图层（x = 列，y = −行）</translation>
     </message>
     <message>
-      <source>DSM (GeoTIFF)</source>
-      <translation>数字表面模型 DSM（GeoTIFF）</translation>
-    </message>
-    <message>
       <source>Merge the same object seen in several photos</source>
       <translation>合并在多张照片中看到的同一对象</translation>
+    </message>
+    <message>
+      <source>COCO images file that a COCO results list refers to</source>
+      <translation>COCO 结果列表所引用的 COCO 图像文件</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -914,6 +1032,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>Best view</source>
       <translation>最佳视图</translation>
+    </message>
+    <message>
+      <source>Fuse detections (NMS, consensus outline, confidence)</source>
+      <translation>融合检测（NMS、共识轮廓、置信度）</translation>
     </message>
     <message>
       <source>{n} lines or points skipped: only polygons are forward-projected by this tool.</source>

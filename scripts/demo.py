@@ -15,6 +15,7 @@ import numpy as np
 
 from .demo_photo_statistics import run_photo_statistics_demo
 from .demo_plot_grid import run_plot_grid_demo
+from .demo_round_trip import run_round_trip_demo
 from .demo_season import SEASON_DATES, run_season_demo
 from .qgis_process import qgis_process_env, run_algorithm
 
@@ -100,6 +101,7 @@ def main(out: str) -> int:
 
     back = _backward_projection(steps, s, out)
     photo_stats = run_photo_statistics_demo(steps, s, truth, out, _features)
+    photo_stats += run_round_trip_demo(steps, out)
 
     # ---- checks against the truth ----------------------------------------------------------
     crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}

@@ -17,34 +17,56 @@ from ..errors import InputError
 from .model import POLYGON, PhotoAnnotations, PhotoShape, image_size
 
 
-def read_coco(path) -> List[PhotoAnnotations]:
-    """One :class:`PhotoAnnotations` per image of a COCO JSON file (images without annotations
-    included). Raises :class:`InputError` naming the file and the annotation at fault."""
-    path = os.fspath(path)
+def _load(path: str, what: str):
     if not os.path.isfile(path):
-        raise InputError(f"COCO file not found: {path}")
+        raise InputError(f"{what} not found: {path}")
     try:
         with open(path, "rb") as fh:
-            doc = json.loads(fh.read().decode("utf-8-sig"))
+            return json.loads(fh.read().decode("utf-8-sig"))
     except (ValueError, UnicodeDecodeError) as exc:
         raise InputError(f"{path} is not valid JSON ({exc}); is it a COCO file?") from None
+
+
+def read_coco(path, dataset=None) -> List[PhotoAnnotations]:
+    """One :class:`PhotoAnnotations` per image of a COCO JSON file (images without annotations
+    included). Raises :class:`InputError` naming the file and the annotation at fault.
+
+    ``path`` may also be a COCO *results* list (``image_id``, ``category_id``, ``bbox`` or
+    ``segmentation``, ``score``, as detectors write): ``dataset`` is then the COCO file whose
+    ``images`` and ``categories`` the ids refer to. An image with ``photo`` and ``photo_window``
+    ([x0, y0, w, h], as :func:`core.projection.training_set.export_training_set` writes for
+    tiles) is a window of that photo: its shapes are shifted into the photo's pixels and the
+    image is reported as the photo, with no declared size."""
+    path = os.fspath(path)
+    doc = _load(path, "COCO file")
     if isinstance(doc, list):
-        raise InputError(f"{path} is a COCO *results* list (annotations without images). Give the "
-                         "dataset file with an 'images' list, or put the results in one.")
-    if not isinstance(doc, dict) or not isinstance(doc.get("images"), list) \
-            or not isinstance(doc.get("annotations", []), list):
-        raise InputError(f"{path} is not a COCO file: it needs 'images' and 'annotations' lists.")
+        if dataset is None:
+            raise InputError(f"{path} is a COCO *results* list (annotations without images). Give "
+                             "the dataset file its image ids refer to (the COCO images file).")
+        base = _load(os.fspath(dataset), "COCO dataset file")
+        if not isinstance(base, dict) or not isinstance(base.get("images"), list):
+            raise InputError(f"{dataset} is not a COCO dataset file: it has no 'images' list.")
+        doc = {"images": base["images"], "categories": base.get("categories") or [],
+               "annotations": doc}
     cats = {}
     for k, c in enumerate(doc.get("categories") or []):
         if isinstance(c, dict) and "id" in c:
             cats[c["id"]] = str(c.get("name", c["id"]))
     images: Dict[object, PhotoAnnotations] = {}
+    offsets: Dict[object, object] = {}
     for k, im in enumerate(doc["images"]):
         where = f"{path}: images[{k}]"
         if not isinstance(im, dict) or "id" not in im or not im.get("file_name"):
             raise InputError(f"{where} has no 'id' or 'file_name'.")
         w, h = image_size(im, ("width", "height"), where)
-        images[im["id"]] = PhotoAnnotations(path, str(im["file_name"]), w, h, [])
+        name, off = str(im["file_name"]), None
+        if im.get("photo") and isinstance(im.get("photo_window"), list):
+            win = _numbers(im["photo_window"], f"{where} photo_window")
+            if len(win) != 4:
+                raise InputError(f"{where}: photo_window must be [x0, y0, width, height].")
+            name, off, w, h = str(im["photo"]), win[:2], None, None
+        images[im["id"]] = PhotoAnnotations(path, name, w, h, [])
+        offsets[im["id"]] = off
     for k, a in enumerate(doc.get("annotations") or []):
         where = f"{path}: annotations[{k}]"
         if not isinstance(a, dict):
@@ -54,6 +76,8 @@ def read_coco(path) -> List[PhotoAnnotations]:
                              "which is not in 'images'.")
         label = cats.get(a.get("category_id"), str(a.get("category_id", "")))
         rings, typ = _rings(a, where)
+        if offsets[a["image_id"]] is not None:
+            rings = [r + offsets[a["image_id"]] for r in rings]
         attrs = {"category_id": a.get("category_id")}
         score = a.get("score")
         if score is not None:

@@ -79,9 +79,10 @@ def detect_format(path) -> str:
     raise InputError(f"{path}: not a LabelMe file (no 'shapes') nor a COCO file (no 'images').")
 
 
-def read_annotations(path, recon) -> List[Tuple[PhotoAnnotations, object]]:
+def read_annotations(path, recon, dataset=None) -> List[Tuple[PhotoAnnotations, object]]:
     """(annotations, camera) for every annotated image of a LabelMe file or folder, a COCO
-    file or a YOLO file or folder. Raises :class:`InputError` for an image that is not a photo
+    file or a YOLO file or folder. ``dataset``: the COCO file a COCO *results* list refers to
+    (:func:`.coco.read_coco`). Raises :class:`InputError` for an image that is not a photo
     of the project or whose declared size differs from its camera's."""
     path = os.fspath(path)
     fmt = detect_format(path)
@@ -94,7 +95,7 @@ def read_annotations(path, recon) -> List[Tuple[PhotoAnnotations, object]]:
             ann = read_labelme(f)
             out.append((ann, index.find(ann.image, f, os.path.basename(f))))
     elif fmt == "coco":
-        for ann in read_coco(path):
+        for ann in read_coco(path, dataset):
             out.append((ann, index.find(ann.image, path)))
     else:
         def size(stem):

@@ -4,7 +4,9 @@ Forward-projected polygons with the same label whose map footprints overlap (by 
 ``min_overlap`` of the smaller one) are one object; ``views`` counts its photos. Modes:
 ``none`` (every polygon kept, views 1), ``union`` (the union of the views; a vertex's height
 is that of the nearest input vertex) and ``best`` (the polygon of the best view: complete
-first, then the highest score, then the most nadir view, then the largest in pixels).
+first, then the highest score, then the most nadir view, then the largest in pixels);
+``fuse`` (:mod:`.fuse`: NMS within each photo, groups by IoU and distance, a majority
+consensus outline, scores, DSM height and a confidence from the views that could see it).
 Geometry work is done by shapely on the map x, y.
 """
 from dataclasses import dataclass, field
@@ -15,7 +17,7 @@ import numpy as np
 from ..errors import EasyIDPError
 from .forward import ForwardShape
 
-MERGE_MODES = ("none", "union", "best")
+MERGE_MODES = ("none", "union", "best", "fuse")
 
 
 @dataclass
@@ -53,10 +55,18 @@ def _single(f: ForwardShape, views: int = 1, photos=None) -> MapPolygon:
 
 
 def merge_views(shapes: List[ForwardShape], mode: str = "union",
-                min_overlap: float = 0.1) -> List[MapPolygon]:
-    """Merge forward-projected polygons of several photos (see the module docstring)."""
+                min_overlap: float = 0.1, *, recon=None, dsm=None,
+                **fuse_options) -> List[MapPolygon]:
+    """Merge forward-projected polygons of several photos (see the module docstring).
+    ``fuse`` needs the project ``recon`` and the ``dsm`` (GeoTIFF path) the shapes were
+    projected on; ``fuse_options`` go to :func:`.fuse.fuse_views`."""
     if mode not in MERGE_MODES:
         raise EasyIDPError(f"merge mode must be one of {MERGE_MODES}, not {mode!r}")
+    if mode == "fuse":
+        if recon is None or dsm is None:
+            raise EasyIDPError("merge mode 'fuse' needs the project and the DSM (recon=, dsm=).")
+        from .fuse import fuse_views
+        return fuse_views(shapes, recon, dsm, **fuse_options)
     polys = [f for f in shapes if f.kind == "polygon"]
     if mode == "none":
         return [_single(f) for f in polys]

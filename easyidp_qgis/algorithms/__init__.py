@@ -6,6 +6,7 @@ from .create_plot_grid import CreatePlotGrid
 from .crop_point_cloud_by_rois import CropPointCloudByROIs
 from .crop_raster_by_rois import CropRasterByROIs
 from .fit_plot_grid import FitPlotGrid
+from .export_training_set import ExportTrainingSet
 from .forward_project_polygons import ForwardProjectPolygons
 from .orthorectify_rois import OrthorectifyROIs
 from .photo_statistics import PhotoStatisticsAlgorithm
@@ -16,4 +17,4 @@ from .season_traits import SeasonTraits
 ALGORITHMS = [CropRasterByROIs, ROIHeightsFromDSM, CameraFootprints, CropPointCloudByROIs,
               PointCloudROIStatistics, CreateDemoSurvey, SeasonTraits, BackProjectROIs,
               ForwardProjectPolygons, OrthorectifyROIs, PhotoStatisticsAlgorithm, CreatePlotGrid,
-              FitPlotGrid]
+              FitPlotGrid, ExportTrainingSet]

@@ -9,14 +9,14 @@ from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsLineStri
                        QgsWkbTypes)
 
 from .. import presentation
-from ..compat import (FeatureSinkFlag, FieldType, GeometryType, ProcessingFileParameterBehavior,
+from ..compat import FeatureSinkFlag, FieldType, GeometryType, ProcessingFileParameterBehavior
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType, WkbType)
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
 from ..outputs import close_sink
 from .base import EasyIDPAlgorithm
 
-MERGE_OPTIONS = ("none", "union", "best")
+MERGE_OPTIONS = ("none", "union", "best", "fuse")
 
 
 def photo_layer_annotations(source, feedback=None):
@@ -67,6 +67,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
     PROJECT_CRS = "PROJECT_CRS"
     DSM = "DSM"
     MERGE = "MERGE"
+    COCO_IMAGES = "COCO_IMAGES"
     DENSIFY = "DENSIFY"
     OUTPUT = "OUTPUT"
 
@@ -90,8 +91,14 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         "and its polygon marked complete = false (and reported), never silently reshaped.\n\n"
         "Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons "
         "of one label from several photos into one; 'best' keeps the best view (complete, "
-        "highest score, most nadir). Fields: photo, label, score, area_m2 and perimeter_m "
-        "(planimetric, metres), views, complete, missing (vertices without a hit). Output in "
+        "highest score, most nadir); 'fuse' is for detections with scores (COCO results with "
+        "the COCO images file, YOLO with confidence, LabelMe): duplicates in a photo are "
+        "suppressed, the views of one object grouped by overlap and distance, and each object "
+        "gets the outline most of its views agree on, its number of views, the photos that "
+        "could have seen it (expected_views), mean and max score, its position and DSM height, "
+        "and a confidence (mean score × views / expected views). Fields: photo, label, score, area_m2 and perimeter_m "
+        "(planimetric, metres), views, complete, missing (vertices without a hit), and for "
+        "'fuse' expected_views, max_score and confidence. Output in "
         "the DSM's CRS, heights from the DSM.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
@@ -110,7 +117,13 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterEnum(
             self.MERGE, self.tr("Merge the same object seen in several photos"),
             options=[self.tr("None (one polygon per photo)"), self.tr("Union of the views"),
-                     self.tr("Best view")], defaultValue=0))
+                     self.tr("Best view"),
+                     self.tr("Fuse detections (NMS, consensus outline, confidence)")],
+            defaultValue=0))
+        self.addParameter(QgsProcessingParameterFile(
+            self.COCO_IMAGES, self.tr("COCO images file that a COCO results list refers to"),
+            behavior=ProcessingFileParameterBehavior.File, optional=True,
+            fileFilter="COCO (*.json)"))
         p = self.decimals(QgsProcessingParameterNumber(
             self.DENSIFY, self.tr("Densify edges: a vertex every … photo pixels (0: off)"),
             ProcessingNumberParameterType.Double, 4.0, minValue=0.0, maxValue=1000.0), 1)
@@ -140,7 +153,8 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             index = PhotoIndex(recon)
             items = [(a, index.find(a.image, a.source)) for a in photo_layer_annotations(layer, feedback)]
         else:
-            items = read_annotations(path or folder, recon)
+            items = read_annotations(path or folder, recon,
+                                     self.parameterAsFile(parameters, self.COCO_IMAGES, context) or None)
         merge = MERGE_OPTIONS[self.parameterAsEnum(parameters, self.MERGE, context)]
         densify = self.parameterAsDouble(parameters, self.DENSIFY, context)
         shapes, skipped = [], 0
@@ -155,13 +169,17 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         if skipped:
             feedback.pushWarning(self.tr("{n} lines or points skipped: only polygons are "
                                          "forward-projected by this tool.").format(n=skipped))
-        merged = merge_views(shapes, merge)
+        merged = merge_views(shapes, merge, recon=recon, dsm=dsm.tif,
+                             photos=[cam.label for _, cam in items]) if merge == "fuse" \
+            else merge_views(shapes, merge)
 
         fields = QgsFields()
         for name, kind in (("photo", FieldType.QString), ("label", FieldType.QString),
                            ("score", FieldType.Double), ("area_m2", FieldType.Double),
                            ("perimeter_m", FieldType.Double), ("views", FieldType.Int),
-                           ("complete", FieldType.Bool), ("missing", FieldType.Int)):
+                           ("complete", FieldType.Bool), ("missing", FieldType.Int),
+                           ("expected_views", FieldType.Int), ("max_score", FieldType.Double),
+                           ("confidence", FieldType.Double)):
             fields.append(QgsField(name, kind))
         sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
                                           WkbType.MultiPolygonZ, dsm_layer.crs())
@@ -191,7 +209,9 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
                 continue
             f = QgsFeature(fields)
             f.setAttributes([";".join(m.photos), m.label, m.score, _num(m.area_m2),
-                             _num(m.perimeter_m), m.views, bool(m.complete), missing])
+                             _num(m.perimeter_m), m.views, bool(m.complete), missing,
+                             getattr(m, "expected_views", None), getattr(m, "max_score", None),
+                             getattr(m, "confidence", None)])
             f.setGeometry(QgsGeometry(geom))
             sink.addFeature(f, FeatureSinkFlag.FastInsert)
             written += 1
