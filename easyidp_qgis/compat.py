@@ -44,7 +44,8 @@ LayerHint = QgsProcessingUtils.LayerHint          # scoped on every version
 FeatureSinkFlag = QgsFeatureSink.Flag
 
 # ---- QGIS: geometry (3.30), labels (3.26), CRS (3.36), messages, tasks
-GeometryType = _scoped("GeometryType", QgsWkbTypes, "GeometryType", Polygon="PolygonGeometry")
+GeometryType = _scoped("GeometryType", QgsWkbTypes, "GeometryType", Polygon="PolygonGeometry",
+                       Point="PointGeometry")
 WkbType = _scoped("WkbType", QgsWkbTypes, "Type")
 LabelPlacement = _scoped("LabelPlacement", QgsPalLayerSettings, "Placement")
 CrsWktVariant = _scoped("CrsWktVariant", QgsCoordinateReferenceSystem, "WktVariant",

@@ -1,10 +1,12 @@
 """Processing tool: Export a training set on the raw photos (easyidp:exporttrainingset)."""
-from qgis.core import (QgsCoordinateTransform, QgsFeatureRequest, QgsProcessingException, QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
+from qgis.core import (QgsCoordinateTransform, QgsFeatureRequest, QgsProcessingException,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsWkbTypes)
 
-from ..compat import ProcessingFileParameterBehavior, ProcessingNumberParameterType, ProcessingParameterFlag, ProcessingSourceType
+from ..compat import (GeometryType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType)
 from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
                       rois_from_source)
 from .base import EasyIDPAlgorithm
@@ -146,10 +148,10 @@ class ExportTrainingSet(EasyIDPAlgorithm):
         """(ROISet in the DSM's CRS, classes): polygons as they are, points as discs."""
         from ...core.projection.training_set import point_discs
         kind = QgsWkbTypes.geometryType(source.wkbType())
-        if kind == QgsWkbTypes.PolygonGeometry:
+        if kind == GeometryType.Polygon:
             rois, features = rois_from_source(source, id_field, self.tr("Labelled objects"),
                                               feedback, crs, context)
-        elif kind == QgsWkbTypes.PointGeometry:
+        elif kind == GeometryType.Point:
             radius = self.parameterAsDouble(parameters, self.POINT_RADIUS, context)
             if not radius > 0:
                 raise QgsProcessingException(self.tr(

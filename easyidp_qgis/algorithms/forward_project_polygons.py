@@ -9,7 +9,7 @@ from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsLineStri
                        QgsWkbTypes)
 
 from .. import presentation
-from ..compat import FeatureSinkFlag, FieldType, GeometryType, ProcessingFileParameterBehavior
+from ..compat import (FeatureSinkFlag, FieldType, GeometryType, ProcessingFileParameterBehavior,
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType, WkbType)
 from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
