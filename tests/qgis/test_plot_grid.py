@@ -185,11 +185,10 @@ def test_fit_plot_grid_is_cancellable(plugin, trial, tmp_path):
     assert not (tmp_path / "c.gpkg").exists()
 
 
-def test_outputs_are_loaded_labelled_and_outlined(plugin, trial, tmp_path):
+def test_outputs_are_loaded_labelled_and_outlined(plugin, trial, tmp_path, load_results):
     """In the desktop's loader: the grid is loaded at the top of the tree (above the
     orthomosaic), labelled by plot_id and drawn as outlines; the fitted grid dashes the plots
     left in place."""
-    from processing.gui.Postprocessing import handleAlgorithmResults
     from qgis.core import QgsProcessingOutputLayerDefinition
     proj = QgsProject.instance()
     proj.clear()
@@ -207,7 +206,7 @@ def test_outputs_are_loaded_labelled_and_outlined(plugin, trial, tmp_path):
                 str(tmp_path / f"{alg.name()}.gpkg"), proj))
             results, ok = alg.run(params, context, feedback)
             assert ok, feedback.textLog()
-            assert handleAlgorithmResults(alg, context, feedback, False, params)
+            assert load_results(alg, context, feedback, params)
             top = proj.layerTreeRoot().children()[0].layer()
             assert top.labelsEnabled() and "plot_id" in top.labeling().settings().fieldName
             symbols = top.renderer().symbols(QgsRenderContext()) if hasattr(
