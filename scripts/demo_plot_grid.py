@@ -3,7 +3,6 @@ the four field corners and the layout, then the grid turned by 2°, shifted by 0
 spacing 2 % off fitted to the crop rows; both through qgis_process, with the errors against the
 trial's truth."""
 import json
-import math
 import os
 
 import numpy as np
@@ -23,8 +22,8 @@ def _rings(path):
 
 def run_plot_grid_demo(steps, out: str) -> list:
     """Returns the lines to print."""
-    from ..core.demo.trial import FIELD_BEARING, TRIAL, make_demo_trial, trial_corners
-    from ..core.plotgrid import create_plot_grid, write_plot_grid
+    from ..core.demo.trial import TRIAL, make_demo_trial, perturbed_start
+    from ..core.plotgrid import write_plot_grid
     trial = make_demo_trial(os.path.join(out, "trial"))
     with open(trial.truth, encoding="utf-8") as fh:
         truth = json.load(fh)["plots"]
@@ -40,16 +39,8 @@ def run_plot_grid_demo(steps, out: str) -> list:
     grid = _rings(made["OUTPUT"])
     made_err = max(float(np.abs(r - np.array(truth[p]["layout"])).max()) for p, (r, _) in grid.items())
     # the start of the fit: the layout with its spacing 2 % off, turned by 2°, shifted 0.30 m
-    T = dict(TRIAL)
-    px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
-    T.update(gap_x=px * 1.02 - T["size_x"], gap_y=py * 1.02 - T["size_y"],
-             block_gap_x=T["block_gap_x"] + 0.02 * px)
-    g, _ = create_plot_grid("EPSG:32654", origin=trial_corners()[0], bearing=FIELD_BEARING, **T)
-    c = g.corners.reshape(-1, 2).mean(axis=0)
-    t = math.radians(2.0)
-    R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
-    g.corners = np.array([(q - c) @ R.T + c + (0.3 * math.cos(0.5), 0.3 * math.sin(0.5))
-                          for q in g.corners])
+    g, start = perturbed_start()
+    g.corners = np.array(start)
     start = write_plot_grid(os.path.join(out, "trial_grid_off.gpkg"), g)
     fitted = steps.run("fit the grid (turned 2°, shifted 0.30 m, spacing 2 % off) to the crop rows",
                        "easyidp:fitplotgrid",

@@ -254,3 +254,23 @@ def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False) -> Demo
         return DemoTrial(folder, paths["orthomosaic.tif"], paths["corners.geojson"],
                          paths["field_book.csv"], paths["plots.gpkg"], paths["planted.gpkg"],
                          paths["truth.json"], f"EPSG:{EPSG}")
+
+
+def perturbed_start(rotation_deg: float = 2.0, shift=(0.3 * math.cos(0.5), 0.3 * math.sin(0.5)),
+                    spacing: float = 1.02):
+    """The fit's starting grid in the demo and the tests: the trial's layout made with its spacing
+    ``spacing`` × too large (plot sizes right), then turned by ``rotation_deg`` (degrees,
+    counter-clockwise) about its centre and shifted by ``shift`` (east, north in m; 0.30 m).
+    Returns (the grid as made, its corners turned and shifted: one (4, 2) array per plot)."""
+    from ..plotgrid import create_plot_grid
+    T = dict(TRIAL)
+    px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
+    T["gap_x"] = px * spacing - T["size_x"]
+    T["gap_y"] = py * spacing - T["size_y"]
+    T["block_gap_x"] = T["block_gap_x"] + (spacing - 1) * px
+    grid, _ = create_plot_grid(f"EPSG:{EPSG}", origin=trial_corners()[0], bearing=FIELD_BEARING,
+                               **T)
+    c = grid.corners.reshape(-1, 2).mean(axis=0)
+    t = math.radians(rotation_deg)
+    R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
+    return grid, [(q - c) @ R.T + c + np.asarray(shift) for q in grid.corners]

@@ -12,7 +12,7 @@ import pytest
 
 from easyidp_toolbox.core import Cancelled
 from easyidp_toolbox.core.demo.trial import (EMPTY, FIELD_BEARING, TRIAL, layout_plots,
-                                             make_demo_trial, trial_corners)
+                                             make_demo_trial, perturbed_start, trial_corners)
 from easyidp_toolbox.core.plotgrid import (PlotGridError, create_plot_grid, fit_plot_grid,
                                            join_field_book, read_field_book, sort_corners,
                                            write_plot_grid)
@@ -257,22 +257,6 @@ def test_ten_thousand_plots_quickly():
 
 
 # ---- the fit (truth) -------------------------------------------------------------------------
-
-def perturbed_start(rotation_deg=2.0, shift=(0.3 * math.cos(0.5), 0.3 * math.sin(0.5)),
-                    spacing=1.02):
-    """The trial's grid made with its spacing ``spacing`` × too large (plot sizes right), then
-    turned by ``rotation_deg`` about its centre and shifted by ``shift`` (0.30 m)."""
-    T = dict(TRIAL)
-    px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
-    T["gap_x"] = px * spacing - T["size_x"]
-    T["gap_y"] = py * spacing - T["size_y"]
-    T["block_gap_x"] = T["block_gap_x"] + (spacing - 1) * px
-    grid, _ = create_plot_grid(UTM, origin=trial_corners()[0], bearing=FIELD_BEARING, **T)
-    c = grid.corners.reshape(-1, 2).mean(axis=0)
-    t = math.radians(rotation_deg)
-    R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
-    return grid, [(q - c) @ R.T + c + np.asarray(shift) for q in grid.corners]
-
 
 def test_fit_recovers_the_planted_plots(trial):
     """Truth: from the grid turned by 2°, shifted by 0.30 m and with its spacing 2 % off, every

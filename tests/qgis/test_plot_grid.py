@@ -6,7 +6,6 @@ explicit loops and renders the crop where its truth says it was planted); *hand*
 worked out in the test.
 """
 import json
-import math
 
 import numpy as np
 import pytest
@@ -14,8 +13,8 @@ from qgis.core import (QgsApplication, QgsProcessingContext, QgsProcessingExcept
                        QgsProcessingFeedback, QgsProject, QgsRasterLayer, QgsRenderContext,
                        QgsVectorLayer)
 
-from easyidp_toolbox.core.demo.trial import EMPTY, FIELD_BEARING, TRIAL, make_demo_trial, \
-    trial_corners
+from easyidp_toolbox.core.demo.trial import EMPTY, TRIAL, make_demo_trial, \
+    perturbed_start
 from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
 from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
 
@@ -125,16 +124,8 @@ def test_origin_and_bearing_in_qgis_by_hand(plugin, tmp_path):
 
 def _perturbed(path):
     """The trial's grid turned by 2°, shifted by 0.30 m, spacing 2 % off, as a GeoPackage."""
-    T = dict(TRIAL)
-    px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
-    T.update(gap_x=px * 1.02 - T["size_x"], gap_y=py * 1.02 - T["size_y"],
-             block_gap_x=T["block_gap_x"] + 0.02 * px)
-    grid, _ = create_plot_grid("EPSG:32654", origin=trial_corners()[0], bearing=FIELD_BEARING, **T)
-    c = grid.corners.reshape(-1, 2).mean(axis=0)
-    t = math.radians(2.0)
-    R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
-    grid.corners = np.array([(q - c) @ R.T + c + (0.3 * math.cos(0.5), 0.3 * math.sin(0.5))
-                             for q in grid.corners])
+    grid, start = perturbed_start()
+    grid.corners = np.array(start)
     return write_plot_grid(str(path), grid)
 
 
