@@ -289,8 +289,16 @@ def test_real_multispectral_matches_gdal(realdata, tmp_path):
     te = (gt[0], gt[3] + gt[5] * A.shape[1], gt[0] + gt[1] * A.shape[2], gt[3])
     B, _ = _gdal_cut(gdal, src, doc, str(tmp_path / "g.tif"), outputBounds=te, xRes=gt[1],
                      yRes=-gt[5], dstNodata=65535)
+    if int(gdal.VersionInfo()) >= 3110000:
+        # GDAL 3.11+ writes a valid source 65535 (this file has them, with no nodata of its own)
+        # as 65534, so it is not taken for the destination's nodata; we keep the value as read
+        # (the collision is a product question, in the closing note of issue 21): where GDAL
+        # wrote 65534, the source held 65534 or 65535, and ours holds the value as read
+        moved = B == 65534
+        assert np.isin(A[moved], (65534, 65535)).all()
+        A, B = A[~moved], B[~moved]
     assert np.array_equal(A, B)
-    assert (A == 65535).all(axis=0).sum() > 0  # the hole and the corners are masked
+    assert (ds.ReadAsArray() == 65535).all(axis=0).sum() > 0  # the hole and the corners are masked
 
 
 @pytest.mark.parametrize("raster,outside", [("d2spy/dsm.tif", "d2spy/feature_outside_dsm.geojson"),
