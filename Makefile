@@ -109,7 +109,7 @@ apt-packages:
 	@echo $(APT_PACKAGES)
 
 test-core:
-	@echo "== core tests, QGIS environment (numpy 1.26)"
+	@echo "== core tests, QGIS environment ($(VENV): numpy $$($(VENV)/bin/python -c "import numpy; print(numpy.__version__)"))"
 	cd $(ROOT) && $(VENV)/bin/python -m pytest -q -p no:pytest_qgis -p no:cacheprovider -m "not geopandas" tests/core
 
 test-core-current:
