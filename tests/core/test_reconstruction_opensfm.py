@@ -409,7 +409,7 @@ def test_odm_crs_conflict_and_bad_coords_file(tmp_path):
     (geo / "coords.txt").write_text("WGS84 UTM 54N\n319830 3956030\n")
     recon = open_reconstruction(tmp_path)
     assert recon.software == "odm" and recon.crs.to_epsg() == 32654
-    # the name of EPSG:6677 is PROJ's: JGD2011 up to PROJ 9.6, JGD2024 in sid's newer database
+    # the name of EPSG:6677 is PROJ's: JGD2011 in Debian 12 and 13, JGD2024 in sid's newer EPSG data
     with pytest.raises(InputError, match=r"georeferenced in WGS 84 / UTM zone 54N.*do not pass "
                                          r"another project CRS \(JGD20(11|24) / Japan Plane"):
         open_reconstruction(tmp_path, crs="EPSG:6677")
