@@ -3,6 +3,9 @@
 Every message names the input at fault and says what to do about it; the QGIS adapter turns
 :class:`EasyIDPError` into ``QgsProcessingException`` unchanged.
 """
+import functools
+import struct
+import zlib
 
 
 class EasyIDPError(Exception):
@@ -24,13 +27,12 @@ class Cancelled(EasyIDPError):
 def reads_file(advice: str):
     """Decorate a reader ``fn(path, …)``: whatever a damaged file makes the parsing raise
     (ValueError, KeyError, struct.error, zlib.error, …) becomes an :class:`InputError` that names
-    the file and gives ``advice``; the reader's own, more precise errors pass through."""
-    import functools
-    import struct
-    import zlib
+    the file and gives ``advice``; the reader's own, more precise errors pass through.
 
-    parse_errors = (ValueError, TypeError, KeyError, IndexError, LookupError, AttributeError,
-                    ArithmeticError, EOFError, struct.error, zlib.error, OSError)
+    ``TypeError`` and ``AttributeError`` are not caught: they are bugs of the reader (or a
+    structure it failed to check), and must surface as such, not as "damaged file"."""
+    parse_errors = (ValueError, KeyError, IndexError, LookupError, ArithmeticError, EOFError,
+                    struct.error, zlib.error, OSError)
 
     def deco(fn):
         @functools.wraps(fn)

@@ -18,7 +18,11 @@ def rois_from_features(features: Iterable[Mapping], crs, name_field: Optional[st
     for i, feat in enumerate(features):
         if not isinstance(feat, Mapping):
             raise InputError(f"{where}: feature {i} is not a GeoJSON-like feature object.")
-        props = dict(feat.get("properties") or {})
+        props = feat.get("properties") or {}
+        if not isinstance(props, Mapping):
+            raise InputError(f"{where}: feature {i} has properties that are not an object "
+                             f"({type(props).__name__}). Export the layer again.")
+        props = dict(props)
         if name_field is not None:
             if name_field not in props:
                 raise InputError(f"{where}: feature {i} has no field {name_field!r}; its fields "

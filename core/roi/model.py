@@ -82,14 +82,25 @@ def roi_from_coordinates(name: str, geom_type: str, coordinates, attributes=None
     else:
         raise ROIError(f"ROI {name!r} is a {geom_type}, not a polygon: ROIs must be polygons or "
                        "multipolygons (buffer points or lines first).")
+    if coordinates is None:                                 # an empty geometry
+        polys = []
+    if not _is_list(polys) or not all(_is_list(p) and all(_is_list(r) for r in p)
+                                      for p in polys):
+        raise ROIError(f"ROI {name!r}: its {geom_type} coordinates are not nested lists of "
+                       f"rings: {str(coordinates)[:80]}.")
     parts, heights = [], []
-    for poly in polys or []:
+    for poly in polys:
         rings = [_ring_xyz(name, r) for r in poly if len(r)]
         if rings:
             parts.append([geometry.close_ring(r[:, :2], keep=keep) for r, keep in rings])
             heights.append([r[keep, 2] if r.shape[1] > 2 else None for r, keep in rings])
     has_z = bool(parts) and all(z is not None for zs in heights for z in zs)
     return ROI(str(name), parts, dict(attributes or {}), heights if has_z else None)
+
+
+def _is_list(value) -> bool:
+    """A GeoJSON array (a list or tuple, or an array from a reader), not a string or number."""
+    return isinstance(value, (list, tuple, np.ndarray))
 
 
 def _ring_xyz(name: str, ring):

@@ -2,6 +2,7 @@
 versions of real files. Only the project's own exceptions may come out, with a message, in
 bounded time and memory. The budget is set by EASYIDP_FUZZ_EXAMPLES (per reader, default 100)."""
 import io
+import json
 import os
 import shutil
 import signal
@@ -14,7 +15,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from easyidp_toolbox.core.annotations import read_labelme
-from easyidp_toolbox.core.errors import EasyIDPError
+from easyidp_toolbox.core.errors import EasyIDPError, InputError, reads_file
 from easyidp_toolbox.core.pointcloud import read_point_cloud
 from easyidp_toolbox.core.raster.geotiff import open_geotiff
 from easyidp_toolbox.core.reconstruction import open_reconstruction
@@ -182,3 +183,52 @@ def test_pix4d_params_files(realdata, tmp_path_factory, suffix):
         target.write_bytes(data)
         _only_our_errors(lambda p: open_reconstruction(p, crs="EPSG:32654"), params)
     run()
+
+
+# ---- valid JSON of the wrong shape: a clear error, not a TypeError from deep in the reader -----
+WRONG_SHAPES = {
+    "geojson": [
+        {"type": "FeatureCollection", "features": [1]},
+        {"type": "FeatureCollection", "features": [
+            {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": 5}}]},
+        {"type": "FeatureCollection", "features": [
+            {"type": "Feature", "geometry": {"type": "MultiPolygon", "coordinates": [[7]]}}]},
+        {"type": "FeatureCollection", "features": [
+            {"type": "Feature", "properties": 5, "geometry": {
+                "type": "Polygon", "coordinates": [[[0, 0], [1, 0], [1, 1], [0, 0]]]}}]},
+        {"type": "Polygon", "coordinates": "abc"},
+    ],
+    "labelme": [
+        {"shapes": 5}, {"shapes": [5]}, {"shapes": [{"points": 5}]},
+        {"shapes": [{"points": [[1, 2], [3, 4], [5, "a"]], "shape_type": "polygon", "label": 1}]},
+    ],
+}
+JSON_READERS = {"geojson": read_geojson, "labelme": read_labelme}
+
+
+@pytest.mark.parametrize("fmt, i", [(f, i) for f, docs in WRONG_SHAPES.items()
+                                    for i in range(len(docs))])
+def test_json_of_the_wrong_shape_is_a_clear_error(tmp_path, fmt, i):
+    """The reader checks the structure it walks: a wrong type anywhere is an EasyIDPError naming
+    the file (TypeError and AttributeError are reader bugs and are not turned into errors)."""
+    path = tmp_path / f"wrong_{fmt}_{i}.json"
+    path.write_text(json.dumps(WRONG_SHAPES[fmt][i]))
+    with pytest.raises(EasyIDPError) as err:
+        JSON_READERS[fmt](path)
+    assert str(err.value)
+
+
+def test_a_reader_bug_is_not_reported_as_a_damaged_file(tmp_path):
+    """reads_file turns parse errors into InputError, but lets a reader's TypeError through."""
+    @reads_file("advice")
+    def buggy(path):
+        return len(5)
+
+    @reads_file("advice")
+    def parses(path):
+        return int("not a number")
+
+    with pytest.raises(TypeError):
+        buggy(tmp_path / "x")
+    with pytest.raises(InputError, match="damaged.*advice"):
+        parses(tmp_path / "x")

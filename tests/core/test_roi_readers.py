@@ -2,6 +2,7 @@
 GeoPackages (written by GDAL's ogr2ogr from them), LabelMe on a georeferenced raster,
 CloudCompare lists, __geo_interface__ objects; every bad input."""
 import json
+import subprocess
 
 import numpy as np
 import pytest
@@ -41,19 +42,23 @@ def test_real_geojson_3d_polygons_keep_z(realdata):
     rois = open_rois(realdata / "data-to-science/zones_inside_test_tif.geojson")
     assert len(rois) == 20
     assert all(r.z is not None and np.all(r.ring_z[0] == 0) for r in rois)
+    assert all(len(r.ring_z) == len(r.rings) for r in rois)
     assert all(len(z) == len(ring) for r in rois for z, ring in zip(r.ring_z, r.rings))
 
 
 def test_real_pix4d_shapefile_matches_its_geojson_twin(tmp_path, realdata):
-    """The same polygons written by pyshp-independent code (GeoJSON by hand) read the same."""
-    shp = open_rois(realdata / "easyidp/pix4d_origin/roi/roi.shp")
-    doc = {"type": "FeatureCollection", "crs": {"type": "name", "properties": {"name": "EPSG:32654"}},
-           "features": [{"type": "Feature", "properties": {}, "geometry": {
-               "type": "Polygon", "coordinates": [r.rings[0].tolist()]}} for r in shp]}
-    (tmp_path / "twin.geojson").write_text(json.dumps(doc))
-    gj = open_rois(tmp_path / "twin.geojson")
-    for a, b in zip(shp, gj):
+    """Independent twin: GDAL's ogr2ogr (not our reader, not pyshp) converts the real roi.shp to
+    GeoJSON; both read to the same names, CRS and rings, vertex for vertex."""
+    src = realdata / "easyidp/pix4d_origin/roi/roi.shp"
+    twin = _ogr2ogr(tmp_path / "twin.geojson", src, fmt="GeoJSON")
+    doc = json.loads(twin.read_text())
+    shp, gj = open_rois(src, name_field="id"), open_rois(twin, name_field="id")
+    assert len(doc["features"]) == len(shp) == len(gj) == 3
+    assert shp.names == gj.names and gj.crs.to_epsg() == shp.crs.to_epsg() == 32654
+    for a, b, feat in zip(shp, gj, doc["features"]):
         np.testing.assert_array_equal(a.rings[0], b.rings[0])
+        gdal_ring = np.asarray(feat["geometry"]["coordinates"][0])[:-1, :2]   # closing dropped
+        np.testing.assert_allclose(a.rings[0], gdal_ring, rtol=0, atol=1e-9)
 
 
 # ---- shapefile structure: holes, multipart, Z, encoding ---------------------------------------
@@ -97,10 +102,9 @@ def test_shapefile_encoding_from_cpg(tmp_path):
 
 
 # ---- GeoPackage ------------------------------------------------------------------------------
-def _ogr2ogr(dst, src, *args):
-    """GDAL's ogr2ogr (gdal-bin): an independent GeoPackage writer."""
-    import subprocess
-    subprocess.run(["ogr2ogr", "-f", "GPKG", *args, str(dst), str(src)], check=True,
+def _ogr2ogr(dst, src, *args, fmt="GPKG"):
+    """GDAL's ogr2ogr (gdal-bin): an independent GeoPackage (or other format) writer."""
+    subprocess.run(["ogr2ogr", "-f", fmt, *args, str(dst), str(src)], check=True,
                    capture_output=True)
     return dst
 
