@@ -105,7 +105,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
     # which photos for which ROI
     pairs: List[tuple] = []
     if selection == "photo":
-        cam = recon._select([photo])[0]
+        cam = recon.select_cameras([photo])[0]
         pairs = [(r, cam) for r in range(len(rois))]
     else:
         from .backward import back_project

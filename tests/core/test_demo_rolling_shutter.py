@@ -14,7 +14,8 @@ import pytest
 
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
-from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
+from easyidp_toolbox.core.projection import camera_footprints
+from easyidp_toolbox.core.reconstruction import INSIDE
 
 
 @pytest.fixture(scope="module")
