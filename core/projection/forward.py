@@ -17,7 +17,7 @@ from typing import List, Optional
 import numpy as np
 
 from .. import geometry
-from ..annotations.model import LINE, POINT, POLYGON, PhotoShape
+from ..annotations import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transformer
 from ..errors import EasyIDPError
 from ..progress import as_progress

@@ -14,6 +14,7 @@ import numpy as np
 import tifffile
 from pyproj import CRS
 
+from ..crs import as_crs
 from ..errors import InputError
 
 # GeoTIFF and GDAL private tags
@@ -177,7 +178,6 @@ def _metadata(path: str, tif, page, tags, crs) -> "GeoTiff":
     if extras and extras[-1] in EXTRASAMPLE_ALPHA:
         alpha = page.samplesperpixel - 1
     if crs is not None:
-        from ..crs import as_crs
         crs = as_crs(crs, f"CRS of {path}")
     else:
         crs, problem = crs_from_geokeys(geokeys)

@@ -7,6 +7,8 @@ Pixels: origin at the top-left image corner, centre of the top-left pixel at (0.
 A camera with a :class:`~.rolling_shutter.RollingShutter` has one pose per image row; ``R``/``C``
 are then the pose of the centre row.
 """
+import dataclasses
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Iterator, List, Optional, Sequence, Tuple, Union
@@ -15,6 +17,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..errors import EasyIDPError
+from ..photo_files import photo_key, photo_size, resolve_photos, scale_to
 from ..progress import as_progress
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, project_block
 from .geodesy import ModelFrame, is_local
@@ -157,7 +160,6 @@ class Reconstruction:
         for c in self.cameras:
             if c.label == label:
                 return c
-        from ..photo_files import photo_key
         key = photo_key(label)
         hits = [c for c in self.cameras if key in (photo_key(c.label), photo_key(c.photo_path or ""))]
         if len(hits) == 1:
@@ -341,9 +343,6 @@ def fit_sensors_to_photos(recon: "Reconstruction") -> "Reconstruction":
     not copies of what the sensor took, and the tools refuse them naming both sizes. Photos
     whose file is not found (or whose header cannot be read) are not looked at.
     """
-    import dataclasses
-    import os
-    from ..photo_files import photo_size, resolve_photos, scale_to
     cams = [c for c in recon.cameras if c.photo_path and recon.sensors.get(c.sensor_id) is not None
             and recon.sensors[c.sensor_id].calibration is not None]
     found, _missing = resolve_photos([c.label for c in cams], [c.photo_path for c in cams])

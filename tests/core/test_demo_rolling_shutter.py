@@ -2,7 +2,7 @@
 
 The truth (pixels by a bracketed root search on each point's row, photos ray cast row by row,
 LabelMe vertices cast from their row's pose) comes from the motion as the demo defines it
-(``core/demo/rolling_shutter.py``), not from the core's projection solver; the generated
+(``core/demo/readout_motion.py``), not from the core's projection solver; the generated
 Metashape project is read back by our reader.
 """
 import json
