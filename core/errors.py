@@ -3,6 +3,9 @@
 Every message names the input at fault and says what to do about it; the QGIS adapter turns
 :class:`EasyIDPError` into ``QgsProcessingException`` unchanged.
 """
+import functools
+import struct
+import zlib
 
 
 class EasyIDPError(Exception):
@@ -25,10 +28,6 @@ def reads_file(advice: str):
     """Decorate a reader ``fn(path, …)``: whatever a damaged file makes the parsing raise
     (ValueError, KeyError, struct.error, zlib.error, …) becomes an :class:`InputError` that names
     the file and gives ``advice``; the reader's own, more precise errors pass through."""
-    import functools
-    import struct
-    import zlib
-
     parse_errors = (ValueError, TypeError, KeyError, IndexError, LookupError, AttributeError,
                     ArithmeticError, EOFError, struct.error, zlib.error, OSError)
 

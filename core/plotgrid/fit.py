@@ -33,6 +33,7 @@ import math
 import os
 import threading
 import time
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
@@ -167,7 +168,6 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
     meets it is decoded once (``GeoTiff.read_block``, on a pool of threads, a bounded number at
     a time) and summed into the k × k cells it covers where it was decoded; nothing is
     assembled at full resolution, so memory is the working image plus a few blocks."""
-    from concurrent.futures import ThreadPoolExecutor, wait, FIRST_COMPLETED
     xmin, ymin, xmax, ymax = bbox
     c_a, r_a = tif.map_to_pixel(np.array([xmin, xmax]), np.array([ymax, ymin]))
     col0, col1 = max(int(math.floor(c_a.min())), 0), min(int(math.ceil(c_a.max())), tif.width)
@@ -669,7 +669,6 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
                      "positions only.")
 
     lap("weights and crop rows")
-    from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
         n = len(rings)
         groups = _groups(half)
