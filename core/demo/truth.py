@@ -157,7 +157,8 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
         "image_size": [camera.width, camera.height],
         "photos": {s.label: {"file": f"photos/{s.filename}", "line": s.line,
                              "centre": (s.C + scene.offset).tolist(),
-                             **({"rolling_shutter": readout_motion.describe(s)} if s.motion is not None else {})}
+                             **({"rolling_shutter": readout_motion.describe(s)}
+                                if s.motion is not None else {})}
                    for s in shots},
         "points": {"id": truth.point_ids, "kind": truth.point_kinds,
                    "xyz": truth.points.tolist()},

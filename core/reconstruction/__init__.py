@@ -19,8 +19,8 @@ from .pix4d import open_pix4d
 
 __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker", "Calibration",
            "Projection", "VisiblePoints", "INSIDE", "BEHIND", "OUTSIDE", "border_pixels",
-           "project_block", "enu_rotation", "list_chunks", "open_metashape", "open_pix4d", "open_opensfm",
-           "list_reconstructions"]
+           "project_block", "enu_rotation", "list_chunks", "open_metashape", "open_pix4d",
+           "open_opensfm", "list_reconstructions"]
 
 
 PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_parameters.txt",

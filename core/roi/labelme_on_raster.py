@@ -23,7 +23,8 @@ def read_labelme_rois(path, raster, crs=None) -> ROISet:
     doc = read_labelme(path)
     if raster is None or isinstance(raster, (str, os.PathLike)):
         raise InputError(_needs_raster(os.fspath(path), doc.image, raster))
-    if (doc.width, doc.height) != (None, None) and (doc.width, doc.height) != (raster.width, raster.height):
+    size = (doc.width, doc.height)
+    if size != (None, None) and size != (raster.width, raster.height):
         raise InputError(f"{path} was drawn on a {doc.width} × {doc.height} image, but "
                          f"{raster.path} is {raster.width} × {raster.height}: give the raster the "
                          "polygons were drawn on.")
@@ -40,6 +41,7 @@ def read_labelme_rois(path, raster, crs=None) -> ROISet:
 
 
 def _needs_raster(path: str, image: Optional[str], given) -> str:
+    """What to say when the raster is missing or given as a path (it must be opened)."""
     if given is not None:
         return (f"{path} holds LabelMe polygons in pixels: give the georeferenced raster they "
                 f"were drawn on opened, raster=open_geotiff({os.fspath(given)!r}), not its path.")

@@ -95,7 +95,8 @@ def _collect(mod: Module, node, lazy: bool, mods: Dict[str, Module]):
                 for alias in child.names:      # "from pkg import submodule" imports the submodule
                     target = f"{base}.{alias.name}" if f"{base}.{alias.name}" in mods else base
                     modules.setdefault(target, []).append(alias.name)
-                mod.imports += [Import(mod.name, t, n, child.lineno, lazy) for t, n in modules.items()]
+                mod.imports += [Import(mod.name, t, n, child.lineno, lazy)
+                                for t, n in modules.items()]
         elif isinstance(child, ast.Import):
             for alias in child.names:
                 target = _strip(alias.name)
@@ -289,7 +290,7 @@ CYCLES = cycles(MODS)
 
 def test_every_package_has_a_layer():
     packages = {n.split(".")[1] for n in CORE if "." in n and MODS[n].is_package}
-    assert packages <= set(LAYER_OF), f"packages without a layer in LAYERS: {packages - set(LAYER_OF)}"
+    assert packages <= set(LAYER_OF), f"packages with no layer in LAYERS: {packages - set(LAYER_OF)}"
 
 
 @pytest.mark.parametrize("name", CORE + PLUGIN)
