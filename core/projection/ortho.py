@@ -25,9 +25,7 @@ from ..files import OutputFolder
 from ..geometry import points_in_rings
 from ..naming import unique_names
 from ..progress import as_progress
-from ..raster.geotiff import TAG_GDAL_METADATA
-from ..raster.geotiff_write import write_geotiff
-from ..raster.roi_pixels import rois_in_raster_crs
+from ..raster import TAG_GDAL_METADATA, rois_in_raster_crs, write_geotiff
 from ..roi import ROISet
 from .photos import DecodedPhotos, resolve_photos
 from .ray_surface import HIT, MISS, DSMSurface, first_hits
