@@ -11,7 +11,6 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
-import tifffile
 from pyproj import CRS
 
 from ..crs import as_crs
@@ -136,6 +135,7 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
     Raises :class:`InputError` for a missing file, a file that is not a TIFF, a TIFF without
     georeferencing, or a rotated geotransform.
     """
+    import tifffile                 # optional (raster tools): core imports without it
     if not os.path.isfile(path):
         raise InputError(f"Raster not found: {path}")
     log = logging.getLogger("tifffile")

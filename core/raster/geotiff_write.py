@@ -2,7 +2,6 @@
 from typing import Callable, Iterator, Optional, Sequence
 
 import numpy as np
-import tifffile
 from pyproj import CRS
 
 from ..errors import Cancelled
@@ -65,6 +64,7 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
     ``is_cancelled`` is polled between tiles: a cancel stops a large write within a tile's time,
     removes the temporary file and raises :class:`~..errors.Cancelled`.
     """
+    import tifffile                 # optional (raster tools): core imports without it
     if data.ndim == 2:
         data = data[..., None]
     rows, cols, bands = data.shape

@@ -9,12 +9,19 @@ import, no QGIS). The layer order is stated once, in ``LAYERS``; ARCHITECTURE.md
 * (e) ``easyidp_qgis`` imports only package faces of core: ``core``, ``core.<package>`` or a
   top-level basics module such as ``core.errors``, never a submodule like ``core.raster.crop``;
 * every ``core/…py`` and ``easyidp_qgis/…py`` path that ARCHITECTURE.md names exists.
+* every package face imports with the optional packages (easyidp_qgis/dependencies.py) blocked,
+  so the plugin loads without them: those are the only function-level imports.
 
 Each check is parametrized per module, so a failure names the module and its offending imports;
 ``test_checks_can_fail`` runs every check on synthetic sources that break it.
 """
 import ast
+import os
 import re
+import subprocess
+import sys
+import tempfile
+import textwrap
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, List, Set, Tuple
@@ -322,6 +329,45 @@ def test_architecture_names_existing_files():
     text = (ROOT / "ARCHITECTURE.md").read_text(encoding="utf-8")
     assert PATH_NAMED.findall(text), "ARCHITECTURE.md names no file: the pattern is broken"
     assert missing_paths(text, ROOT) == []
+
+
+def optional_packages(root: Path) -> List[str]:
+    """The modules easyidp_qgis/dependencies.py lists as needed by some tools only (not ALL)."""
+    tree = ast.parse((root / "easyidp_qgis" / "dependencies.py").read_text(encoding="utf-8"))
+    return sorted(call.args[0].value for call in ast.walk(tree)
+                  if isinstance(call, ast.Call) and getattr(call.func, "id", "") == "Dependency"
+                  and not (isinstance(call.args[2], ast.Name) and call.args[2].id == "ALL"))
+
+
+FACES = sorted(n for n in CORE if MODS[n].is_package or n.count(".") == 1)
+
+
+def test_every_face_imports_without_the_optional_packages():
+    """The plugin loads (and says what to install) when a tool's packages are missing: every
+    package face and basic module imports with them blocked; they are imported where used."""
+    optional = optional_packages(ROOT)
+    assert {"tifffile", "laspy", "shapely"} <= set(optional)
+    with tempfile.TemporaryDirectory() as folder:   # the package as installed: easyidp_toolbox
+        os.symlink(ROOT, os.path.join(folder, PACKAGE))
+        script = textwrap.dedent(f"""
+            import importlib, importlib.abc, sys
+            class Block(importlib.abc.MetaPathFinder):
+                def find_spec(self, name, path, target=None):
+                    if name.split(".")[0] in {optional!r}:
+                        raise ImportError("blocked " + name)
+            sys.meta_path.insert(0, Block())
+            sys.path.insert(0, {folder!r})
+            failed = []
+            for face in {FACES!r}:
+                try:
+                    importlib.import_module("{PACKAGE}." + face)
+                except ImportError as e:
+                    failed.append(face + ": " + str(e))
+            print(repr(failed))
+            """)
+        out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
+                             check=True).stdout
+    assert ast.literal_eval(out.strip().splitlines()[-1]) == []
 
 
 # ---- the checks can fail -----------------------------------------------------------------------
