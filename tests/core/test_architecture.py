@@ -1,5 +1,5 @@
 """The import contract of ``core/`` and ``easyidp_qgis/``, checked on the source by AST (no
-import, no QGIS). The layer order is stated once, in ``LAYERS``; ARCHITECTURE.md draws it.
+QGIS needed). The layer order is stated once, in ``LAYERS``; ARCHITECTURE.md draws it.
 
 * (a) no module imports a module of a higher layer, at module or at function level;
 * (b) no import cycle among core modules (the module-level graph, within packages too);
