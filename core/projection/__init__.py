@@ -15,7 +15,7 @@
 * Forward (photos → map): :func:`forward_project` brings shapes drawn or detected on a photo to
   the map by their rays' first hits on the DSM; :func:`merge_views` merges the same object seen
   in several photos (:func:`fuse_views`: one object per real object, with a confidence);
-  :mod:`.ortho` orthorectifies ROIs from the raw photos.
+  :func:`orthorectify_rois` orthorectifies ROIs from the raw photos.
 
 Pixels: origin at the top-left corner of the photo, x = column right, y = row down, centre of
 the top-left pixel (0.5, 0.5).
@@ -27,7 +27,8 @@ from .forward import ForwardShape, densify_ring, forward_project
 from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
 from .merge import MERGE_MODES, MapPolygon, merge_views
 from .fuse import FusedObject, fuse_views
-from .training_set import TrainingSet, export_training_set
+from .training_set import TrainingSet, export_training_set, point_discs
+from .ortho import OrthoResult, orthorectify_rois
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
@@ -41,4 +42,4 @@ __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
            "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
-           "TrainingSet"]
+           "TrainingSet", "point_discs", "orthorectify_rois", "OrthoResult"]
