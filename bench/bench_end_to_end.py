@@ -54,9 +54,8 @@ from easyidp_toolbox.core.projection import DSMHeights, back_project
 from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
 from easyidp_toolbox.core.raster.dsm_heights import roi_heights
 from easyidp_toolbox.core.raster.geotiff import open_geotiff
-from easyidp_toolbox.core.reconstruction import camera_footprints
 from easyidp_toolbox.core.annotations import read_annotations
-from easyidp_toolbox.core.projection import DSMSurface, forward_project, merge_views, photo_statistics
+from easyidp_toolbox.core.projection import DSMSurface, camera_footprints, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.season import read_survey_table, run_season
 """

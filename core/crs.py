@@ -1,5 +1,6 @@
 """CRS helpers around pyproj. Map coordinates are always (easting, northing) / (lon, lat):
 every transformer is built with ``always_xy=True``."""
+import re
 from functools import lru_cache
 from typing import Any, List, Optional, Tuple
 
@@ -52,7 +53,6 @@ def same_crs(a: Optional[CRS], b: Optional[CRS]) -> bool:
 # --- a project's CRS as the photogrammetry software wrote it ------------------------------------
 def _wkt_name(text: str) -> str:
     """The name of the outermost WKT object (``PROJCS["CH1903+ / LV95",…`` → ``CH1903+ / LV95``)."""
-    import re
     m = re.match(r'\s*\w+\s*\[\s*"([^"]*)"', text)
     return m.group(1) if m else text[:60]
 
@@ -60,7 +60,6 @@ def _wkt_name(text: str) -> str:
 def wkt_top_authority(text: str) -> Optional[Tuple[str, str]]:
     """(authority, code) of the outermost object's own ``AUTHORITY[…]`` / ``ID[…]`` (the last
     one at nesting depth 1), or None. Nested ones (datum, ellipsoid, unit) are not looked at."""
-    import re
     depth, quoted, found = 0, False, None
     for i, ch in enumerate(text):
         if ch == '"':

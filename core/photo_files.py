@@ -11,6 +11,7 @@ renamed in another case, a shot key without its extension) by key in that path's
 """
 import ntpath
 import os
+import struct
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
@@ -160,7 +161,6 @@ def resolve_photos(labels: Sequence[str], project_paths: Sequence[Optional[str]]
 def photo_size(path) -> Optional[Tuple[int, int]]:
     """(width, height) in pixels as stored (EXIF orientation not applied) from the file's
     header (JPEG SOF, PNG IHDR, TIFF first page), or None when it cannot be told cheaply."""
-    import struct
     try:
         with open(path, "rb") as fh:
             head = fh.read(32)
@@ -211,7 +211,6 @@ def jpeg_facts(path) -> Dict[str, object]:
     ``orientation`` (EXIF Orientation, 1 when absent) and ``thermal`` (DJI R-JPEG: a DJI
     photo carrying APP3 segments, where DJI keeps the raw thermal data; the image itself is a
     false-colour palette rendering). {} for a file that is not a JPEG or cannot be read."""
-    import struct
     out: Dict[str, object] = {}
     try:
         with open(path, "rb") as fh:
@@ -241,7 +240,6 @@ def jpeg_facts(path) -> Dict[str, object]:
 
 def _exif_ifd0(tiff: bytes) -> Dict[str, object]:
     """Make and Orientation from the first IFD of an EXIF TIFF block."""
-    import struct
     order = "<" if tiff[:2] == b"II" else ">"
     out: Dict[str, object] = {}
     try:

@@ -7,6 +7,7 @@ written atomically (:mod:`..files`). COCO and YOLO polygons carry exterior rings
 format has holes); a shape of several parts gives several polygons in COCO's
 ``segmentation`` and one YOLO segment line per part.
 """
+import json
 import os
 from dataclasses import dataclass, field
 from typing import Dict, List, Sequence
@@ -128,7 +129,6 @@ def yolo_data_yaml(categories: Sequence[str], splits: Sequence[str], task: str) 
 
 
 def _yaml_str(s: str) -> str:
-    import json
     return json.dumps(str(s), ensure_ascii=False)
 
 

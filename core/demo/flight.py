@@ -11,7 +11,7 @@ from typing import List, Optional
 
 import numpy as np
 
-from ..reconstruction.frame_model import Calibration
+from ..reconstruction import Calibration, project_block
 from .scene import Scene
 
 SIZES = {"small": (800, 600), "medium": (1600, 1200)}
@@ -120,3 +120,13 @@ def plan_flight(scene: Scene, rng) -> List[Shot]:
             t += 2
         t += 10
     return shots
+
+
+def project_still(camera: CameraModel, shots: List[Shot], xyz_local: np.ndarray):
+    """Pixels (m, n, 2) and status (m, n) of local points in the shots at their poses, the
+    motion ignored (a global shutter)."""
+    cal = camera.calibration
+    R = np.array([s.R for s in shots])
+    C = np.array([s.C for s in shots])
+    return project_block(np.asarray(xyz_local, np.float64), R, C, cal, camera.width, camera.height,
+                         cal.valid_radius2(camera.width, camera.height))

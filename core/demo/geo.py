@@ -10,7 +10,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..crs import transformer
-from ..reconstruction.geodesy import enu_rotation
+from ..reconstruction import enu_rotation
 
 MAP_EPSG = 32654
 # WGS 84 / UTM 54N as GDAL writes WKT1 (Pix4D *_wkt.prj, GeoPackage, LAS).

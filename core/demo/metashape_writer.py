@@ -12,7 +12,7 @@ exactly Cartesian. Each geocentric pose is fitted (6 parameters, Gauss–Newton)
 true pose; the remaining differences are far below 0.001 px.
 
 Rolling-shutter shots (``Shot.motion``) add the sensor's ``rolling_shutter`` property and one
-``<rolling_shutter>`` block per camera (:func:`.rolling_shutter.metashape_block`).
+``<rolling_shutter>`` block per camera (:func:`.readout_motion.metashape_block`).
 """
 import io
 import os
@@ -24,6 +24,7 @@ import numpy as np
 
 from ..files import write_bytes
 from .flight import CameraModel, Shot, rotation_from_vector
+from .readout_motion import metashape_block
 from .geo import METASHAPE_WGS84_WKT, ENUFrame, map_to_ecef, map_to_lonlat
 from .scene import Scene
 
@@ -292,7 +293,6 @@ def write_metashape(folder, name: str, scene: Scene, camera: CameraModel, shots:
         cam_T.append(Tc)
     blocks = None
     if any(shot.motion is not None for shot in shots):        # rolling-shutter photos
-        from .rolling_shutter import metashape_block
         fit = lambda sh: fit_enu_pose(frame, scene, camera, sh)[:2]   # noqa: E731
         blocks = [metashape_block(fit, shot, s) for shot in shots]
     region = (M.T @ (centre_ecef - T) / s, np.array([lay.size[0], lay.size[1], 6.0]) / s,

@@ -17,7 +17,8 @@ from typing import Dict, List
 import numpy as np
 
 from .field import ROW_SPACING
-from ..reconstruction.frame_model import INSIDE
+from ..reconstruction import INSIDE
+from .truth import hidden, project
 
 PLANT_SLOTS_U = (-1.5, -0.9, -0.3, 0.3, 0.9, 1.5)    # m along a plot's long axis
 PLANT_ROWS_V = (-1.0, 0.0, 1.0)                       # m across it (crop rows, 1 m apart)
@@ -62,7 +63,6 @@ def object_visibility(scene, camera, shots, objects: List[dict],
     """Per object id: ``share`` (m,) the fraction of its disc (samples on a VISIBILITY_GRID
     grid, on the surface) that each shot sees (in front, in the frame, not hidden), and
     ``photos`` the shots whose share is at least ``min_visible``."""
-    from .truth import hidden, project
     off = scene.offset
     names = [s.label for s in shots]
     C = np.array([s.C for s in shots])

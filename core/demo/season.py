@@ -37,8 +37,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import write_bytes, write_json
+from ..pointcloud import PointCloud, write_point_cloud
 from ..progress import as_progress
-from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
+from ..raster import epsg_geo_tags, write_geotiff
 from .field import DOM_PIXEL, DSM_PIXEL, EDGE, NODATA, PLANT_SPACING, ROW_SPACING, FieldLayout, \
     make_plots, plot_corners, plot_window
 from .scene import SURVEY_FIELD
@@ -229,7 +230,6 @@ def make_demo_season(folder: str, dates: int = 4, seed: int = 0,
     """
     if not 1 <= int(dates) <= 30:
         raise InputError(f"Demo season: {dates} dates; choose 1 to 30.")
-    from ..pointcloud import PointCloud, write_point_cloud
     prog = as_progress(progress, is_cancelled)
     layout = layout or SURVEY_FIELD
     folder = os.path.abspath(folder)

@@ -20,7 +20,7 @@
 Same seed and size → identical files (in one software environment). Pixels have their origin
 at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
 
-``rolling_shutter=True`` makes the drone move during each exposure (:mod:`.rolling_shutter`):
+``rolling_shutter=True`` makes the drone move during each exposure (:mod:`.readout_motion`):
 photos are rendered row by row, the Metashape project carries the motion, the truth follows it,
 and no Pix4D project is written.
 
@@ -41,10 +41,12 @@ from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
 from ..errors import InputError
 from ..files import OutputFolder, write_bytes
 from ..gpkg import GpkgTable, write_geopackage
-from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
+from ..raster import epsg_geo_tags, write_geotiff
 from ..progress import as_progress
 from .flight import ALTITUDE, SIZES, make_camera, plan_flight
-from .labelme import write_labelme
+from ..pointcloud import PointCloud, write_point_cloud
+from . import readout_motion
+from .labelme_writer import write_labelme
 from .metashape_writer import write_metashape
 from .odm_writer import write_odm
 from .pix4d_writer import write_pix4d
@@ -135,8 +137,7 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     lay = scene.layout
     shots = plan_flight(scene, rng)
     if rolling_shutter:                    # own random stream: everything else stays the same
-        from .rolling_shutter import add_motion
-        shots = add_motion(shots, np.random.default_rng([seed, 2]))
+        shots = readout_motion.add_motion(shots, np.random.default_rng([seed, 2]))
     photos = [os.path.join(photo_dir, s.filename) for s in shots]
     cloud_xyz, cloud_rgb = surface_cloud(scene, rng)
     prog.set(10)
@@ -148,9 +149,7 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
 
     def shoot(i: int) -> None:
         prog.check()
-        render = render_photo
-        if shots[i].motion is not None:
-            from .rolling_shutter import render_photo as render
+        render = render_photo if shots[i].motion is None else readout_motion.render_photo
         _write_jpeg(photos[i], render(scene, camera, shots[i], rays, level_img, level))
 
     ortho, defects = scene.ortho, None
@@ -243,7 +242,6 @@ def _write_jpeg(path: str, img: np.ndarray) -> None:
 
 def _write_clouds(folder: str, xyz: np.ndarray, rgb: np.ndarray, epsg: int) -> None:
     """pointcloud.laz and pointcloud.ply; the LAS creation date is fixed (same seed → same bytes)."""
-    from ..pointcloud import PointCloud, write_point_cloud
     cloud = PointCloud.from_arrays(xyz, {"red": rgb[:, 0], "green": rgb[:, 1], "blue": rgb[:, 2]},
                                    crs=f"EPSG:{epsg}")
     laz = write_point_cloud(cloud, os.path.join(folder, "pointcloud.laz"))

@@ -30,6 +30,9 @@ from typing import Dict, List
 import numpy as np
 
 from ..files import OutputFolder, write_bytes, write_json
+from ..gpkg import GpkgTable, field_type, write_geopackage
+from ..plotgrid import create_plot_grid
+from ..raster import epsg_geo_tags, write_geotiff
 from .field import FieldLayout, _plot_canopy, plot_window
 
 EPSG = 32654
@@ -209,8 +212,6 @@ def _csv_text(rows: List[dict]) -> bytes:
 
 def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False) -> DemoTrial:
     """Write the demo trial into ``folder`` (see the module docstring)."""
-    from ..gpkg import GpkgTable, field_type, write_geopackage
-    from ..raster.geotiff_write import epsg_geo_tags, write_geotiff
     with OutputFolder(folder, overwrite=overwrite, what="Demo trial folder") as out:
         out.claim(ENTRIES)
         folder = str(out.folder)
@@ -262,7 +263,6 @@ def perturbed_start(rotation_deg: float = 2.0, shift=(0.3 * math.cos(0.5), 0.3 *
     ``spacing`` × too large (plot sizes right), then turned by ``rotation_deg`` (degrees,
     counter-clockwise) about its centre and shifted by ``shift`` (east, north in m; 0.30 m).
     Returns (the grid as made, its corners turned and shifted: one (4, 2) array per plot)."""
-    from ..plotgrid import create_plot_grid
     T = dict(TRIAL)
     px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
     T["gap_x"] = px * spacing - T["size_x"]

@@ -14,8 +14,9 @@ import numpy as np
 
 from ..files import write_bytes
 from .field import plot_corners
-from ..reconstruction.frame_model import INSIDE, project_block
-from .flight import CameraModel, Shot
+from ..reconstruction import INSIDE
+from . import readout_motion
+from .flight import CameraModel, Shot, project_still
 from .scene import Scene
 
 N_RANDOM_POINTS = 1500
@@ -51,13 +52,8 @@ class Truth:
 def project(camera: CameraModel, shots: List[Shot], xyz_local: np.ndarray):
     """Pixels (m, n, 2) and status (m, n) of local points in the shots (true poses)."""
     if any(s.motion is not None for s in shots):
-        from . import rolling_shutter
-        return rolling_shutter.project(camera, shots, xyz_local)
-    cal = camera.calibration
-    R = np.array([s.R for s in shots])
-    C = np.array([s.C for s in shots])
-    return project_block(np.asarray(xyz_local, np.float64), R, C, cal, camera.width, camera.height,
-                         cal.valid_radius2(camera.width, camera.height))
+        return readout_motion.project(camera, shots, xyz_local)
+    return project_still(camera, shots, xyz_local)
 
 
 def hidden(scene: Scene, C: np.ndarray, pts: np.ndarray) -> np.ndarray:
@@ -111,8 +107,7 @@ def observations(scene: Scene, camera: CameraModel, shots: List[Shot], pts: np.n
     mi, pi = np.nonzero(st == INSIDE)
     C = np.array([s.C for s in shots])[mi]
     if any(s.motion is not None for s in shots):      # the centre when the point's row was read
-        from .rolling_shutter import centres
-        C = centres(shots, mi, uv[mi, pi], camera.height)
+        C = readout_motion.centres(shots, mi, uv[mi, pi], camera.height)
     hid = hidden(scene, C, pts[pi])
     order = np.lexsort((mi[~hid], pi[~hid]))
     seen_p, seen_m = pi[~hid][order], mi[~hid][order]
@@ -147,11 +142,6 @@ def plot_visibility(scene: Scene, camera: CameraModel, shots: List[Shot]) -> Dic
     return out
 
 
-def _motion(shot: Shot) -> dict:
-    from .rolling_shutter import describe
-    return describe(shot)
-
-
 def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shots: List[Shot],
                 meta: dict) -> str:
     """The truth as JSON (see the module docstring for the conventions it states)."""
@@ -167,7 +157,8 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
         "image_size": [camera.width, camera.height],
         "photos": {s.label: {"file": f"photos/{s.filename}", "line": s.line,
                              "centre": (s.C + scene.offset).tolist(),
-                             **({"rolling_shutter": _motion(s)} if s.motion is not None else {})}
+                             **({"rolling_shutter": readout_motion.describe(s)}
+                                if s.motion is not None else {})}
                    for s in shots},
         "points": {"id": truth.point_ids, "kind": truth.point_kinds,
                    "xyz": truth.points.tolist()},

@@ -6,11 +6,11 @@ from .create import create_plot_grid, write_plot_grid
 from .fieldbook import JoinReport, join_field_book, read_field_book
 from .fit import FitResult, fit_plot_grid
 from .layout import (CORNER_ORDER, ORDERS, START_CORNERS, Axis, GridFrame, Numbering, PlotGrid,
-                     PlotGridError, frame_from_bearing, frame_from_boundary, frame_from_corners,
+                     PlotGridError, check_metric_crs, frame_from_bearing, frame_from_boundary, frame_from_corners,
                      make_plot_grid, minimum_area_rectangle, sort_corners, utm_zone)
 
 __all__ = ["create_plot_grid", "write_plot_grid", "join_field_book", "read_field_book",
            "JoinReport", "fit_plot_grid", "FitResult", "Axis", "GridFrame", "Numbering",
            "PlotGrid", "PlotGridError", "frame_from_bearing", "frame_from_boundary",
            "frame_from_corners", "make_plot_grid", "minimum_area_rectangle", "sort_corners",
-           "utm_zone", "CORNER_ORDER", "ORDERS", "START_CORNERS"]
+           "utm_zone", "check_metric_crs", "CORNER_ORDER", "ORDERS", "START_CORNERS"]

@@ -4,6 +4,7 @@ from typing import Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..gpkg import GpkgTable, field_type, write_geopackage
 from .fieldbook import JoinReport, join_field_book
 from .layout import (DEFAULT_TOLERANCE, Axis, Numbering, PlotGrid, PlotGridError,
                      check_metric_crs, frame_from_bearing, frame_from_boundary,
@@ -61,7 +62,6 @@ def create_plot_grid(crs, rows: int, cols: int, *, corners=None, boundary=None, 
 
 def write_plot_grid(path: str, grid: PlotGrid, layer: str = "plots") -> str:
     """The grid as a GeoPackage polygon layer (written atomically)."""
-    from ..gpkg import GpkgTable, field_type, write_geopackage
     names = grid.field_names()
     rows = [tuple(grid.attributes(i)[k] for k in names) for i in range(len(grid))]
     types = [field_type([r[j] for r in rows]) for j in range(len(names))]

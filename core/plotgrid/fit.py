@@ -30,6 +30,10 @@ an even spread would put there: (f − a) / (1 − a), f the share inside, a the
 window's area (1: all inside; 0: weeds or a crop that fills the alleys as much as the plot).
 """
 import math
+import os
+import threading
+import time
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from dataclasses import dataclass, field
 from typing import List, Optional, Sequence, Tuple
 
@@ -37,6 +41,7 @@ import numpy as np
 
 from ..errors import EasyIDPError
 from ..progress import as_progress
+from ..raster import GeoTiff, open_geotiff
 
 MAX_WORK_PIXELS = 16_000_000
 CENTROID_ITERATIONS = 2
@@ -163,9 +168,6 @@ def _read_work(tif, bbox, kind: str, bands, prog, workers=None) -> Tuple[_Work, 
     meets it is decoded once (``GeoTiff.read_block``, on a pool of threads, a bounded number at
     a time) and summed into the k × k cells it covers where it was decoded; nothing is
     assembled at full resolution, so memory is the working image plus a few blocks."""
-    import os
-    import threading
-    from concurrent.futures import ThreadPoolExecutor, wait, FIRST_COMPLETED
     xmin, ymin, xmax, ymax = bbox
     c_a, r_a = tif.map_to_pixel(np.array([xmin, xmax]), np.array([ymax, ymin]))
     col0, col1 = max(int(math.floor(c_a.min())), 0), min(int(math.ceil(c_a.max())), tif.width)
@@ -584,7 +586,6 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     1, 2, 3 for ExG); ``max_shift``: the per-plot bound (m); ``search``: how far (m) a plot
     is searched for before the global correction (default 0.45 of the plot spacing).
     """
-    from ..raster.geotiff import GeoTiff, open_geotiff
     prog = as_progress(progress, is_cancelled)
     tif = orthomosaic if isinstance(orthomosaic, GeoTiff) else open_geotiff(str(orthomosaic), crs=crs)
     rings = [np.asarray(r, float)[:, :2] for r in rings]
@@ -635,7 +636,6 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     xs = np.concatenate([r[:, 0] for r in rings])
     ys = np.concatenate([r[:, 1] for r in rings])
     bbox = (xs.min() - grow, ys.min() - grow, xs.max() + grow, ys.max() + grow)
-    import time
     clock = [time.perf_counter()]
     seconds = {}
 
@@ -669,8 +669,6 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
                      "positions only.")
 
     lap("weights and crop rows")
-    import os
-    from concurrent.futures import ThreadPoolExecutor
     with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
         n = len(rings)
         groups = _groups(half)

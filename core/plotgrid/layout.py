@@ -28,9 +28,11 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
+from pyproj import CRS
 
-from ..crs import as_crs
+from ..crs import as_crs, transformer
 from ..errors import EasyIDPError
+from ..roi import ROI, ROISet
 
 CORNER_ORDER = ("upper-left", "upper-right", "lower-right", "lower-left")
 START_CORNERS = ("top-left", "top-right", "bottom-left", "bottom-right")
@@ -206,8 +208,6 @@ def check_metric_crs(crs, xy, what: str = "Field corners") -> None:
         raise PlotGridError(f"{what}: the layer has no CRS. Set its CRS (a projected CRS in "
                             "metres, e.g. the UTM zone of the field).")
     unit = crs.axis_info[0].unit_name if crs.axis_info else ""
-    from ..crs import transformer
-    from pyproj import CRS
     lon = lat = None
     try:
         lon, lat = transformer(crs, CRS.from_epsg(4326)).transform(float(xy[0]), float(xy[1]))
@@ -404,7 +404,6 @@ class PlotGrid:
 
     def to_rois(self):
         """The plots as an :class:`ROISet` (name = plot_id, the attributes as fields)."""
-        from ..roi import ROI, ROISet
         return ROISet([ROI(self.plot_id[i], [[self.corners[i].copy()]], self.attributes(i))
                        for i in range(len(self))], self.crs)
 

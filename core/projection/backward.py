@@ -32,8 +32,7 @@ import numpy as np
 from ..errors import EasyIDPError, ROIError
 from ..geometry import points_in_rings
 from ..progress import as_progress
-from ..reconstruction import INSIDE
-from ..reconstruction.footprints import border_pixels
+from ..reconstruction import INSIDE, border_pixels
 from ..roi import ROISet
 from .clip import (ConvexRegion, clip_convex, clip_convex_rings_to_frames, convex_rings, orient,
                    rectangle, signed_area)
@@ -100,7 +99,7 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
     rings = _ring_arrays(rois)
     rings.z = _vertex_heights(source, rois, rings, rings.xy, crs, ring_index=None)
     prog.set(2)
-    sensors = {c.sensor_id: recon._calibrated(c) for c in cams}
+    sensors = {c.sensor_id: recon.calibrated_sensor(c) for c in cams}
     geo = {sid: _SensorGeometry(s, distortion, densify_tolerance) for sid, s in sensors.items()}
     rings = _densify(rings, rois, source, recon, cams, geo, distortion, prog.sub(2, 15))
     prog.check()
@@ -156,7 +155,7 @@ def _cameras(recon, cameras):
                                f"({len(recon.cameras)} camera(s), {len(recon.unaligned_cameras)} "
                                "not aligned): align the photos in the photogrammetry software first.")
         return cams
-    cams = recon._select(cameras)
+    cams = recon.select_cameras(cameras)
     if not cams:
         raise EasyIDPError("The list of cameras to project into is empty.")
     return cams

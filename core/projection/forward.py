@@ -17,7 +17,7 @@ from typing import List, Optional
 import numpy as np
 
 from .. import geometry
-from ..annotations.model import LINE, POINT, POLYGON, PhotoShape
+from ..annotations import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transformer
 from ..errors import EasyIDPError
 from ..progress import as_progress
@@ -121,8 +121,8 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     """
     prog = as_progress(progress, is_cancelled)
     surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm)
-    cam = recon._select([photo])[0]
-    recon._calibrated(cam)                 # a clear error for an uncalibrated sensor
+    cam = recon.select_cameras([photo])[0]
+    recon.calibrated_sensor(cam)                 # a clear error for an uncalibrated sensor
     step = DENSIFY_PX if densify is True else float(densify or 0)
     shapes = _as_shapes(polygons_px)
     # all vertices of all shapes in one batch of rays

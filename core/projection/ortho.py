@@ -25,9 +25,7 @@ from ..files import OutputFolder
 from ..geometry import points_in_rings
 from ..naming import unique_names
 from ..progress import as_progress
-from ..raster.geotiff import TAG_GDAL_METADATA
-from ..raster.geotiff_write import write_geotiff
-from ..raster.roi_pixels import rois_in_raster_crs
+from ..raster import TAG_GDAL_METADATA, rois_in_raster_crs, write_geotiff
 from ..roi import ROISet
 from .photos import DecodedPhotos, resolve_photos
 from .ray_surface import HIT, MISS, DSMSurface, first_hits
@@ -105,7 +103,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
     # which photos for which ROI
     pairs: List[tuple] = []
     if selection == "photo":
-        cam = recon._select([photo])[0]
+        cam = recon.select_cameras([photo])[0]
         pairs = [(r, cam) for r in range(len(rois))]
     else:
         from .backward import back_project

@@ -44,8 +44,8 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from ..annotations.writers import (LabelledImage, LabelledShape, write_coco, write_labelme,
-                                   write_yolo_labels, yolo_data_yaml)
+from ..annotations import (LabelledImage, LabelledShape, write_coco, write_labelme,
+                           write_yolo_labels, yolo_data_yaml)
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..naming import unique_names

@@ -9,9 +9,12 @@ ROIs on the pixel grid, cropping and DSM heights.
 """
 from .crop import CropResult, crop_raster_by_rois
 from .dsm_heights import HeightResult, roi_heights, sample_points, vertex_heights
-from .geotiff import GeoTiff, open_geotiff
-from .geotiff_write import write_geotiff
-from .sweep import Window, sweep_windows
+from .geotiff import TAG_GDAL_METADATA, GeoTiff, open_geotiff
+from .geotiff_write import epsg_geo_tags, write_geotiff
+from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
+from .sweep import Window, sweep_windows, thread_pool
 
-__all__ = ["GeoTiff", "open_geotiff", "write_geotiff", "Window", "sweep_windows", "CropResult",
-           "crop_raster_by_rois", "HeightResult", "roi_heights", "sample_points", "vertex_heights"]
+__all__ = ["GeoTiff", "open_geotiff", "TAG_GDAL_METADATA", "write_geotiff", "epsg_geo_tags",
+           "Window", "sweep_windows", "thread_pool", "place_rois", "rois_in_raster_crs",
+           "require_overlap", "NO_PIXEL", "CropResult", "crop_raster_by_rois", "HeightResult",
+           "roi_heights", "sample_points", "vertex_heights"]

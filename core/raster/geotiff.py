@@ -11,9 +11,9 @@ from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Tuple
 
 import numpy as np
-import tifffile
 from pyproj import CRS
 
+from ..crs import as_crs
 from ..errors import InputError
 
 # GeoTIFF and GDAL private tags
@@ -135,6 +135,7 @@ def open_geotiff(path: str, crs=None) -> GeoTiff:
     Raises :class:`InputError` for a missing file, a file that is not a TIFF, a TIFF without
     georeferencing, or a rotated geotransform.
     """
+    import tifffile                 # optional (raster tools): core imports without it
     if not os.path.isfile(path):
         raise InputError(f"Raster not found: {path}")
     log = logging.getLogger("tifffile")
@@ -177,7 +178,6 @@ def _metadata(path: str, tif, page, tags, crs) -> "GeoTiff":
     if extras and extras[-1] in EXTRASAMPLE_ALPHA:
         alpha = page.samplesperpixel - 1
     if crs is not None:
-        from ..crs import as_crs
         crs = as_crs(crs, f"CRS of {path}")
     else:
         crs, problem = crs_from_geokeys(geokeys)

@@ -2,7 +2,7 @@
 from typing import Callable, Iterator, Optional, Sequence
 
 import numpy as np
-import tifffile
+from pyproj import CRS
 
 from ..errors import Cancelled
 from ..files import atomic_output
@@ -17,7 +17,6 @@ DEFLATE_LEVEL = 1
 
 def epsg_geo_tags(epsg: int) -> dict:
     """Minimal GeoKey tags for an EPSG CRS (projected or geographic), pixel-is-area."""
-    from pyproj import CRS
     geographic = CRS.from_epsg(epsg).is_geographic
     keys = [1, 1, 0, 3,
             1024, 0, 1, 2 if geographic else 1,          # GTModelTypeGeoKey
@@ -65,6 +64,7 @@ def write_geotiff(path: str, data: np.ndarray, geotransform, geo_tags: dict,
     ``is_cancelled`` is polled between tiles: a cancel stops a large write within a tile's time,
     removes the temporary file and raises :class:`~..errors.Cancelled`.
     """
+    import tifffile                 # optional (raster tools): core imports without it
     if data.ndim == 2:
         data = data[..., None]
     rows, cols, bands = data.shape

@@ -9,8 +9,8 @@ folder, an OpenSfM dataset folder or ``reconstruction.json``, and returns a
 from pathlib import Path
 
 from ..errors import InputError
-from .footprints import Footprint, camera_footprints
-from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration
+from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, border_pixels, project_block
+from .geodesy import enu_rotation
 from .metashape import list_chunks, open_metashape
 from .odm import is_opensfm_input, list_reconstructions, open_opensfm
 from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints,
@@ -18,9 +18,9 @@ from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisibleP
 from .pix4d import open_pix4d
 
 __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker", "Calibration",
-           "Projection", "VisiblePoints", "INSIDE", "BEHIND", "OUTSIDE", "Footprint",
-           "camera_footprints", "list_chunks", "open_metashape", "open_pix4d", "open_opensfm",
-           "list_reconstructions"]
+           "Projection", "VisiblePoints", "INSIDE", "BEHIND", "OUTSIDE", "border_pixels",
+           "project_block", "enu_rotation", "list_chunks", "open_metashape", "open_pix4d",
+           "open_opensfm", "list_reconstructions"]
 
 
 PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_parameters.txt",

@@ -223,6 +223,16 @@ def _inverse_equidistant(x: np.ndarray, y: np.ndarray) -> Tuple[np.ndarray, np.n
     return x * s, y * s
 
 
+def border_pixels(width: int, height: int, per_edge: int = 16) -> np.ndarray:
+    """(4·per_edge, 2) points along the frame [0, w] × [0, h], clockwise from the top-left corner."""
+    s = np.linspace(0.0, 1.0, per_edge, endpoint=False)
+    top = np.column_stack([s * width, np.zeros_like(s)])
+    right = np.column_stack([np.full_like(s, width), s * height])
+    bottom = np.column_stack([(1 - s) * width, np.full_like(s, height)])
+    left = np.column_stack([np.zeros_like(s), (1 - s) * height])
+    return np.vstack([top, right, bottom, left])
+
+
 def project_block(xyz: np.ndarray, R: np.ndarray, C: np.ndarray, cal: Calibration,
                   width: int, height: int, r2_limit: float, distortion: bool = True
                   ) -> Tuple[np.ndarray, np.ndarray]:

@@ -7,6 +7,8 @@ Pixels: origin at the top-left image corner, centre of the top-left pixel at (0.
 A camera with a :class:`~.rolling_shutter.RollingShutter` has one pose per image row; ``R``/``C``
 are then the pose of the centre row.
 """
+import dataclasses
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Iterator, List, Optional, Sequence, Tuple, Union
@@ -15,6 +17,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..errors import EasyIDPError
+from ..photo_files import photo_key, photo_size, resolve_photos, scale_to
 from ..progress import as_progress
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, project_block
 from .geodesy import ModelFrame, is_local
@@ -157,7 +160,6 @@ class Reconstruction:
         for c in self.cameras:
             if c.label == label:
                 return c
-        from ..photo_files import photo_key
         key = photo_key(label)
         hits = [c for c in self.cameras if key in (photo_key(c.label), photo_key(c.photo_path or ""))]
         if len(hits) == 1:
@@ -175,7 +177,10 @@ class Reconstruction:
     def unaligned_cameras(self) -> List[Camera]:
         return [c for c in self.cameras if not c.aligned]
 
-    def _select(self, cameras) -> List[Camera]:
+    def select_cameras(self, cameras=None) -> List[Camera]:
+        """The cameras to project with: ``cameras`` (Camera objects or labels), or by default
+        the aligned, enabled ones. Raises :class:`EasyIDPError` for a camera that is not
+        aligned (it has no pose)."""
         if cameras is None:
             return self.aligned_cameras
         out = []
@@ -187,7 +192,9 @@ class Reconstruction:
             out.append(cam)
         return out
 
-    def _calibrated(self, cam: Camera) -> Sensor:
+    def calibrated_sensor(self, cam: Camera) -> Sensor:
+        """The sensor of ``cam``; raises :class:`EasyIDPError` when it has no adjusted
+        calibration (the cameras were not aligned or optimised)."""
         s = self.sensors[cam.sensor_id]
         if s.calibration is None:
             raise EasyIDPError(f"{self.source}: sensor {s.label!r} (camera {cam.label!r}) has no "
@@ -205,7 +212,7 @@ class Reconstruction:
 
     def camera_centres(self, crs=None, cameras=None) -> Tuple[List[str], np.ndarray]:
         """(labels, (m, 3) centres in ``crs``) of the aligned, enabled cameras."""
-        cams = self._select(cameras)
+        cams = self.select_cameras(cameras)
         if not cams:
             return [], np.zeros((0, 3))
         return [c.label for c in cams], self.from_model(np.array([c.C for c in cams]), crs)
@@ -221,7 +228,7 @@ class Reconstruction:
         total = max(1, len(cams) * n)
         done = 0
         for (sid, rolling), idx in groups.items():
-            s = self._calibrated(cams[idx[0]])
+            s = self.calibrated_sensor(cams[idx[0]])
             elements = RS_BLOCK_ELEMENTS if rolling else BLOCK_ELEMENTS
             pt_block = int(min(max(n, 1), elements))
             cam_block = max(1, elements // pt_block)
@@ -268,7 +275,7 @@ class Reconstruction:
         :mod:`.rolling_shutter`).
         """
         prog = as_progress(progress, is_cancelled)
-        cams = self._select(cameras)
+        cams = self.select_cameras(cameras)
         labels = [c.label for c in cams]
         xyz_model = self.to_model(xyz, crs)
         n = len(xyz_model)
@@ -303,8 +310,8 @@ class Reconstruction:
         :meth:`project_points` writes them. Intersect with a surface in the model frame and
         convert with :meth:`from_model` to get map coordinates.
         """
-        cam = self._select([camera])[0]
-        s = self._calibrated(cam)
+        cam = self.select_cameras([camera])[0]
+        s = self.calibrated_sensor(cam)
         uv = np.atleast_2d(np.asarray(uv, dtype=np.float64))
         x, y = s.calibration.pixel_to_normalised(uv[:, 0], uv[:, 1], distortion)
         if cam.rolling_shutter is None:
@@ -336,9 +343,6 @@ def fit_sensors_to_photos(recon: "Reconstruction") -> "Reconstruction":
     not copies of what the sensor took, and the tools refuse them naming both sizes. Photos
     whose file is not found (or whose header cannot be read) are not looked at.
     """
-    import dataclasses
-    import os
-    from ..photo_files import photo_size, resolve_photos, scale_to
     cams = [c for c in recon.cameras if c.photo_path and recon.sensors.get(c.sensor_id) is not None
             and recon.sensors[c.sensor_id].calibration is not None]
     found, _missing = resolve_photos([c.label for c in cams], [c.photo_path for c in cams])

@@ -38,6 +38,7 @@ from pyproj import CRS
 from ..crs import as_crs, same_crs, transformer
 from ..errors import InputError, reads_file
 from ..photo_files import PhotoFiles, photo_key
+from ..raster import open_geotiff
 from .geodesy import GeocentricFrame, LocalFrame, ModelFrame, OffsetFrame, geocentric_of
 from .model import Camera, Marker, Reconstruction, Sensor
 from .opensfm import (camera_table, choose, load_json, normalised_to_pixels, read_gcp_json,
@@ -178,7 +179,6 @@ def odm_georeferencing(layout: _Layout, lla=None) -> Tuple[Optional[CRS], Option
                       ("odm_dem", "dtm.tif")):
             tif = layout.odm(*parts)
             if tif is not None:
-                from ..raster.geotiff import open_geotiff
                 g = open_geotiff(str(tif))
                 if g.crs is not None:
                     crs, crs_src = g.crs, str(tif)

@@ -8,7 +8,7 @@ from .cloudcompare import read_cloudcompare
 from .geo_interface import rois_from_geo_interface
 from .geojson import read_geojson
 from .geopackage import read_geopackage
-from .labelme import read_labelme_rois
+from .labelme_on_raster import read_labelme_rois
 from .model import ROISet
 from .shapefile import read_shapefile
 
@@ -20,7 +20,8 @@ def open_rois(source, name_field: Optional[str] = None, crs=None, raster=None,
     * ``.shp`` / ``.zip``: ESRI shapefile (CRS from ``.prj``, encoding from ``.cpg``);
     * ``.gpkg``: a polygon layer of a GeoPackage (``layer``: its name, when it has several);
     * ``.geojson`` / ``.json``: GeoJSON, or a LabelMe file (recognised by its ``shapes``), whose
-      pixel polygons are placed on the georeferenced ``raster`` they were drawn on;
+      pixel polygons are placed on the georeferenced ``raster`` they were drawn on (opened:
+      ``core.raster.open_geotiff``);
     * ``.txt`` / ``.csv``: a CloudCompare point list (one polygon; ``crs`` required);
     * any object with ``__geo_interface__`` (shapely, geopandas) or a GeoJSON-like dict.
 

@@ -12,7 +12,7 @@
 * :mod:`.executors` runs the jobs on a process pool or Dask; :mod:`.season` gathers them;
 * :mod:`.outputs` and :mod:`.curves` write the tables, the wide layer and the growth curves.
 """
-from .curves import plot_growth_curves
+from .curves import main_trait, plot_growth_curves
 from .outputs import write_long_csv, write_season_geopackage
 from .season import SeasonResult, run_season
 from .series import RowProblem, Survey, SurveyTable, read_survey_table, surveys_from_rows
@@ -20,4 +20,4 @@ from .traits import DEFAULT_PERCENTILES, TRAIT_GROUPS
 
 __all__ = ["run_season", "SeasonResult", "read_survey_table", "surveys_from_rows", "Survey",
            "SurveyTable", "RowProblem", "write_long_csv", "write_season_geopackage",
-           "plot_growth_curves", "TRAIT_GROUPS", "DEFAULT_PERCENTILES"]
+           "plot_growth_curves", "main_trait", "TRAIT_GROUPS", "DEFAULT_PERCENTILES"]

@@ -18,11 +18,11 @@ import numpy as np
 
 from ..crs import same_crs, transform_xy
 from ..errors import Cancelled, EasyIDPError
+from ..pointcloud import crop_indices, crop_point_cloud, read_point_cloud
 from ..progress import Progress
 from ..raster.dsm_heights import _valid as valid_heights
-from ..raster.geotiff import GeoTiff, open_geotiff
-from ..raster.roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
-from ..raster.sweep import sweep_windows
+from ..raster import (NO_PIXEL, GeoTiff, crop_raster_by_rois, open_geotiff, place_rois,
+                      require_overlap, rois_in_raster_crs, sweep_windows)
 from ..roi import ROISet
 from . import traits as tr
 from .. import indices
@@ -272,9 +272,6 @@ def _orthomosaic(job: Job, res: JobResult, prog: Progress) -> None:
 
 def _point_cloud(job: Job, res: JobResult, prog: Progress) -> None:
     """cloud_points and cloud_height_pNN above the ground plane of each ROI."""
-    from ..pointcloud import crop_point_cloud, read_point_cloud
-    from ..pointcloud.crop import crop_indices
-
     cloud = read_point_cloud(job.path, job.crs)
     idx, _, local = crop_indices(cloud, job.rois, progress=prog)
     if not any(len(ii) for ii in idx):
@@ -305,6 +302,5 @@ def _crop_raster(job: Job, res: JobResult, prog: Progress) -> None:
     """The optional crops of this raster (a second sweep, only when asked)."""
     if not job.crops:
         return
-    from ..raster.crop import crop_raster_by_rois
     crop_raster_by_rois(job.path, job.rois, job.crops, raster_crs=job.crs,
                         overwrite=job.overwrite, progress=prog, workers=job.threads)

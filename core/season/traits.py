@@ -21,7 +21,7 @@ import numpy as np
 
 from ..errors import EasyIDPError
 from ..indices import RGB_NAMES
-from ..raster.geotiff import TAG_GDAL_METADATA, GeoTiff
+from ..raster import TAG_GDAL_METADATA, GeoTiff
 
 TRAIT_GROUPS = ("height", "cover", "bands", "index", "cloud")
 """What can be asked for: DSM heights, canopy cover, band means, the vegetation index (ExG or

@@ -77,7 +77,7 @@ class CameraFootprints(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.reconstruction import camera_footprints
+        from ...core.projection import camera_footprints
 
         recon = open_project_parameter(self, parameters, context, feedback)
 
@@ -164,19 +164,19 @@ class CameraFootprints(EasyIDPAlgorithm):
 
     def _report(self, prints, beyond, below, feedback):
         """Calm, true messages: what is information, what needs the user."""
-        from ...core.reconstruction.footprints import GROUND_FROM_FOOTPRINT, GROUND_FROM_OTHERS
+        from ...core.projection import FootprintStatus
         if below:
             feedback.pushWarning(self.tr(
                 "{n} camera(s) are at or below the ground, so they have no footprint: {names}. "
                 "Check the ground height or the DSM and its vertical reference.").format(
                     n=len(below), names=", ".join(below[:20]) + (" …" if len(below) > 20 else "")))
-        for note, text in ((GROUND_FROM_FOOTPRINT, self.tr(
+        for status, text in ((FootprintStatus.GROUND_FROM_FOOTPRINT, self.tr(
                 "{n} camera(s) have no DSM right under them: their height above ground is taken "
                 "from the DSM where their photo sees the ground.")),
-                (GROUND_FROM_OTHERS, self.tr(
+                (FootprintStatus.GROUND_FROM_OTHERS, self.tr(
                     "{n} camera(s) see no DSM at all: their height above ground is taken from the "
                     "median ground under the other cameras."))):
-            n = sum(fp.note == note for fp in prints)
+            n = sum(fp.status is status for fp in prints)
             if n:
                 feedback.pushInfo(text.format(n=n))
         if beyond:

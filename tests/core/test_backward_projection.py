@@ -250,7 +250,7 @@ def test_roi_around_the_whole_view_is_the_frame():
     assert abs(res.polygons.areas_centroids()[0][0] - 800 * 600) < 1e-6
     assert ring.min() >= 0 and ring[:, 0].max() <= 800 and ring[:, 1].max() <= 600
     # footprint area from the frame border cast onto z = 0
-    from easyidp_toolbox.core.reconstruction.footprints import border_pixels
+    from easyidp_toolbox.core.reconstruction import border_pixels
     o, d = recon.pixel_to_ray(recon.cameras[0], border_pixels(800, 600, 200))
     g = o + d * (-o[2] / d[:, 2])[:, None]
     x, y = g[:, 0], g[:, 1]

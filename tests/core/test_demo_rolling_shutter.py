@@ -2,7 +2,7 @@
 
 The truth (pixels by a bracketed root search on each point's row, photos ray cast row by row,
 LabelMe vertices cast from their row's pose) comes from the motion as the demo defines it
-(``core/demo/rolling_shutter.py``), not from the core's projection solver; the generated
+(``core/demo/readout_motion.py``), not from the core's projection solver; the generated
 Metashape project is read back by our reader.
 """
 import json
@@ -14,7 +14,8 @@ import pytest
 
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
-from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
+from easyidp_toolbox.core.projection import camera_footprints
+from easyidp_toolbox.core.reconstruction import INSIDE
 
 
 @pytest.fixture(scope="module")

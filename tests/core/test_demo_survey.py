@@ -133,7 +133,7 @@ def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, t
 def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, project):
     from easyidp_toolbox.core.geometry import points_in_rings
     from easyidp_toolbox.core.projection import DSMSurface
-    from easyidp_toolbox.core.reconstruction import camera_footprints
+    from easyidp_toolbox.core.projection import camera_footprints
     recon = open_reconstruction({"metashape": survey.metashape_project, "pix4d": survey.pix4d_project,
                                  "odm": survey.odm_project}[project])
     dsm = DSMSurface(survey.dsm)

@@ -23,7 +23,8 @@ from easyidp_toolbox.core.projection import (DSMHeights, DSMSurface, back_projec
                                              first_hits, forward_project, photo_statistics,
                                              read_photo)
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
-from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
+from easyidp_toolbox.core.projection import camera_footprints
+from easyidp_toolbox.core.reconstruction import INSIDE
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
 
 

@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import open_reconstruction
-from easyidp_toolbox.core.reconstruction import INSIDE, camera_footprints
+from easyidp_toolbox.core.projection import camera_footprints
+from easyidp_toolbox.core.reconstruction import INSIDE
 from easyidp_toolbox.core.reconstruction.pix4d import (
     calibration_from_ccp, read_cam_file, read_calibrated_camera_parameters, read_pmatrix)
 from easyidp_toolbox.core.roi import open_rois

@@ -9,6 +9,7 @@ import pytest
 import shapefile
 
 from easyidp_toolbox.core.errors import EasyIDPError, InputError, ROIError
+from easyidp_toolbox.core.raster import open_geotiff
 from easyidp_toolbox.core.roi import open_rois, rois_from_geo_interface
 
 from synthetic import write_tif
@@ -226,7 +227,7 @@ def test_labelme_real_file_on_a_raster(tmp_path, realdata):
     lm = realdata / "easyidp/labelme/labelme_demo_img.json"      # 4608 x 3456, one polygon "1"
     tif = write_tif(tmp_path / "ortho.tif", np.zeros((3456, 4608), np.uint8), origin=(1000.0, 2000.0),
                     pixel=0.01, tile=256)
-    rois = open_rois(lm, raster=tif)
+    rois = open_rois(lm, raster=open_geotiff(tif))
     assert rois.names == ["1"] and rois.crs.to_epsg() == 32654
     px = np.array(json.loads(lm.read_text())["shapes"][0]["points"])
     np.testing.assert_allclose(rois[0].rings[0], np.column_stack([1000 + 0.01 * px[:, 0],
@@ -238,6 +239,8 @@ def test_labelme_needs_its_raster(tmp_path, realdata):
         open_rois(realdata / "easyidp/labelme/labelme_demo_img.json")
     small = write_tif(tmp_path / "small.tif", np.zeros((10, 10), np.uint8))
     with pytest.raises(InputError, match="4608 × 3456 image"):
+        open_rois(realdata / "easyidp/labelme/labelme_demo_img.json", raster=open_geotiff(small))
+    with pytest.raises(InputError, match=r"opened, raster=open_geotiff\("):   # a path: open it
         open_rois(realdata / "easyidp/labelme/labelme_demo_img.json", raster=small)
 
 

@@ -1,12 +1,13 @@
-"""Camera centres and ground footprints.
+"""Camera ground footprints.
 
 The ground is a constant height (in the project CRS's vertical reference) or a DSM
-(:class:`core.projection.DSMSurface`). Each footprint is the image border (densified) cast as
-rays from the camera: on a DSM, their exact first hits (:func:`core.projection.first_hits`);
+(:class:`.ray_surface.DSMSurface`). Each footprint is the image border (densified) cast as
+rays from the camera: on a DSM, their exact first hits (:func:`.ray_surface.first_hits`);
 on a constant height, the exact point of the ray at that height (Newton's method on the
 project CRS height, to 1e-6 m).
 """
 from dataclasses import dataclass
+from enum import Enum
 from typing import List, Optional, Sequence, Union
 
 import numpy as np
@@ -14,9 +15,24 @@ import numpy as np
 from ..errors import EasyIDPError
 from ..geometry import ring_area
 from ..progress import as_progress
-from .model import Reconstruction
+from ..reconstruction import Reconstruction, border_pixels
+from .ray_surface import DSMSurface, first_hits
 
-Ground = Union[float, object]   # a height, or a core.projection.DSMSurface
+Ground = Union[float, DSMSurface]   # a height, or a DSM
+
+
+class FootprintStatus(Enum):
+    """What is unusual about a camera's footprint; ``message`` says it in words."""
+    OK = ""
+    BELOW_GROUND = "the camera is at or below the ground: no footprint"
+    GROUND_FROM_FOOTPRINT = ("no DSM under the camera: height above the DSM where its photo "
+                             "sees the ground")
+    GROUND_FROM_OTHERS = ("no DSM under the camera nor in its view: height above the median "
+                          "ground under the other cameras")
+
+    @property
+    def message(self) -> str:
+        return self.value
 
 
 @dataclass
@@ -27,9 +43,9 @@ class Footprint:
     nadir, degrees; ``area`` of the ring on the local horizontal plane (m², local units for a
     local CRS); ``complete`` False when some border rays miss the ground (ring partial) or
     land where the ground has no data (there the ring continues on a plane at the ground
-    height under the camera). ``note``: what is unusual about this camera, in words (empty
-    when nothing is): below the ground (no footprint), or the ground height taken elsewhere
-    than under it.
+    height under the camera). ``status``: what is unusual about this camera
+    (:class:`FootprintStatus`: below the ground, so no footprint, or the ground height taken
+    elsewhere than under it); ``message`` says it in words (empty when nothing is).
     """
     label: str
     photo_path: Optional[str]
@@ -40,28 +56,15 @@ class Footprint:
     view_angle: float
     area: float
     complete: bool
-    note: str = ""
+    status: FootprintStatus = FootprintStatus.OK
+
+    @property
+    def message(self) -> str:
+        return self.status.message
 
     @property
     def below_ground(self) -> bool:
         return bool(self.height_above_ground <= 0)
-
-
-BELOW_GROUND = "the camera is at or below the ground: no footprint"
-GROUND_FROM_FOOTPRINT = ("no DSM under the camera: height above the DSM where its photo sees "
-                         "the ground")
-GROUND_FROM_OTHERS = ("no DSM under the camera nor in its view: height above the median ground "
-                      "under the other cameras")
-
-
-def border_pixels(width: int, height: int, per_edge: int = 16) -> np.ndarray:
-    """(4·per_edge, 2) points along the frame [0, w] × [0, h], clockwise from the top-left corner."""
-    s = np.linspace(0.0, 1.0, per_edge, endpoint=False)
-    top = np.column_stack([s * width, np.zeros_like(s)])
-    right = np.column_stack([np.full_like(s, width), s * height])
-    bottom = np.column_stack([(1 - s) * width, np.full_like(s, height)])
-    left = np.column_stack([np.zeros_like(s), (1 - s) * height])
-    return np.vstack([top, right, bottom, left])
 
 
 def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
@@ -69,14 +72,13 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
                       progress=None, is_cancelled=None) -> List[Footprint]:
     """Footprints of the aligned, enabled cameras (or ``cameras``) on ``ground``.
 
-    ``ground``: a constant height in the project CRS, or a :class:`core.projection.DSMSurface`
+    ``ground``: a constant height in the project CRS, or a :class:`.ray_surface.DSMSurface`
     (any CRS the project can convert to). On a DSM, border rays that leave it, miss it or enter
     nodata continue on the plane at the DSM height under the camera (``complete`` is then
     False). Output coordinates are in ``crs`` (default: the project CRS).
     """
-    from ..projection import DSMSurface, first_hits
     prog = as_progress(progress, is_cancelled)
-    cams = recon._select(cameras)
+    cams = recon.select_cameras(cameras)
     if not cams:
         return []
     C = np.array([c.C for c in cams])
@@ -102,7 +104,8 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         angle = float(np.degrees(np.arccos(np.clip(-(axis @ up[i]), -1.0, 1.0))))
         if np.isfinite(hag[i]) and hag[i] <= 0:
             out.append(Footprint(cam.label, cam.photo_path, cam.enabled, centre, None,
-                                 float(hag[i]), angle, float("nan"), False, BELOW_GROUND))
+                                 float(hag[i]), angle, float("nan"), False,
+                                 FootprintStatus.BELOW_GROUND))
             continue
         s = recon.sensors[cam.sensor_id]
         origin, d = recon.pixel_to_ray(cam, border_pixels(s.width, s.height, per_edge))
@@ -110,7 +113,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         cos_t = -(d @ up[i])
         t = np.full(len(d), np.nan)
         complete = True
-        h_i, note = float(hag[i]), ""
+        h_i, status = float(hag[i]), FootprintStatus.OK
         if on_dsm:
             hits = first_hits(ground, recon.frame, origin, d)
             t = np.where(hits.hit, hits.distance, np.nan)
@@ -122,10 +125,10 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
                 if hits.hit.any():
                     h_i = float(cz - np.median(recon.from_model(
                         origin[hits.hit] + hits.distance[hits.hit, None] * d[hits.hit])[:, 2]))
-                    note = GROUND_FROM_FOOTPRINT
+                    status = FootprintStatus.GROUND_FROM_FOOTPRINT
                 else:
                     h_i = float(cz - np.nanmedian(ground_z))
-                    note = GROUND_FROM_OTHERS
+                    status = FootprintStatus.GROUND_FROM_OTHERS
         else:
             down = cos_t > 1e-6
             t[down] = _at_height(recon, origin[down], d[down], h0, ref_h[i] / cos_t[down])
@@ -136,7 +139,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         area = abs(ring_area(pts_model @ _horizontal_basis(up[i]))) if ring is not None \
             else float("nan")
         out.append(Footprint(cam.label, cam.photo_path, cam.enabled, centre, ring, h_i, angle,
-                             area, complete and bool(hit.all()), note))
+                             area, complete and bool(hit.all()), status))
         prog.set(100.0 * (i + 1) / len(cams))
     return out
 

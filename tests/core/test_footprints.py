@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import open_reconstruction
-from easyidp_toolbox.core.reconstruction import camera_footprints
+from easyidp_toolbox.core.projection import FootprintStatus, camera_footprints
 
 
 @pytest.fixture(scope="module")
@@ -46,8 +46,6 @@ def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
     elsewhere (``complete`` False)."""
     from synthetic import write_tif
     from easyidp_toolbox.core.projection import DSMSurface
-    from easyidp_toolbox.core.reconstruction.footprints import (GROUND_FROM_FOOTPRINT,
-                                                                GROUND_FROM_OTHERS)
     _, c = pix4d.camera_centres()
     x0, y1 = c[:, 0].min() - 150, c[:, 1].max() + 150
     w, h = int((c[:, 0].max() + 150 - x0) / 0.5), int((y1 - c[:, 1].min() + 150) / 0.5)
@@ -67,7 +65,9 @@ def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
     for fp in fps:
         assert np.isfinite(fp.height_above_ground)
         # nodata under the camera: the height above the DSM where its photo sees the ground
-        assert (fp.note in (GROUND_FROM_FOOTPRINT, GROUND_FROM_OTHERS)) == (fp.centre[0] >= hole)
+        assert (fp.status in (FootprintStatus.GROUND_FROM_FOOTPRINT,
+                              FootprintStatus.GROUND_FROM_OTHERS)) == (fp.centre[0] >= hole)
+        assert bool(fp.message) == (fp.centre[0] >= hole)
         ring = fp.ring
         on = ring[:, 0] < hole - 1.0
         assert np.allclose(ring[on, 2], ground(ring[on, 0], ring[on, 1]), atol=1e-3)
@@ -91,12 +91,12 @@ def test_cameras_below_the_ground_get_no_footprint(realdata):
     """goya_test is in a local CRS with cameras at z of about -20 .. +20: with the ground at 0,
     those below it are reported and get no footprint, never a complete zero-size one."""
     from easyidp_toolbox.core.reconstruction import open_reconstruction
-    from easyidp_toolbox.core.reconstruction.footprints import BELOW_GROUND
     recon = open_reconstruction(realdata / "easyidp/metashape/goya_test.psx")
     z = recon.from_model(np.array([c.C for c in recon.aligned_cameras]))[:, 2]
     ground = float(np.median(z))                      # half the cameras are below it
     fps = camera_footprints(recon, ground, per_edge=4)
     below = [f for f in fps if f.below_ground]
     assert 0 < len(below) < len(fps)
-    assert all(f.ring is None and not f.complete and f.note == BELOW_GROUND for f in below)
+    assert all(f.ring is None and not f.complete and f.status is FootprintStatus.BELOW_GROUND
+               and f.message == "the camera is at or below the ground: no footprint" for f in below)
     assert all(f.area > 0 for f in fps if f.ring is not None)         # never a zero-size ring

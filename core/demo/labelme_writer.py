@@ -14,6 +14,7 @@ import numpy as np
 from ..files import write_json
 from .field import plot_corners
 from .flight import CameraModel, Shot
+from .readout_motion import pixel_ground
 from .render import intersect
 from .scene import Scene
 from .truth import project
@@ -47,7 +48,6 @@ def write_labelme(folder: str, photo_dir: str, scene: Scene, camera: CameraModel
             uv = project(camera, [shot], pts)[0][0]
             uv = uv + np.clip(rng.normal(0.0, JITTER, uv.shape), -JITTER_MAX, JITTER_MAX)
             if shot.motion is not None:                   # each vertex from its row's pose
-                from .rolling_shutter import pixel_ground
                 ground = pixel_ground(scene, camera, shot, uv) + scene.offset
             else:
                 x, y = camera.calibration.pixel_to_normalised(uv[:, 0], uv[:, 1])

@@ -24,8 +24,8 @@ from typing import List
 
 import numpy as np
 
-from ..reconstruction.frame_model import BEHIND, INSIDE, OUTSIDE
-from .flight import CameraModel, Shot
+from ..reconstruction import BEHIND, INSIDE, OUTSIDE
+from .flight import CameraModel, Shot, project_still
 from .render import intersect, render_rays
 
 READOUT = 0.03        # s, top row to bottom row (DJI-class sensors: 20–40 ms)
@@ -106,15 +106,14 @@ def project(camera: CameraModel, shots: List[Shot], xyz_local: np.ndarray):
     """Pixels (m, n, 2) and status (m, n) of local points in moving shots: each point's
     exposure time is the root of τ ↦ τ(row of its pixel at the pose of τ) − τ (decreasing), by
     bracketed regula falsi on [−1, 1], then the frame test at that pose (as
-    ``truth.project``). Pairs more than ``MARGIN`` px outside the frame at the centre row's
+    ``flight.project_still``). Pairs more than ``MARGIN`` px outside the frame at the centre row's
     pose are only classified (OUTSIDE, or BEHIND), with NaN pixels: the motion moves a ground
     point by a few pixels."""
-    from .truth import project as global_project
     cal = camera.calibration
     r2 = cal.valid_radius2(camera.width, camera.height)
     xyz = np.asarray(xyz_local, np.float64)
     h, w = camera.height, camera.width
-    pixels, status = global_project(camera, [replace(s, motion=None) for s in shots], xyz)
+    pixels, status = project_still(camera, shots, xyz)
     u0, v0 = pixels[..., 0], pixels[..., 1]
     with np.errstate(invalid="ignore"):
         near = (u0 > -MARGIN) & (u0 < w + MARGIN) & (v0 > -MARGIN) & (v0 < h + MARGIN)
