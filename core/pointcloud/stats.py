@@ -13,7 +13,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Union
 import numpy as np
 
 from ..errors import EasyIDPError, InputError
-from ..heights import HeightResult, check_heights_args, statistic_of, vertex_result
+from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
 from ..progress import as_progress
 from ..roi import ROISet
 from .cloud import PointCloud

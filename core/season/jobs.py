@@ -19,7 +19,7 @@ import numpy as np
 from ..crs import same_crs, transform_xy
 from ..errors import Cancelled, EasyIDPError
 from ..progress import Progress
-from ..raster.dsm_heights import _valid as valid_heights
+from ..raster.dsm import valid_heights
 from ..raster.geotiff import GeoTiff, open_geotiff
 from ..raster.roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
 from ..raster.sweep import sweep_windows
