@@ -27,11 +27,12 @@ from pyproj import CRS
 
 from easyidp_toolbox.core import indices as ix
 from easyidp_toolbox.core.errors import Cancelled, EasyIDPError, InputError
-from easyidp_toolbox.core.projection import (DSMHeights, back_project, photo_statistics)
+from easyidp_toolbox.core.projection import back_project, photo_statistics
 from easyidp_toolbox.core.projection import photos as photos_module
 from easyidp_toolbox.core.projection.photo_stats import (_order_stats_float, _order_stats_int,
                                                          weighted_median)
 from easyidp_toolbox.core.projection.result import BackProjection
+from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import Calibration, Camera, Reconstruction, Sensor
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
 from easyidp_toolbox.core.roi import ROI, ROISet
@@ -420,10 +421,10 @@ def box_scene(tmp_path_factory):
 
 def test_pixels_hidden_by_a_box_are_left_out(box_scene):
     recon, rois, dsm, painted = box_scene
-    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSMHeights(dsm), min_visible=0)
+    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0)
     plain = photo_statistics(res, indices=[], statistics=("mean",))
     st = photo_statistics(res, indices=[], statistics=("mean",), recon=recon, rois=rois,
-                          occlusion_dsm=DSMHeights(dsm))
+                          occlusion_dsm=DSM(dsm))
     for k in range(len(st.record)):
         i = st.record[k]
         j = int(res.photo_index[i])
@@ -498,7 +499,7 @@ def test_demo_plots_against_the_colour_truth_and_the_orthomosaic(defects_survey)
     defects = s.truth_doc["ortho_defects"]
     rois = read_geojson(s.plots_geojson, name_field="plot_id")
     recon = open_reconstruction(s.metashape_project)
-    dsm = DSMHeights(s.dsm)
+    dsm = DSM(s.dsm)
     res = back_project(rois, recon, heights=dsm, occlusion_dsm=dsm, min_visible=0.0)
     st = photo_statistics(res, statistics=("mean",), indices=["exg"], max_images=3,
                           recon=recon, rois=rois, occlusion_dsm=dsm)
