@@ -19,7 +19,8 @@ Pixels: origin at the top-left corner of the photo, x = column right, y = row do
 the top-left pixel (0.5, 0.5).
 """
 from .ray_surface import HIT, LEFT, MISS, NODATA, DSMSurface, RayHits, first_hits
-from .backward import back_project, score
+from .backward import back_project
+from .ranking import score
 from .forward import ForwardShape, densify_ring, forward_project
 from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
 from .merge import MERGE_MODES, MapPolygon, merge_views

@@ -157,7 +157,7 @@ class BackProjection:
     ``photo_index`` into ``photo_labels``; ``visible_fraction`` the share of the ROI's ground
     area inside the frame; ``occluded_fraction`` the share of the in-frame sample points whose
     line of sight the DSM blocks (NaN without an occlusion test); ``score`` in [0, 1] (see
-    :func:`core.projection.backward.score`); ``view_angle`` degrees off nadir at the ROI;
+    :func:`core.projection.ranking.score`); ``view_angle`` degrees off nadir at the ROI;
     ``gsd`` ground sampling distance at the ROI (map units per pixel, from the visible part's
     ground and pixel areas); ``centre_distance`` of the visible part's centroid from the
     principal point, 0 at the principal point and 1 at a frame corner's distance; ``rank``

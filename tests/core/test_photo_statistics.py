@@ -29,8 +29,8 @@ from easyidp_toolbox.core import indices as ix
 from easyidp_toolbox.core.errors import Cancelled, EasyIDPError, InputError
 from easyidp_toolbox.core.projection import back_project, photo_statistics
 from easyidp_toolbox.core.projection import photos as photos_module
-from easyidp_toolbox.core.projection.photo_stats import (_order_stats_float, _order_stats_int,
-                                                         weighted_median)
+from easyidp_toolbox.core.projection.across_views import weighted_median
+from easyidp_toolbox.core.projection.order_stats import order_stats_float, order_stats_int
 from easyidp_toolbox.core.projection.result import BackProjection
 from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import Calibration, Camera, Reconstruction, Sensor
@@ -126,14 +126,14 @@ def test_order_statistics_from_histograms_are_numpys():
     for n in (1, 2, 3, 10, 101, 1000, 4097):
         for top in (256, 65536):
             v = rng.integers(0, top, n).astype(np.float64)
-            med, pct = _order_stats_int(v, True, qs)
+            med, pct = order_stats_int(v, True, qs)
             assert med == np.median(v)
             assert list(pct) == list(np.percentile(v, qs)), (n, top)
     # floats (index values): few and many, with ties, one value, a wide spread
     for n in (1, 7, 5000, 20001):
         for v in (rng.normal(0.3, 0.2, n), np.round(rng.normal(0, 1, n), 2), np.full(n, 0.25),
                   np.concatenate([rng.normal(0, 1, n - 1), [1e6]])):
-            med, pct = _order_stats_float(v, True, qs)
+            med, pct = order_stats_float(v, True, qs)
             assert med == np.median(v) and list(pct) == list(np.percentile(v, qs)), n
 
 
