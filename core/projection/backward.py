@@ -31,7 +31,7 @@ from ..errors import EasyIDPError, ROIError
 from ..progress import as_progress
 from ..roi import ROISet
 from .densify import densify_rings
-from .heights import height_source
+from .height_sources import height_source
 from .ranking import rank_records
 from .record_clip import project_and_clip
 from .result import BackProjection
@@ -50,11 +50,13 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
 
     ``rois``: a :class:`ROISet` in any CRS the project can be related to (a local project
     takes ROIs without a CRS as local coordinates). ``heights``: the vertex heights, see
-    :mod:`.heights` (``"geometry"``, a number, :class:`DSMHeights`, :class:`PerROIHeights`).
+    :mod:`.height_sources` (``"geometry"``, a number, a :class:`~core.raster.DSM`,
+    :class:`PerROIHeights`).
     ``cameras``: labels (default: every aligned, enabled camera). ``distortion``: False for
     photos undistorted by the photogrammetry software. ``clip``: clip ROIs to the frame (True)
-    or keep only photos that hold the whole ROI (False). ``occlusion_dsm``: a DSM (path or
-    :class:`DSMHeights`) to test lines of sight against (see :mod:`.occlusion`).
+    or keep only photos that hold the whole ROI (False). ``occlusion_dsm``: a DSM (a
+    :class:`~core.raster.DSM`, a path or a ``GeoTiff``) to test lines of sight against (see
+    :mod:`.occlusion`).
     ``min_visible``: photos whose visible, unoccluded share of the ROI is below this are
     dropped (and counted); ``max_images``: keep the best k photos per ROI (0 = all).
     """

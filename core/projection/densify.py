@@ -2,7 +2,7 @@
 ``segment_px`` long in every photo (:class:`.sensor_geometry.SensorGeometry`)."""
 import numpy as np
 
-from .heights import GeometryZ
+from .height_sources import GeometryZ
 from .result import _offsets
 from .roi_rings import BLOCK_PAIRS, ROIRings, vertex_heights
 from .sensor_geometry import MAX_SUBDIVISIONS

@@ -1,7 +1,7 @@
 """Forward projection: shapes drawn or detected on a raw photo → the map, on the DSM.
 
 Each vertex's pixel becomes a ray (``Reconstruction.pixel_to_ray``, lens distortion inverted)
-whose first hit on the DSM (:func:`.ray_surface.first_hits`) is the vertex on the map: exact
+whose first hit on the DSM (:func:`core.raster.first_hits`) is the vertex on the map: exact
 on any terrain or canopy. Polygon and line edges are densified *in the photo* first, so that a
 long edge follows the surface instead of cutting across it. A vertex whose ray misses the DSM,
 leaves it or enters nodata is reported (``status``); its polygon is marked incomplete and keeps
@@ -21,7 +21,7 @@ from ..annotations.model import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transformer
 from ..errors import EasyIDPError
 from ..progress import as_progress
-from .ray_surface import HIT, STATUS_NAMES, DSMSurface, first_hits
+from ..raster import HIT, STATUS_NAMES, as_dsm, first_hits
 
 DENSIFY_PX = 4.0     # default spacing of densified vertices along edges, photo pixels
 
@@ -31,7 +31,7 @@ class ForwardShape:
     """One shape of a photo on the map.
 
     ``points``: per ring, (k, 3) map coordinates of every (densified) vertex, NaN where its ray
-    did not hit; ``status``: per ring, (k,) uint8 ray status (``ray_surface.HIT`` …);
+    did not hit; ``status``: per ring, (k,) uint8 ray status (``core.raster.HIT`` …);
     ``original``: per ring, (k,) bool, True for the vertices of the input shape (False for
     those added by densification). ``rings``: per ring, the vertices that hit (the geometry).
     ``area_m2``/``perimeter_m``: planimetric, NaN for lines and points or with < 3 vertices.
@@ -115,12 +115,13 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     ``polygons_px``: :class:`PhotoShape` objects (polygons, lines, points; from the annotation
     readers) or plain polygons ((n, 2) pixel arrays, or lists of rings). ``photo``: the camera
     label (or a ``Camera``); ``recon``: the :class:`Reconstruction`; ``dsm``: a
-    :class:`DSMSurface`, a GeoTIFF path or an opened GeoTiff. ``densify``: True (a vertex every
+    :class:`~core.raster.DSM` (its ray surface keeps the tiles read for the next call), a
+    GeoTIFF path or an opened GeoTiff. ``densify``: True (a vertex every
     :data:`DENSIFY_PX` pixels along edges), a spacing in pixels, or False. ``crs``: output CRS
     (default: the DSM's). Heights are in the output CRS's vertical reference (the DSM's).
     """
     prog = as_progress(progress, is_cancelled)
-    surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm)
+    surface = as_dsm(dsm).ray_surface()
     cam = recon._select([photo])[0]
     recon._calibrated(cam)                 # a clear error for an uncalibrated sensor
     step = DENSIFY_PX if densify is True else float(densify or 0)

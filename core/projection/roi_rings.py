@@ -3,16 +3,17 @@
 :class:`ROIRings` holds every ring of every ROI end to end (the even-odd vocabulary of
 :mod:`core.geometry`, with ring → part → ROI indices); :func:`ring_arrays` builds it from a
 :class:`ROISet`, :func:`vertex_heights` gives its vertices their heights from a height source
-(:mod:`.heights`).
+(:mod:`.height_sources`).
 """
 from dataclasses import dataclass
 
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..raster import DSM
 from ..roi import ROISet
-from .heights import (ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, check_geometry_z,
-                      missing_heights_error, per_roi_values, sample_dsm)
+from .height_sources import (ConstantHeight, GeometryZ, PerROIHeights, check_geometry_z,
+                             missing_heights_error, per_roi_values)
 from .result import _offsets
 
 BLOCK_PAIRS = 1 << 21
@@ -67,8 +68,8 @@ def vertex_heights(source, rois, rings: ROIRings, xy: np.ndarray, crs, ring_inde
         return np.full(len(xy), source.height)
     if isinstance(source, PerROIHeights):
         return per_roi_values(source, rois)[roi_of]
-    if isinstance(source, DSMHeights):
-        z = sample_dsm(source, xy, crs)
+    if isinstance(source, DSM):
+        z = source.heights(xy[:, 0], xy[:, 1], crs=crs)
         bad = ~np.isfinite(z)
         if bad.any():
             raise missing_heights_error(sorted({rois[i].name for i in roi_of[bad]}))
