@@ -56,7 +56,8 @@ def sample_grid(rings: List[np.ndarray], n: int) -> np.ndarray:
     return pts
 
 
-def _surface(dsm) -> DSMSurface:
+def surface_of(dsm) -> DSMSurface:
+    """The ray surface of a DSM (path, :class:`GeoTiff` or :class:`DSMHeights`)."""
     if isinstance(dsm, DSMHeights):
         return DSMSurface(dsm.dsm, crs=dsm.crs)
     return DSMSurface(dsm)
@@ -69,7 +70,7 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
     NaN where no sample of the ROI is inside the photo. Returns (fractions, notes)."""
 
     prog = as_progress(progress)
-    surface = _surface(dsm)
+    surface = surface_of(dsm)
     tif = surface.tif
     dcrs = surface.crs
     rcrs = as_crs(rois.crs)

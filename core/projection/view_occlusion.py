@@ -3,7 +3,7 @@ its records have a line of sight that meets the DSM outside the ROI (:mod:`.pixe
 from typing import List
 
 from ..errors import EasyIDPError
-from .occlusion import _surface
+from .occlusion import surface_of
 from .pixel_occlusion import PixelJob, rings_in_dsm_crs, test_pixels
 
 
@@ -19,7 +19,7 @@ class PhotoOcclusion:
             raise EasyIDPError("The ROIs given are not those of the back-projection (names or "
                                "order differ): give the ROI set it was made from.")
         self.recon, self.distortion, self.samples = recon, distortion, int(samples)
-        self.surface = _surface(dsm)
+        self.surface = surface_of(dsm)
         self.rings = rings_in_dsm_crs(rois, self.surface, sorted(set(result.roi.tolist())))
         self.cams = {}
         for label in result.photo_labels:
