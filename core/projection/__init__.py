@@ -21,20 +21,22 @@ the top-left pixel (0.5, 0.5).
 """
 from .backward import back_project
 from .ranking import score
-from .forward import ForwardShape, densify_ring, forward_project
+from .forward import ForwardShape, forward_project
 from .height_sources import ConstantHeight, GeometryZ, PerROIHeights, height_source
-from .merge import MERGE_MODES, MapPolygon, merge_views
+from .map_polygon import MapPolygon
+from .merge import MERGE_MODES, merge_views
 from .fuse import FusedObject, fuse_views
 from .training_set import TrainingSet, export_training_set
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
-from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, FlatPolygons, read_easyidp_json
+from ..geometry import FlatPolygons
+from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, read_easyidp_json
 
 __all__ = ["back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION", "PIXEL_CRS_WKT",
            "read_easyidp_json", "GeometryZ", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
-           "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
+           "ForwardShape", "forward_project", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
            "TrainingSet"]

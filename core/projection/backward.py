@@ -32,6 +32,7 @@ from ..progress import as_progress
 from ..roi import ROISet
 from .densify import densify_rings
 from .height_sources import height_source
+from .occlusion import occluded_fractions
 from .ranking import rank_records
 from .record_clip import project_and_clip
 from .result import BackProjection
@@ -90,7 +91,6 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
     occluded = np.full(len(recs["roi"]), np.nan)
     notes: List[str] = []
     if occlusion_dsm is not None and len(recs["roi"]):
-        from .occlusion import occluded_fractions
         occluded, occ_notes = occluded_fractions(
             rois, recs["roi"], recs["cam"], recon, cams, occlusion_dsm, occlusion_samples,
             occlusion_tolerance, prog.sub(75, 95))

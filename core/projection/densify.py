@@ -2,8 +2,9 @@
 ``segment_px`` long in every photo (:class:`.sensor_geometry.SensorGeometry`)."""
 import numpy as np
 
+from ..geometry import split_edges
+from ..ragged import cyclic_next, run_of
 from .height_sources import GeometryZ
-from .result import _offsets
 from .roi_rings import BLOCK_PAIRS, ROIRings, vertex_heights
 from .sensor_geometry import MAX_SUBDIVISIONS
 
@@ -14,9 +15,7 @@ def densify_rings(rings: ROIRings, rois, source, recon, cams, geo, distortion, p
     if not np.isfinite(seg).any():
         return rings
     V = len(rings.xy)
-    ring_of_v = np.repeat(np.arange(len(rings.ring_roi)), np.diff(rings.ring_offsets))
-    nxt = np.arange(V) + 1
-    nxt[rings.ring_offsets[1:] - 1] = rings.ring_offsets[:-1]
+    nxt = cyclic_next(rings.ring_offsets)
     need = np.zeros(V)                              # edge length / allowed length, max over photos
     xyz = np.column_stack([rings.xy, rings.z])
     inv_seg = np.where(np.isfinite(seg), 1.0 / seg, 0.0)
@@ -39,21 +38,17 @@ def densify_rings(rings: ROIRings, rois, source, recon, cams, geo, distortion, p
     if (nsub == 1).all():
         return rings
     # new vertex list: each vertex followed by its edge's interior points
-    total = int(nsub.sum())
-    src = np.repeat(np.arange(V), nsub)
-    t = (np.arange(total) - np.repeat(_offsets(nsub)[:-1], nsub)) / np.repeat(nsub, nsub)
-    a, b = rings.xy[src], rings.xy[nxt[src]]
-    xy = a + t[:, None] * (b - a)
+    src, dst, t, new_offsets = split_edges(rings.ring_offsets, nsub)
+    xy = rings.xy[src] + t[:, None] * (rings.xy[dst] - rings.xy[src])
     original = t == 0
-    new_ring = ring_of_v[src]
+    new_ring = run_of(rings.ring_offsets)[src]
     if isinstance(source, GeometryZ):
-        z = rings.z[src] + t * (rings.z[nxt[src]] - rings.z[src])
+        z = rings.z[src] + t * (rings.z[dst] - rings.z[src])
     else:
-        z = np.empty(total)
+        z = np.empty(len(src))
         z[original] = rings.z[src[original]]
         if (~original).any():
             z[~original] = vertex_heights(source, rois, rings, xy[~original], rois.crs,
                                            ring_index=new_ring[~original])
-    lens = np.bincount(new_ring, minlength=len(rings.ring_roi))
-    return ROIRings(xy, z, _offsets(lens), rings.ring_roi, rings.ring_part, rings.ring_hole,
-                  rings.roi_rings, original)
+    return ROIRings(xy, z, new_offsets, rings.ring_roi, rings.ring_part, rings.ring_hole,
+                    rings.roi_rings, original)

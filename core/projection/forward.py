@@ -72,28 +72,6 @@ class ForwardShape:
         return ", ".join(f"{n} {k}" for k, n in sorted(counts.items()))
 
 
-def densify_ring(ring: np.ndarray, step: float, closed: bool):
-    """(points (m, 2), original (m,) bool): ``ring`` with vertices inserted every ``step`` or
-    less along each edge (the closing edge too when ``closed``)."""
-    ring = np.asarray(ring, np.float64)
-    if len(ring) < 2 or not step or step <= 0:
-        return ring.copy(), np.ones(len(ring), bool)
-    ends = np.vstack([ring[1:], ring[:1]]) if closed else ring[1:]
-    starts = ring if closed else ring[:-1]
-    pts, orig = [], []
-    for a, b in zip(starts, ends):
-        n = max(int(np.ceil(np.hypot(*(b - a)) / step)), 1)
-        s = np.arange(n)[:, None] / n
-        pts.append(a + s * (b - a))
-        o = np.zeros(n, bool)
-        o[0] = True
-        orig.append(o)
-    if not closed:
-        pts.append(ring[-1:])
-        orig.append(np.ones(1, bool))
-    return np.vstack(pts), np.concatenate(orig)
-
-
 def _as_shapes(polygons_px) -> List[PhotoShape]:
     out = []
     for k, p in enumerate(polygons_px):
@@ -133,7 +111,12 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
             if s.kind == POINT:
                 pts, orig = np.asarray(ring, np.float64)[:1], np.ones(1, bool)
             else:
-                pts, orig = densify_ring(ring, step, closed=s.kind == POLYGON)
+                pts = np.asarray(ring, np.float64)
+                if len(pts) >= 2 and step > 0:
+                    pts, _, orig = geometry.densify(pts, np.array([0, len(pts)]), step,
+                                                    closed=s.kind == POLYGON)
+                else:
+                    pts, orig = pts.copy(), np.ones(len(pts), bool)
             parts.append(pts)
             index.append((i, j, orig))
     if not parts:
@@ -216,5 +199,5 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     return result
 
 
-__all__ = ["ForwardShape", "forward_project", "densify_ring", "DENSIFY_PX", "LINE", "POINT",
+__all__ = ["ForwardShape", "forward_project", "DENSIFY_PX", "LINE", "POINT",
            "POLYGON"]

@@ -28,9 +28,13 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..geometry import rasterize
+from ..progress import as_progress
 from ..raster import as_dsm
+from ..roi import ROI, ROISet
+from .backward import back_project
 from .forward import ForwardShape
-from .merge import MapPolygon, _polygon
+from .map_polygon import MapPolygon, shapely_polygon
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
 
@@ -73,7 +77,6 @@ def _consensus(members, n_photos: int):
     """(exterior ring (k, 2) map units, shapely polygon) covered by more than half the photos."""
     import shapely
     from skimage.measure import find_contours
-    from ..geometry import rasterize
     x0, y0, x1, y1 = shapely.total_bounds(members)
     cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
     if not cell > 0:
@@ -122,16 +125,13 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     ``dsm_crs`` overriding its GeoKeys); ``photos``: labels of every photo
     searched, also those without a detection (default: the photos of ``shapes``)."""
     import shapely
-    from ..progress import as_progress
-    from ..roi import ROI, ROISet
-    from .backward import back_project
     for name, v in (("nms_iou", nms_iou), ("group_iou", group_iou)):
         if not 0.0 < v <= 1.0:
             raise EasyIDPError(f"{name} must be in (0, 1], not {v}.")
     prog = as_progress(progress)
     dsm = as_dsm(dsm, dsm_crs)
     polys = [f for f in shapes if f.kind == "polygon"]
-    geoms = [_polygon(f) for f in polys]
+    geoms = [shapely_polygon(f) for f in polys]
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
     scores = [f.score if f.score is not None else 1.0 for f in polys]
     by = {}

@@ -30,6 +30,7 @@ from ..raster.geotiff import TAG_GDAL_METADATA
 from ..raster.geotiff_write import write_geotiff
 from ..raster.roi_pixels import rois_in_raster_crs
 from ..roi import ROISet
+from .backward import back_project
 from .photos import DecodedPhotos, resolve_photos
 
 SELECTIONS = ("best", "all", "photo")
@@ -109,7 +110,6 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         cam = recon._select([photo])[0]
         pairs = [(r, cam) for r in range(len(rois))]
     else:
-        from .backward import back_project
         bp = back_project(rois, recon, heights=dsm, min_visible=0.0,
                           max_images=1 if selection == "best" else 0,
                           progress=prog.sub(0, 10))

@@ -50,6 +50,7 @@ from ..photo_files import photo_notes
 from .across_views import aggregate_views
 from .photos import DecodedPhotos, resolve_photos
 from .result import BackProjection
+from .stat_previews import StatSheets
 from .stats_table import PhotoStatistics
 from .view_measure import STATISTICS, ViewMeasure, band_names_for
 from .view_occlusion import PhotoOcclusion
@@ -128,7 +129,6 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     state.notes += photo_notes(list(found.values()))
     sheets = None
     if previews_folder is not None:
-        from .stat_previews import StatSheets
         sheets = StatSheets(result, previews_folder, preview_views, min_visible, max_images)
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):

@@ -25,6 +25,7 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..crs import as_crs, same_crs, transform_xy
+from ..errors import Cancelled
 from ..geometry import distance_to_rings, points_in_rings
 from ..raster import HIT, RaySurface, first_hits
 
@@ -132,7 +133,6 @@ def test_pixels(jobs: Sequence[PixelJob], recon, camera, surface: RaySurface,
         _start(j, coarse)
     while active:
         if is_cancelled is not None and is_cancelled():
-            from ..errors import Cancelled
             raise Cancelled("cancelled")
         uv = np.concatenate([np.column_stack([j._rc[1] + j.c0 + 0.5, j._rc[0] + j.r0 + 0.5])
                              for j in active])

@@ -6,11 +6,9 @@ from typing import List
 
 import numpy as np
 
-from ..geometry import points_in_rings
+from ..geometry import FlatPolygons, densify, orient, points_in_rings, ring_area
 from ..reconstruction import INSIDE
-from .clip import (ConvexRegion, clip_convex, clip_convex_rings_to_frames, convex_rings, orient,
-                   rectangle, signed_area)
-from .result import FlatPolygons, _offsets, _ranges
+from .clip import ConvexRegion, clip_convex, clip_convex_rings_to_frames, convex_rings, rectangle
 from .roi_geometry import ROIGeometry
 from .roi_rings import BLOCK_PAIRS, ROIRings
 from .sensor_geometry import MAX_SUBDIVISIONS
@@ -144,13 +142,8 @@ def _block_records(rings, X, g, cand, recon, cams, geo, distortion, clip, uv, st
 
 def _gather_whole(rings: ROIRings, uv, ci, r, a) -> FlatPolygons:
     """Flat polygons of ROIs wholly inside photos: their projected rings, as they are."""
-    rr0, rr1 = rings.roi_rings[r], rings.roi_rings[r + 1]
-    ring_idx = _ranges(rr0, rr1)
-    vs, ve = rings.ring_offsets[ring_idx], rings.ring_offsets[ring_idx + 1]
-    vidx = _ranges(vs, ve)
-    cam_of_v = np.repeat(np.repeat(ci, rr1 - rr0), ve - vs)
-    return FlatPolygons(uv[cam_of_v, vidx - a], _offsets(ve - vs), rings.ring_part[ring_idx],
-                        rings.ring_hole[ring_idx], _offsets(rr1 - rr0))
+    vidx, rec, layout = rings.take(r)
+    return layout.with_xy(uv[ci[rec], vidx - a])
 
 
 def _roi_structure(rings: ROIRings, r: int, arrays: np.ndarray) -> List[List[np.ndarray]]:
@@ -196,7 +189,7 @@ def _clip_record(rings, r, Xr, uvr, all_valid, cam, sg, g, distortion, recon):
     for p3, p2 in zip(structure, ground):
         rs = []
         for k, (r3, r2) in enumerate(zip(p3, p2)):
-            positive = (signed_area(r2) > 0) == (sigma > 0)
+            positive = (ring_area(r2) > 0) == (sigma > 0)
             rs.append(r3 if positive == (k == 0) else r3[::-1])
         oriented.append(rs)
 
@@ -220,19 +213,11 @@ def _clip_record(rings, r, Xr, uvr, all_valid, cam, sg, g, distortion, recon):
     for p in normalised:
         rs = []
         for ring in p:
-            dense = _densify_ring(ring, step)
+            dense = densify(ring, np.array([0, len(ring)]), step, max_pieces=MAX_SUBDIVISIONS)[0]
             u, v = sg.cal.project_normalised(dense[:, 0], dense[:, 1], distortion)
             rs.append(np.column_stack([u, v]))
         pixel_polys.append(rs)
     return clip_convex(orient(pixel_polys), frame)
-
-
-def _densify_ring(ring: np.ndarray, step: float) -> np.ndarray:
-    b = np.concatenate((ring[1:], ring[:1]))
-    k = np.clip(np.ceil(np.linalg.norm(b - ring, axis=1) / step), 1, MAX_SUBDIVISIONS).astype(np.int64)
-    src = np.repeat(np.arange(len(ring)), k)
-    t = (np.arange(int(k.sum())) - np.repeat(_offsets(k)[:-1], k)) / np.repeat(k, k)
-    return ring[src] + t[:, None] * (b[src] - ring[src])
 
 
 def _image_orientation(g: ROIGeometry, r: int, Xr: np.ndarray, cam) -> int:
@@ -249,5 +234,5 @@ def _image_orientation(g: ROIGeometry, r: int, Xr: np.ndarray, cam) -> int:
     tri = np.array([P, P + eps * np.array([1.0, 0.0, b]), P + eps * np.array([0.0, 1.0, c])])
     q = (tri - cam.C) @ cam.R.T
     q = q[:, :2] / q[:, 2:3]
-    s = signed_area(q)
+    s = ring_area(q)
     return 1 if s > 0 else (-1 if s < 0 else 0)

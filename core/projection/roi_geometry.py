@@ -5,7 +5,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .result import FlatPolygons
 from .roi_rings import ROIRings
 
 
@@ -23,9 +22,7 @@ def roi_geometry(rings: ROIRings, X: np.ndarray, n: int, recon) -> ROIGeometry:
     v1 = rings.ring_offsets[rings.roi_rings[1:]]
     roi_of_v = np.repeat(np.arange(n), v1 - v0)
     # horizontal areas and centroids (model xy), per ring then per ROI
-    flat = FlatPolygons(X[:, :2], rings.ring_offsets, rings.ring_part, rings.ring_hole,
-                        rings.roi_rings)
-    area, cen = flat.areas_centroids()
+    area, cen = rings.flat(X[:, :2]).areas_centroids()
     # least-squares plane per ROI about its vertex mean
     cnt = np.bincount(roi_of_v, minlength=n).astype(float)
     mean = np.column_stack([np.bincount(roi_of_v, X[:, k], minlength=n) for k in range(3)]) / cnt[:, None]

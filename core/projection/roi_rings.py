@@ -10,11 +10,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..geometry import FlatPolygons
+from ..ragged import offsets, ranges, run_of
 from ..raster import DSM
 from ..roi import ROISet
 from .height_sources import (ConstantHeight, GeometryZ, PerROIHeights, check_geometry_z,
                              missing_heights_error, per_roi_values)
-from .result import _offsets
 
 BLOCK_PAIRS = 1 << 21
 """Camera × vertex pairs projected at once (about 40 MB of pixels and statuses)."""
@@ -33,6 +34,21 @@ class ROIRings:
     ring_hole: np.ndarray
     roi_rings: np.ndarray
     original: np.ndarray
+
+    def flat(self, xy: np.ndarray) -> FlatPolygons:
+        """The ROIs as flat polygons (one record per ROI) with vertices ``xy`` (V, 2)."""
+        return FlatPolygons(xy, self.ring_offsets, self.ring_part, self.ring_hole, self.roi_rings)
+
+    def take(self, r: np.ndarray):
+        """ROIs ``r`` (indices, repeats allowed) as one record each: (``vidx`` (M,) the indices
+        of their vertices in ``xy``, ``record`` (M,) the record of each, the records' flat
+        polygons without vertices: give them with :meth:`FlatPolygons.with_xy`)."""
+        rr0, rr1 = self.roi_rings[r], self.roi_rings[r + 1]
+        ring_idx = ranges(rr0, rr1)
+        vs, ve = self.ring_offsets[ring_idx], self.ring_offsets[ring_idx + 1]
+        record = np.repeat(np.repeat(np.arange(len(rr0)), rr1 - rr0), ve - vs)
+        return ranges(vs, ve), record, FlatPolygons(None, offsets(ve - vs), self.ring_part[ring_idx],
+                                                    self.ring_hole[ring_idx], offsets(rr1 - rr0))
 
     def roi_vertex_range(self, r: int):
         return (int(self.ring_offsets[self.roi_rings[r]]),
@@ -53,9 +69,9 @@ def ring_arrays(rois: ROISet) -> ROIRings:
                 n += 1
         per_roi.append(n)
     xy = np.concatenate(xy).astype(np.float64)
-    return ROIRings(xy, np.zeros(len(xy)), _offsets(np.array(lens, np.int64)),
+    return ROIRings(xy, np.zeros(len(xy)), offsets(np.array(lens, np.int64)),
                   np.array(ring_roi, np.int64), np.array(ring_part, np.int32),
-                  np.array(ring_hole, bool), _offsets(np.array(per_roi, np.int64)),
+                  np.array(ring_hole, bool), offsets(np.array(per_roi, np.int64)),
                   np.ones(len(xy), bool))
 
 
@@ -63,7 +79,7 @@ def vertex_heights(source, rois, rings: ROIRings, xy: np.ndarray, crs, ring_inde
     """Heights at ``xy`` (the original vertices when ``ring_index`` is None; otherwise new
     vertices, with ``ring_index`` their ring)."""
     roi_of = rings.ring_roi[ring_index] if ring_index is not None else \
-        np.repeat(rings.ring_roi, np.diff(rings.ring_offsets))
+        rings.ring_roi[run_of(rings.ring_offsets)]
     if isinstance(source, ConstantHeight):
         return np.full(len(xy), source.height)
     if isinstance(source, PerROIHeights):

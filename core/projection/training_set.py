@@ -48,12 +48,14 @@ from ..annotations.writers import (LabelledImage, LabelledShape, write_coco, wri
                                    write_yolo_labels, yolo_data_yaml)
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
+from ..geometry import orient, polygons_area
 from ..naming import unique_names
 from ..progress import as_progress
 from ..raster import as_dsm
 from ..roi import ROI, ROISet
 from .backward import back_project
-from .clip import clip_convex, orient, polygons_area, rectangle
+from .clip import clip_convex, rectangle
+from .photo_crops import PNG_FAST
 from .photos import DecodedPhotos, resolve_photos
 
 SPLITS = ("train", "val")
@@ -294,7 +296,6 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
 def _write_images(folder, images, found, bp, used, result, prog):
     """Whole photos copied (no decode); tiles cut from one decode per photo."""
     import imagecodecs
-    from .photo_crops import PNG_FAST
     by_label = {}
     for s, im, label, win in images:
         by_label.setdefault(label, []).append((s, im, win))

@@ -2,7 +2,8 @@
 as rays onto the ROI's best-fit plane, over the ROI's area on that plane."""
 import numpy as np
 
-from .result import FlatPolygons, _offsets, _ranges
+from ..geometry import FlatPolygons, densify
+from ..ragged import run_of
 from .roi_geometry import ROIGeometry
 from .roi_rings import ROIRings
 from .sensor_geometry import MAX_SUBDIVISIONS
@@ -16,8 +17,7 @@ def visible_fractions(flat: FlatPolygons, roi_i, cam_i, rings: ROIRings, X, g: R
     k = len(flat)
     step = np.array([geo[cams[j].sensor_id].segment_px for j in cam_i])
     dense = _densify_flat(flat, np.where(np.isfinite(step), step, np.inf))
-    rec_of_ring = np.repeat(np.arange(k), np.diff(dense.record_rings))
-    rec_of_v = np.repeat(rec_of_ring, np.diff(dense.ring_offsets))
+    rec_of_v = run_of(dense.record_rings)[run_of(dense.ring_offsets)]
     dirs = np.empty((len(dense.xy), 3))
     cam_of_v = cam_i[rec_of_v]
     for j in np.unique(cam_i):
@@ -25,18 +25,12 @@ def visible_fractions(flat: FlatPolygons, roi_i, cam_i, rings: ROIRings, X, g: R
         _, dirs[sel] = recon.pixel_to_ray(cams[j], dense.xy[sel], distortion)
     C = np.array([cams[j].C for j in cam_i])
     ground, ok = _on_plane(C[rec_of_v], dirs, g.plane[roi_i[rec_of_v]])
-    area_vis, _ = FlatPolygons(ground, dense.ring_offsets, dense.ring_polygon, dense.ring_hole,
-                               dense.record_rings).areas_centroids()
+    area_vis, _ = dense.with_xy(ground).areas_centroids()
     bad = np.bincount(rec_of_v, ~ok, minlength=k) > 0
     # the whole ROI on the same plane, cast from the same camera centre
-    rr0, rr1 = rings.roi_rings[roi_i], rings.roi_rings[roi_i + 1]
-    ring_idx = _ranges(rr0, rr1)
-    vs, ve = rings.ring_offsets[ring_idx], rings.ring_offsets[ring_idx + 1]
-    vidx = _ranges(vs, ve)
-    rec_of_rv = np.repeat(np.repeat(np.arange(k), rr1 - rr0), ve - vs)
+    vidx, rec_of_rv, layout = rings.take(roi_i)
     full, ok_full = _on_plane(C[rec_of_rv], X[vidx] - C[rec_of_rv], g.plane[roi_i[rec_of_rv]])
-    area_full, _ = FlatPolygons(full, _offsets(ve - vs), rings.ring_part[ring_idx],
-                                rings.ring_hole[ring_idx], _offsets(rr1 - rr0)).areas_centroids()
+    area_full, _ = layout.with_xy(full).areas_centroids()
     behind = np.bincount(rec_of_rv, ~ok_full, minlength=k) > 0
     # vertices beyond the camera's horizon have no image on the plane: the ROI's own area
     area_full = np.where(behind | ~(area_full > 0), g.area[roi_i], area_full)
@@ -60,18 +54,6 @@ def _densify_flat(flat: FlatPolygons, step: np.ndarray) -> FlatPolygons:
     """Every ring edge of record i split into pieces of at most ``step[i]`` px."""
     if not np.isfinite(step).any() or not len(flat.xy):
         return flat
-    lens = np.diff(flat.ring_offsets)
-    starts = flat.ring_offsets[:-1]
-    nxt = np.arange(len(flat.xy)) + 1
-    nxt[flat.ring_offsets[1:] - 1] = starts
-    rec_of_ring = np.repeat(np.arange(len(flat)), np.diff(flat.record_rings))
-    st = np.repeat(step[rec_of_ring], lens)
-    seg = np.linalg.norm(flat.xy[nxt] - flat.xy, axis=1)
-    n = np.clip(np.ceil(np.where(np.isfinite(st), seg / st, 1.0)), 1, MAX_SUBDIVISIONS).astype(np.int64)
-    src = np.repeat(np.arange(len(flat.xy)), n)
-    t = (np.arange(int(n.sum())) - np.repeat(_offsets(n)[:-1], n)) / np.repeat(n, n)
-    xy = flat.xy[src] + t[:, None] * (flat.xy[nxt[src]] - flat.xy[src])
-    ring_of_v = np.repeat(np.arange(len(lens)), lens)
-    new_lens = np.bincount(ring_of_v[src], minlength=len(lens))
-    return FlatPolygons(xy, _offsets(new_lens), flat.ring_polygon, flat.ring_hole,
-                        flat.record_rings)
+    xy, offs, _ = densify(flat.xy, flat.ring_offsets, step[run_of(flat.record_rings)],
+                          max_pieces=MAX_SUBDIVISIONS)
+    return FlatPolygons(xy, offs, flat.ring_polygon, flat.ring_hole, flat.record_rings)
