@@ -55,8 +55,8 @@ recon = open_reconstruction(project)
 t0 = time.perf_counter()
 kw = dict(clip=mode != "whole", min_visible=0.0)
 if mode == "occlusion":
-    from easyidp_toolbox.core.projection import DSMHeights
-    kw["occlusion_dsm"] = DSMHeights(dsm)
+    from easyidp_toolbox.core.raster import DSM
+    kw["occlusion_dsm"] = DSM(dsm)
 res = back_project(rois, recon, heights="geometry", **kw)
 t1 = time.perf_counter()
 print(json.dumps({"seconds": t1 - t0, "examined": len(rois) * len(recon.aligned_cameras),
@@ -167,7 +167,7 @@ def wheat_inputs(quick: bool) -> dict:
 def demo_inputs(size: str) -> dict:
     """The demo survey (seed 0) and its 40 plots with DSM heights at the corners."""
     from easyidp_toolbox.core.demo import make_demo_survey
-    from easyidp_toolbox.core.raster.dsm_heights import sample_points
+    from easyidp_toolbox.core.raster import DSM
     from easyidp_toolbox.core.roi import read_geojson
     folder = OUT / f"demo_{size}"
     truth = folder / "truth.json"
@@ -177,10 +177,10 @@ def demo_inputs(size: str) -> dict:
     if not path.exists():
         rois = read_geojson(str(folder / "plots.geojson"), name_field="plot_id")
         d = {}
+        dsm = DSM(str(folder / "dsm.tif"))
         for r in rois:
             ring = np.vstack([r.rings[0], r.rings[0][:1]])
-            d[r.name] = np.column_stack([ring, sample_points(str(folder / "dsm.tif"), ring[:, 0],
-                                                             ring[:, 1])]).tolist()
+            d[r.name] = np.column_stack([ring, dsm.heights(ring[:, 0], ring[:, 1])]).tolist()
         path.write_text(json.dumps({"crs": "EPSG:32654", "rois": d}))
     return {"project": folder / "metashape" / "demo_survey.psx", "rois": path}
 

@@ -50,12 +50,11 @@ EPSG = 32654
 _IMPORTS = r"""
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.pointcloud import canopy_summary, crop_point_cloud, read_point_cloud
-from easyidp_toolbox.core.projection import DSMHeights, back_project
+from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
-from easyidp_toolbox.core.raster.dsm_heights import roi_heights
-from easyidp_toolbox.core.raster.geotiff import open_geotiff
+from easyidp_toolbox.core.raster import DSM, roi_heights
 from easyidp_toolbox.core.annotations import read_annotations
-from easyidp_toolbox.core.projection import DSMSurface, camera_footprints, forward_project, merge_views, photo_statistics
+from easyidp_toolbox.core.projection import camera_footprints, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.season import read_survey_table, run_season
 """
@@ -82,7 +81,7 @@ if case.startswith("backproject"):
     recon = open_reconstruction(a["project"])
     t_open = time.perf_counter()
     if a.get("dsm"):
-        dsm = DSMHeights(a["dsm"], a["crs"])
+        dsm = DSM(a["dsm"], crs=a["crs"])
         res = back_project(rois, recon, heights=dsm, clip=True, occlusion_dsm=dsm,
                            min_visible=a["min_visible"], progress=progress)
     else:
@@ -104,7 +103,7 @@ elif case == "camerafootprints":
     prints = camera_footprints(recon, a["ground"], crs=a["crs"], cameras=cams)
     out["kept"] = len(prints)
 elif case == "roiheightsfromdsm":
-    dsm = open_geotiff(a["dsm"], crs=a["crs"])
+    dsm = DSM(a["dsm"], crs=a["crs"])
     rois.validate()
     res = roi_heights(dsm, rois, "polygon", "mean", 50.0, 0.0)
 elif case == "croprasterbyrois":
@@ -123,7 +122,7 @@ elif case == "pointcloudroistatistics":
     out["kept"] = len(res)
 elif case == "photostatistics":
     recon = open_reconstruction(a["project"])
-    dsm = DSMHeights(a["dsm"], a["crs"])
+    dsm = DSM(a["dsm"], crs=a["crs"])
     res = back_project(rois, recon, heights=dsm, distortion=True, occlusion_dsm=dsm,
                        min_visible=0.0)
     st = photo_statistics(res, None, bands=None, statistics=["mean", "median", "std"],
@@ -139,7 +138,7 @@ elif case == "orthorectifyrois":
                             photos_folder=None, gsd=None, dsm_crs=a["crs"])
 elif case == "forwardprojectpolygons":
     recon = open_reconstruction(a["project"])
-    dsm = DSMSurface(a["dsm"], crs=a["crs"])
+    dsm = DSM(a["dsm"], crs=a["crs"])
     shapes = []
     for ann, cam in read_annotations(a["folder_in"], recon):
         polys = [s for s in ann.shapes if s.kind == "polygon"]

@@ -59,7 +59,8 @@ def main(argv=None) -> int:
     n = 1000 if args.quick else args.polygons
     from easyidp_toolbox.core import open_reconstruction
     from easyidp_toolbox.core.demo import make_demo_survey
-    from easyidp_toolbox.core.projection import DSMSurface, forward_project
+    from easyidp_toolbox.core.projection import forward_project
+    from easyidp_toolbox.core.raster import DSM
     rng = np.random.default_rng(1)
     with tempfile.TemporaryDirectory() as tmp:
         survey = make_demo_survey(os.path.join(tmp, "survey"), seed=0, size="small")
@@ -69,7 +70,7 @@ def main(argv=None) -> int:
             recon = open_reconstruction(path)
             cams = recon.aligned_cameras
             for densify in (False, True):
-                dsm = DSMSurface(survey.dsm)
+                dsm = DSM(survey.dsm)
                 t0, c0 = time.perf_counter(), time.process_time()
                 done = complete = 0
                 for k, cam in enumerate(cams):

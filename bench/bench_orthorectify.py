@@ -114,7 +114,7 @@ def main(argv=None) -> int:
     from easyidp_toolbox.core import open_reconstruction, read_geojson
     from easyidp_toolbox.core.demo import make_demo_survey
     from easyidp_toolbox.core.projection.ortho import orthorectify_rois
-    from easyidp_toolbox.core.raster import sample_points
+    from easyidp_toolbox.core.raster import DSM
     with tempfile.TemporaryDirectory() as tmp:
         s = make_demo_survey(os.path.join(tmp, "survey"), seed=0, size="small")
         rois = split_plots(read_geojson(s.plots_geojson, name_field="plot_id"))
@@ -129,9 +129,10 @@ def main(argv=None) -> int:
                  len(res.files) / cpu, wall, len(res.files)]]
         by_name = {r.name: r for r in rois}
         cases = []
+        dsm = DSM(s.dsm)
         for name, photo in zip(res.rois, res.photos):
             ring = by_name[name].rings[0][:4, :2]
-            z = sample_points(s.dsm, ring[:, 0], ring[:, 1])
+            z = dsm.heights(ring[:, 0], ring[:, 1])
             xyz = np.column_stack([ring, z])
             cases.append({"photo": photo, "xyz": np.vstack([xyz, xyz[:1]]).tolist()})
         if os.path.exists(REF_PY):

@@ -73,13 +73,14 @@ print(json.dumps({"seconds": t, "photos": n, "records": len(res), "backproject_s
 """
 
 STATS = _SETUP + r"""
-from easyidp_toolbox.core.projection import DSMHeights, photo_statistics
+from easyidp_toolbox.core.projection import photo_statistics
+from easyidp_toolbox.core.raster import DSM
 mode = sys.argv[5]
 kw = dict(percentiles=(5, 95))
 if mode == "means":
     kw = dict(statistics=("mean",), indices=["exg"])
 elif mode != "full":
-    kw.update(recon=recon, rois=rois, occlusion_dsm=DSMHeights(mode))
+    kw.update(recon=recon, rois=rois, occlusion_dsm=DSM(mode))
 t0 = time.perf_counter()
 st = photo_statistics(res, photos, **kw)
 t = time.perf_counter() - t0

@@ -1,4 +1,4 @@
-"""Benchmark: rays per second of the ray–DSM intersector (core.projection.first_hits).
+"""Benchmark: rays per second of the ray–DSM intersector (core.raster.first_hits).
 
 Run: ``python -m easyidp_toolbox.bench.bench_ray_surface [--quick] [--size 10000] [--rays 400000]``.
 
@@ -63,13 +63,13 @@ def rays(size: int, n: int, seed: int = 0):
 
 
 def measure(path, frame, o_model, d_model, repeats: int = REPEATS):
-    """Median (wall s, CPU s) of ``repeats`` cold runs (each on a new DSMSurface: tiles read
+    """Median (wall s, CPU s) of ``repeats`` cold runs (each on a new DSM: tiles read
     from the file as the rays need them) and of as many warm runs (tiles in memory)."""
-    from easyidp_toolbox.core.projection import DSMSurface, first_hits
+    from easyidp_toolbox.core.raster import DSM, first_hits
     out = {"cold": [], "warm": []}
     for run in ["cold"] * repeats + ["warm"] * repeats:
         if run == "cold":
-            surface = DSMSurface(path)
+            surface = DSM(path).ray_surface()
         t0, c0 = time.perf_counter(), time.process_time()
         hits = first_hits(surface, frame, o_model, d_model)
         out[run].append((time.perf_counter() - t0, time.process_time() - c0))

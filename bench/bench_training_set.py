@@ -48,7 +48,7 @@ def main(argv=None) -> int:
     from ..core.demo.scene import SURVEY_FIELD
     from ..core.projection import export_training_set, fuse_views
     from ..core.projection.forward import ForwardShape
-    from ..core.projection.ray_surface import HIT
+    from ..core.raster import HIT
     from ..core.reconstruction import open_reconstruction
     from ..core.roi import ROI, ROISet
     rng = np.random.default_rng(0)

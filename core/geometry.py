@@ -1,18 +1,40 @@
-"""Planar polygon primitives on numpy arrays: point-in-polygon, rasterisation, distances, validity.
+"""Planar polygons on numpy arrays: rings, area, centroid, orientation, densification,
+point-in-polygon, rasterisation, distances, validity.
 
-A polygon is a list of rings (exterior first, then holes); a multipolygon is the concatenation of
-its parts' rings. Rings are (n, 2) float64 arrays of (x, y), open (the first vertex is not
-repeated). Inside-ness uses the even-odd rule over all rings, which honours holes and multipart
-polygons at once.
+The one vocabulary of polygons in the core:
+
+* A **ring** is an (n, 2) float64 array of (x, y), open (the first vertex is not repeated).
+* A **polygon** is a list of rings, exterior first, then its holes; **polygons** (a
+  multipolygon, :attr:`ROI.parts`, what clipping takes and gives) a list of polygons
+  (:data:`Polygons`). Oriented polygons (:func:`orient`) have exteriors positive (shoelace > 0:
+  counter-clockwise in a y-up frame, the interior on the left of each edge) and holes negative.
+* A **ring list** (:data:`Rings`) is the rings of polygons concatenated (:func:`ring_list`);
+  inside-ness over it uses the even-odd rule, which honours holes and multipart polygons at once.
+* **Flat polygons** (:class:`FlatPolygons`) hold the polygons of many records in ragged arrays
+  (:mod:`core.ragged`) for vectorised work; :meth:`FlatPolygons.from_lists` and
+  :meth:`FlatPolygons.polygons` convert to and from polygons.
 
 Rasterisation works in *pixel coordinates*: x = column, y = row, origin at the top-left corner of
 the top-left pixel, so the centre of pixel (row r, col c) is (c + 0.5, r + 0.5).
 """
-from typing import List, Sequence, Tuple
+from dataclasses import dataclass
+from typing import List, Optional, Sequence, Tuple, Union
 
 import numpy as np
 
+from .ragged import cyclic_next, offsets, position_in_run, ranges, run_of
+
+Ring = np.ndarray
+"""(n, 2) float64, open."""
+Polygons = List[List[np.ndarray]]
+"""[[exterior, hole, ...], ...]: polygons, each a list of rings."""
 Rings = Sequence[np.ndarray]
+"""A ring list: the rings of polygons concatenated (roles by the even-odd rule)."""
+
+
+def ring_list(polys: Polygons) -> List[np.ndarray]:
+    """The ring list of polygons: every ring, exteriors and holes, in order."""
+    return [r for p in polys for r in p]
 
 
 def ring_keep(ring: np.ndarray) -> np.ndarray:
@@ -43,12 +65,189 @@ def _edges(rings: Rings) -> Tuple[np.ndarray, np.ndarray]:
 
 
 def ring_area(ring: np.ndarray) -> float:
-    """Signed area (shoelace); positive for counter-clockwise rings in a y-up frame.
+    """Signed area (shoelace) of one ring; positive for counter-clockwise rings in a y-up frame,
+    0 for fewer than 3 vertices. Relative to the first vertex, so UTM-size coordinates keep
+    their precision. Many rings at once: :func:`ring_moments`."""
+    if len(ring) < 3:
+        return 0.0
+    x, y = ring[1:, 0] - ring[0, 0], ring[1:, 1] - ring[0, 1]
+    return 0.5 * float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1]))
 
-    Computed relative to the first vertex, so UTM-size coordinates keep their precision.
-    """
-    x, y = ring[:, 0] - ring[0, 0], ring[:, 1] - ring[0, 1]
-    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y))
+
+def ring_moments(xy: np.ndarray, offs: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """(signed area (R,), first moment (R, 2) about the origin) of every ring of the ragged
+    vertices ``xy`` (V, 2), ring i = ``xy[offs[i]:offs[i + 1]]`` (empty rings: 0); the centroid
+    of ring i is ``moment[i] / area[i]``. Computed relative to each ring's first vertex, as
+    :func:`ring_area`."""
+    R = len(offs) - 1
+    area, moment = np.zeros(R), np.zeros((R, 2))
+    full = np.diff(offs) > 0
+    if not full.any():
+        return area, moment
+    if not full.all():                           # empty rings: area and moment 0
+        sub = np.flatnonzero(full)
+        area[sub], moment[sub] = ring_moments(xy, np.r_[offs[sub], offs[-1]])
+        return area, moment
+    starts = offs[:-1]
+    o = xy[starts][run_of(offs)]
+    a = xy - o
+    b = xy[cyclic_next(offs)] - o
+    cross = a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]
+    area = 0.5 * np.add.reduceat(cross, starts)
+    mx = np.add.reduceat((a[:, 0] + b[:, 0]) * cross, starts) / 6.0 + area * xy[starts, 0]
+    my = np.add.reduceat((a[:, 1] + b[:, 1]) * cross, starts) / 6.0 + area * xy[starts, 1]
+    return area, np.column_stack([mx, my])
+
+
+def polygons_area(polys: Polygons) -> float:
+    """Area of polygons (exteriors minus holes), whatever their orientation."""
+    return sum(abs(ring_area(p[0])) - sum(abs(ring_area(h)) for h in p[1:]) for p in polys)
+
+
+def area_centroid(polys: Polygons) -> Tuple[float, np.ndarray]:
+    """(area, centroid (2,)) of polygons (exteriors minus holes); centroid NaN for zero area."""
+    a, c = FlatPolygons.from_lists([polys]).areas_centroids()
+    return (float(a[0]), c[0]) if a[0] > 0 else (0.0, np.full(2, np.nan))
+
+
+def orient(polys: Polygons) -> Polygons:
+    """The polygons with exteriors positive and holes negative (rings reversed as needed)."""
+    out = []
+    for p in polys:
+        rings = []
+        for k, r in enumerate(p):
+            positive = ring_area(r) > 0
+            rings.append(r if positive == (k == 0) else r[::-1])
+        out.append(rings)
+    return out
+
+
+def split_edges(offs: np.ndarray, pieces: np.ndarray):
+    """Densification of ragged rings by index: edge v (vertex v to the next of its ring) cut
+    into ``pieces[v]`` (≥ 1) equal pieces. Returns (src, dst, t, new offsets): new vertex m is
+    ``p[src[m]] + t[m] · (p[dst[m]] − p[src[m]])`` for any per-vertex quantity p (t = 0 for the
+    original vertices)."""
+    pieces = np.asarray(pieces, np.int64)
+    src = np.repeat(np.arange(len(pieces)), pieces)
+    t = position_in_run(pieces) / np.repeat(pieces, pieces)
+    lens = np.bincount(run_of(offs)[src], minlength=len(offs) - 1)
+    return src, cyclic_next(offs)[src], t, offsets(lens)
+
+
+def densify(xy: np.ndarray, offs: np.ndarray, step: Union[float, np.ndarray],
+            closed: bool = True, max_pieces: Optional[int] = None):
+    """Ragged rings (``closed``; else open lines) with vertices inserted so that no edge is
+    longer than ``step`` (a number, or one per ring (R,); inf leaves a ring as it is), each
+    edge cut in at most ``max_pieces``. Returns (xy (M, 2), offsets, original (M,) bool)."""
+    xy = np.asarray(xy, np.float64)
+    offs = np.asarray(offs, np.int64)
+    seg = np.linalg.norm(xy[cyclic_next(offs)] - xy, axis=1)
+    st = np.repeat(step, np.diff(offs)) if np.ndim(step) else step
+    with np.errstate(invalid="ignore", divide="ignore"):
+        n = np.ceil(np.where(np.isfinite(st), seg / st, 1.0))
+    n = np.clip(n, 1, max_pieces if max_pieces is not None else None).astype(np.int64)
+    if not closed:
+        n[offs[1:][np.diff(offs) > 0] - 1] = 1
+    src, dst, t, new_offs = split_edges(offs, n)
+    return xy[src] + t[:, None] * (xy[dst] - xy[src]), new_offs, t == 0
+
+
+@dataclass
+class FlatPolygons:
+    """The polygons of many records in ragged arrays: all vertices in ``xy`` (V, 2), rings
+    delimited by ``ring_offsets`` (R + 1,), each ring tagged with its polygon
+    (``ring_polygon`` (R,), numbered within its record) and whether it is a hole
+    (``ring_hole`` (R,)); record i's rings are ``record_rings[i]:record_rings[i + 1]``."""
+    xy: np.ndarray                 # (V, 2) float64
+    ring_offsets: np.ndarray       # (R + 1,) int64
+    ring_polygon: np.ndarray       # (R,) int32, polygon number within the record
+    ring_hole: np.ndarray          # (R,) bool
+    record_rings: np.ndarray       # (k + 1,) int64
+
+    @classmethod
+    def empty(cls) -> "FlatPolygons":
+        return cls(np.zeros((0, 2)), np.zeros(1, np.int64), np.zeros(0, np.int32),
+                   np.zeros(0, bool), np.zeros(1, np.int64))
+
+    @classmethod
+    def from_lists(cls, records: List[Polygons]) -> "FlatPolygons":
+        """From per-record polygons ``[[exterior, hole, ...], ...]``."""
+        rings, poly, hole, per_rec = [], [], [], []
+        for polys in records:
+            n = 0
+            for j, p in enumerate(polys):
+                for k, r in enumerate(p):
+                    rings.append(np.asarray(r, np.float64).reshape(-1, 2))
+                    poly.append(j)
+                    hole.append(k > 0)
+                    n += 1
+            per_rec.append(n)
+        if not rings:
+            out = cls.empty()
+            out.record_rings = np.zeros(len(records) + 1, np.int64)
+            return out
+        lens = np.array([len(r) for r in rings], np.int64)
+        return cls(np.concatenate(rings), offsets(lens), np.array(poly, np.int32),
+                   np.array(hole, bool), offsets(np.array(per_rec, np.int64)))
+
+    @staticmethod
+    def concat(parts: List["FlatPolygons"]) -> "FlatPolygons":
+        parts = [p for p in parts if p is not None]
+        if not parts:
+            return FlatPolygons.empty()
+        xy = np.concatenate([p.xy for p in parts])
+        ring_lens = np.concatenate([np.diff(p.ring_offsets) for p in parts])
+        rec_lens = np.concatenate([np.diff(p.record_rings) for p in parts])
+        return FlatPolygons(xy, offsets(ring_lens), np.concatenate([p.ring_polygon for p in parts]),
+                            np.concatenate([p.ring_hole for p in parts]), offsets(rec_lens))
+
+    def __len__(self) -> int:
+        return len(self.record_rings) - 1
+
+    def polygons(self, i: int) -> Polygons:
+        """Record ``i`` as ``[[exterior, hole, ...], ...]`` (open rings, views into ``xy``)."""
+        out: Polygons = []
+        for j in range(self.record_rings[i], self.record_rings[i + 1]):
+            ring = self.xy[self.ring_offsets[j]:self.ring_offsets[j + 1]]
+            if not self.ring_hole[j] or not out:
+                out.append([ring])
+            else:
+                out[-1].append(ring)
+        return out
+
+    def with_xy(self, xy: np.ndarray) -> "FlatPolygons":
+        """The same rings with other vertex coordinates (the same count)."""
+        return FlatPolygons(xy, self.ring_offsets, self.ring_polygon, self.ring_hole,
+                            self.record_rings)
+
+    def take(self, order: np.ndarray) -> "FlatPolygons":
+        """The records ``order`` (indices), in that order."""
+        order = np.asarray(order, np.int64)
+        rr0, rr1 = self.record_rings[order], self.record_rings[order + 1]
+        ring_idx = ranges(rr0, rr1)
+        v0, v1 = self.ring_offsets[ring_idx], self.ring_offsets[ring_idx + 1]
+        return FlatPolygons(self.xy[ranges(v0, v1)], offsets(v1 - v0),
+                            self.ring_polygon[ring_idx], self.ring_hole[ring_idx],
+                            offsets(rr1 - rr0))
+
+    def areas_centroids(self):
+        """(area (k,), centroid (k, 2)) of every record (exteriors minus holes, whatever their
+        orientation); centroid NaN for zero area."""
+        k = len(self)
+        if len(self.xy) == 0:
+            return np.zeros(k), np.full((k, 2), np.nan)
+        ring_a, moment = ring_moments(self.xy, self.ring_offsets)
+        eff = np.where(self.ring_hole, -np.abs(ring_a), np.abs(ring_a))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            scale = np.where(ring_a != 0, eff / ring_a, 0.0)
+        rec_of_ring = run_of(self.record_rings)
+        area = np.bincount(rec_of_ring, eff, minlength=k)
+        cx = np.bincount(rec_of_ring, moment[:, 0] * scale, minlength=k)
+        cy = np.bincount(rec_of_ring, moment[:, 1] * scale, minlength=k)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            cen = np.column_stack([cx, cy]) / area[:, None]
+        cen[area <= 0] = np.nan
+        return area, cen
 
 
 def area(rings: Rings) -> float:
@@ -104,7 +303,7 @@ def rasterize(rings_px: Rings, shape: Tuple[int, int], all_touched: bool = False
     n = np.maximum(r1 - r0, 0)
     if n.sum():
         edge = np.repeat(np.arange(len(a)), n)
-        row = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n) + r0[edge]
+        row = position_in_run(n) + r0[edge]
         yc = row + 0.5
         ax, ay, bx, by = a[edge, 0], a[edge, 1], b[edge, 0], b[edge, 1]
         xc = ax + (yc - ay) * (bx - ax) / (by - ay)

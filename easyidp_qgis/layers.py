@@ -65,19 +65,10 @@ def dsm_ground(layer, label: str, points_crs=None):
     """``ground(x, y) -> z``: bilinear heights of a DSM/DTM raster layer (NaN outside it or on
     nodata) at points given in ``points_crs`` (a pyproj CRS), transformed to the DSM's CRS when
     they differ; ``points_crs=None`` takes the points to be in the DSM's own frame."""
-    import numpy as np
-    from ..core.crs import same_crs, transform_xy
-    from ..core.raster.dsm_heights import sample_points
-    from ..core.raster.geotiff import open_geotiff
+    from ..core.raster import DSM
 
-    dsm = open_geotiff(geotiff_source(layer, label), crs=crs_string(layer.crs()))
-    if dsm.crs is None or points_crs is None or same_crs(dsm.crs, points_crs):
-        return lambda x, y: sample_points(dsm, x, y)
-
-    def ground(x, y):
-        xy = transform_xy(points_crs, dsm.crs, np.column_stack([np.ravel(x), np.ravel(y)]))
-        return sample_points(dsm, xy[:, 0], xy[:, 1]).reshape(np.shape(x))
-    return ground
+    dsm = DSM(geotiff_source(layer, label), crs=crs_string(layer.crs()))
+    return lambda x, y: dsm.heights(x, y, crs=points_crs)
 
 
 def optional_number(alg, parameters, name: str, context):
@@ -304,12 +295,12 @@ def add_height_parameters(alg):
 
 
 def dsm_parameter(alg, parameters, context):
-    """The DSM parameter as the core's :class:`DSMHeights` (None when not given)."""
-    from ..core.projection import DSMHeights
+    """The DSM parameter as the core's :class:`DSM` (None when not given)."""
+    from ..core.raster import DSM
     layer = alg.parameterAsRasterLayer(parameters, alg.DSM, context)
     if layer is None:
         return None
-    return DSMHeights(geotiff_source(layer, alg.tr("DSM")), crs_string(layer.crs()))
+    return DSM(geotiff_source(layer, alg.tr("DSM")), crs=crs_string(layer.crs()))
 
 
 def height_source_parameter(alg, parameters, context, features, dsm):

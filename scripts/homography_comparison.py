@@ -85,7 +85,8 @@ def compare(folder: str) -> dict:
     """{project: {"ours": errors (m), "easyidp": errors (m), "points": n}} over the cases."""
     from ..core import open_reconstruction
     from ..core.annotations.model import POINT, PhotoShape
-    from ..core.projection import DSMSurface, forward_project
+    from ..core.projection import forward_project
+    from ..core.raster import DSM
     with open(os.path.join(folder, "truth.json")) as fh:
         truth = json.load(fh)
     cs = cases(truth)
@@ -102,7 +103,7 @@ def compare(folder: str) -> dict:
             raise RuntimeError("easyidp 2.0.4 failed:\n" + proc.stderr[-3000:])
         with open(out) as fh:
             ref = json.load(fh)
-    dsm = DSMSurface(os.path.join(folder, "dsm.tif"))
+    dsm = DSM(os.path.join(folder, "dsm.tif"))
     result = {}
     for name, path in (("metashape", "metashape/demo_survey.psx"), ("pix4d", "pix4d/demo_survey.p4d")):
         recon = open_reconstruction(os.path.join(folder, path))

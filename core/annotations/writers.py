@@ -15,6 +15,7 @@ from typing import Dict, List, Sequence
 import numpy as np
 
 from ..files import write_bytes, write_json
+from ..geometry import polygons_area
 
 COCO_DECIMALS = 4      # pixels: 1e-4 px
 YOLO_DECIMALS = 7      # normalised: 1e-7 of the image size
@@ -46,14 +47,6 @@ class LabelledImage:
     attributes: dict = field(default_factory=dict)
 
 
-def _area(polys) -> float:
-    """Area of [[exterior, hole, ...], ...] (exteriors minus holes), pixels²."""
-    def shoelace(r):
-        x, y = r[:, 0] - r[0, 0], r[:, 1] - r[0, 1]
-        return abs(0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)))
-    return sum(shoelace(p[0]) - sum(shoelace(h) for h in p[1:]) for p in polys)
-
-
 def coco_document(images: Sequence[LabelledImage], categories: Sequence[str],
                   description: str = "") -> dict:
     """A COCO instances document: ``images`` (ids from 1), ``categories`` (ids from 1, in the
@@ -74,7 +67,7 @@ def coco_document(images: Sequence[LabelledImage], categories: Sequence[str],
             seg = [np.round(p[0], COCO_DECIMALS).ravel().tolist() for p in s.polygons]
             doc["annotations"].append({
                 "id": ann_id, "image_id": k, "category_id": cat_id[s.label],
-                "segmentation": seg, "area": round(_area(s.polygons), COCO_DECIMALS),
+                "segmentation": seg, "area": round(polygons_area(s.polygons), COCO_DECIMALS),
                 "bbox": [round(x0, COCO_DECIMALS), round(y0, COCO_DECIMALS),
                          round(x1 - x0, COCO_DECIMALS), round(y1 - y0, COCO_DECIMALS)],
                 "iscrowd": 0, "attributes": {"instance": s.instance, **s.attributes}})

@@ -12,6 +12,7 @@ from typing import List, Optional
 import numpy as np
 
 from ..reconstruction import Calibration, project_block
+from ..rotations import rotation_matrix
 from .scene import Scene
 
 SIZES = {"small": (800, 600), "medium": (1600, 1200)}
@@ -73,16 +74,6 @@ def make_camera(size: str) -> CameraModel:
                        calibration=cal, pixel_mm=px)
 
 
-def rotation_from_vector(v: np.ndarray) -> np.ndarray:
-    """Rotation matrix of the axis-angle vector ``v`` (radians), Rodrigues' formula."""
-    a = float(np.linalg.norm(v))
-    if a == 0.0:
-        return np.eye(3)
-    k = v / a
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(a) * K + (1 - np.cos(a)) * K @ K
-
-
 def nadir_rotation(heading: float) -> np.ndarray:
     """Local → camera rotation of a nadir camera whose image top points along ``heading``
     (radians, counter-clockwise from east)."""
@@ -108,7 +99,7 @@ def plan_flight(scene: Scene, rng) -> List[Shot]:
         for x in (xs if eastwards else xs[::-1]):
             tilt = np.clip(rng.normal(0.0, TILT_SD, 2), -TILT_MAX, TILT_MAX)
             yaw_j = rng.normal(0.0, YAW_SD)
-            R = rotation_from_vector(np.radians([tilt[0], tilt[1], yaw_j])) @ nadir_rotation(heading)
+            R = rotation_matrix(np.radians([tilt[0], tilt[1], yaw_j])) @ nadir_rotation(heading)
             C = np.array([x, y, z]) + rng.normal(0.0, [0.15, 0.15, 0.1])
             gps = C + off + rng.normal(0.0, [0.8, 0.8, 1.5])
             n = len(shots) + 1

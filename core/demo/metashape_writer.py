@@ -23,7 +23,8 @@ from typing import Dict, List, Sequence
 import numpy as np
 
 from ..files import write_bytes
-from .flight import CameraModel, Shot, rotation_from_vector
+from ..rotations import rotation_matrix
+from .flight import CameraModel, Shot
 from .readout_motion import metashape_block
 from .geo import METASHAPE_WGS84_WKT, ENUFrame, map_to_ecef, map_to_lonlat
 from .scene import Scene
@@ -89,12 +90,12 @@ def fit_enu_pose(frame: ENUFrame, scene: Scene, camera: CameraModel, shot: Shot)
         for k in range(3):
             dv = np.zeros(3)
             dv[k] = 1e-7
-            J[:, k] = (resid(rotation_from_vector(dv) @ R, C) - r0) / 1e-7
+            J[:, k] = (resid(rotation_matrix(dv) @ R, C) - r0) / 1e-7
             dc = np.zeros(3)
             dc[k] = 1e-5
             J[:, 3 + k] = (resid(R, C + dc) - r0) / 1e-5
         step = np.linalg.lstsq(J, -r0, rcond=None)[0]
-        R = rotation_from_vector(step[:3]) @ R
+        R = rotation_matrix(step[:3]) @ R
         C = C + step[3:]
     err = float(np.abs(resid(R, C)).max() * camera.calibration.f)
     return R, C, err

@@ -30,7 +30,7 @@ from pyproj import CRS
 
 from ..crs import transformer
 from ..files import atomic_output, write_bytes
-from ..reconstruction.opensfm import rotation_to_vector
+from ..rotations import rotation_vector
 from .flight import CameraModel, Shot
 from .geo import MAP_EPSG, ENUFrame, map_to_lonlat
 from .metashape_writer import fit_enu_pose
@@ -68,7 +68,7 @@ def opensfm_camera(camera: CameraModel) -> dict:
 
 
 def _shot(R, C, key, gps_topo, i) -> dict:
-    return {"rotation": rotation_to_vector(R).tolist(), "translation": (-R @ C).tolist(),
+    return {"rotation": rotation_vector(R).tolist(), "translation": (-R @ C).tolist(),
             "camera": key, "orientation": 1, "capture_time": CAPTURE_T0 + 2.0 * i,
             "gps_dop": GPS_DOP, "gps_position": gps_topo.tolist(), "vertices": [], "faces": [],
             "scale": 1.0, "covariance": [], "merge_cc": 0}
@@ -152,7 +152,7 @@ def write_odm(folder, scene: Scene, camera: CameraModel, shots: List[Shot],
         feats.append({"type": "Feature",
                       "properties": {"filename": n, "focal": cams[key]["focal_x"],
                                      "width": camera.width, "height": camera.height,
-                                     "translation": t.tolist(), "rotation": rotation_to_vector(R).tolist()},
+                                     "translation": t.tolist(), "rotation": rotation_vector(R).tolist()},
                       "geometry": {"type": "Point", "coordinates": ll.tolist()}})
     _json(root / "odm_report" / "shots.geojson", {"type": "FeatureCollection", "features": feats})
     for p in photo_paths:

@@ -25,6 +25,7 @@ from typing import List
 import numpy as np
 
 from ..reconstruction import BEHIND, INSIDE, OUTSIDE
+from ..rotations import rotation_matrix
 from .flight import CameraModel, Shot, project_still
 from .render import intersect, render_rays
 
@@ -61,21 +62,10 @@ def add_motion(shots: List[Shot], rng) -> List[Shot]:
     return out
 
 
-def rotations(w: np.ndarray) -> np.ndarray:
-    """Rotation matrices (k, 3, 3) of rotation vectors (k, 3): Rodrigues' matrix formula."""
-    w = np.atleast_2d(np.asarray(w, dtype=np.float64))
-    a = np.linalg.norm(w, axis=1)
-    k = np.divide(w, a[:, None], out=np.zeros_like(w), where=a[:, None] > 0)
-    K = np.zeros((len(w), 3, 3))
-    K[:, 0, 1], K[:, 0, 2], K[:, 1, 2] = -k[:, 2], k[:, 1], -k[:, 0]
-    K[:, 1, 0], K[:, 2, 0], K[:, 2, 1] = k[:, 2], -k[:, 1], k[:, 0]
-    return np.eye(3) + np.sin(a)[:, None, None] * K + (1 - np.cos(a))[:, None, None] * (K @ K)
-
-
 def poses(shot: Shot, tau: np.ndarray):
     """(R (k, 3, 3), C (k, 3)) of ``shot`` at exposure times ``tau`` (k,)."""
     tau = np.asarray(tau, dtype=np.float64)
-    return (rotations(tau[:, None] * shot.motion.omega) @ shot.R,
+    return (rotation_matrix(tau[:, None] * shot.motion.omega) @ shot.R,
             shot.C + tau[:, None] * shot.motion.shift)
 
 
@@ -92,7 +82,7 @@ def row_tau(v, height: int) -> np.ndarray:
 def _project_at(camera: CameraModel, R, C, xyz: np.ndarray, tau: np.ndarray, omega, r2: float):
     """Pixels (k, 2), valid and in-front flags of points ``xyz`` (k, 3) seen by poses (R, C)
     (k, 3, 3), (k, 3) moved to their own τ (k,) by rotation vectors ``omega`` (k, 3)."""
-    xc = np.einsum("kij,kj->ki", rotations(tau[:, None] * omega) @ R, xyz - C)
+    xc = np.einsum("kij,kj->ki", rotation_matrix(tau[:, None] * omega) @ R, xyz - C)
     front = xc[:, 2] > 0
     with np.errstate(divide="ignore", invalid="ignore"):
         x, y = xc[:, 0] / xc[:, 2], xc[:, 1] / xc[:, 2]

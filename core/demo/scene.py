@@ -6,7 +6,7 @@ Heights are ellipsoidal (WGS 84), in metres. Geometry work is done in the *local
 map coordinates minus ``offset`` (the Pix4D ``offset.xyz``), x east, y north, z up.
 
 The *surface* is the DSM raster interpolated bilinearly between pixel centres (as
-``core.dsm_heights.sample_points``); where the DSM has no data or outside it, the bare-ground
+``core.raster.DSM.heights``); where the DSM has no data or outside it, the bare-ground
 plane. Truth heights and ray intersections all refer to that surface.
 """
 from concurrent.futures import ThreadPoolExecutor

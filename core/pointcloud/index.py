@@ -11,6 +11,7 @@ from typing import Callable, List, Optional, Tuple
 import numpy as np
 
 from ..progress import Progress
+from ..ragged import position_in_run
 from .cloud import PointCloud
 
 MAX_CELLS = 4_000_000
@@ -40,7 +41,7 @@ class BoxGrid:
         wx, wy = c1x - c0x + 1, c1y - c0y + 1
         n = wx * wy
         box = np.repeat(np.arange(len(boxes)), n)
-        k = np.arange(n.sum()) - np.repeat(np.cumsum(n) - n, n)
+        k = position_in_run(n)
         cell = (c0y[box] + k // wx[box]) * self.nx + c0x[box] + k % wx[box]
         order = np.argsort(cell, kind="stable")
         self.items = box[order]
@@ -64,9 +65,8 @@ class BoxGrid:
         cnt = self.start[cell + 1] - s
         has = cnt > 0
         pts, s, cnt = pts[has], s[has], cnt[has]
-        total = int(cnt.sum())
         pt = np.repeat(pts, cnt)
-        k = np.arange(total) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        k = position_in_run(cnt)
         box = self.items[np.repeat(s, cnt) + k]
         px, py = x[pt], y[pt]
         inb = (px >= b[box, 0]) & (px <= b[box, 2]) & (py >= b[box, 1]) & (py <= b[box, 3])

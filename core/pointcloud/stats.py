@@ -1,7 +1,7 @@
 """ROI heights and canopy summaries from a point cloud (heights in the cloud's z units/reference).
 
-:func:`roi_heights` speaks the vocabulary of the DSM version (:mod:`..heights`: ``mode``,
-``statistic``, ``percentile``, a :class:`~..heights.HeightResult` aligned with the ROI order):
+:func:`roi_heights` speaks the vocabulary of the DSM version (:mod:`..height_statistics`: ``mode``,
+``statistic``, ``percentile``, a :class:`~..height_statistics.HeightResult` aligned with the ROI order):
 ``polygon`` (EasyIDP: ``face``): one value per ROI from the points inside it; ``vertex``
 (EasyIDP: ``point``): one value per vertex of every ring, from the points within ``buffer``
 (xy distance, cloud CRS units) of the vertex, or with ``buffer=0`` the z of the nearest point
@@ -13,7 +13,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Union
 import numpy as np
 
 from ..errors import EasyIDPError, InputError
-from ..heights import HeightResult, check_heights_args, statistic_of, vertex_result
+from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
 from ..progress import as_progress
 from ..roi import ROISet
 from .cloud import PointCloud

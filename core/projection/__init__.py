@@ -1,7 +1,8 @@
 """Projection between the map and the raw photos of a photogrammetry project.
 
-* The exact first hit of rays on a DSM (:mod:`.ray_surface`: :func:`first_hits`), shared by
-  forward projection, occlusion and orthorectification.
+* The exact first hit of rays on a DSM (:func:`core.raster.first_hits` on a
+  :class:`core.raster.DSM`'s ray surface) is shared by forward projection, occlusion,
+  footprints and orthorectification; a DSM is given as a :class:`core.raster.DSM` (or a path).
 * Camera footprints on a DSM or a constant height (:func:`camera_footprints`; each
   :class:`Footprint` has a :class:`FootprintStatus` and its message).
 * Backward (map → photos, EasyIDP's ``back2raw``): :func:`back_project` finds every ROI in every
@@ -20,26 +21,27 @@
 Pixels: origin at the top-left corner of the photo, x = column right, y = row down, centre of
 the top-left pixel (0.5, 0.5).
 """
-from .ray_surface import HIT, LEFT, MISS, NODATA, DSMSurface, RayHits, first_hits
 from .footprints import Footprint, FootprintStatus, camera_footprints
-from .backward import back_project, score
-from .forward import ForwardShape, densify_ring, forward_project
-from .heights import ConstantHeight, DSMHeights, GeometryZ, PerROIHeights, height_source
-from .merge import MERGE_MODES, MapPolygon, merge_views
+from .backward import back_project
+from .ranking import score
+from .forward import ForwardShape, forward_project
+from .height_sources import ConstantHeight, GeometryZ, PerROIHeights, height_source
+from .map_polygon import MapPolygon
+from .merge import MERGE_MODES, merge_views
 from .fuse import FusedObject, fuse_views
 from .training_set import TrainingSet, export_training_set, point_discs
 from .ortho import OrthoResult, orthorectify_rois
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
-from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, FlatPolygons, read_easyidp_json
+from ..geometry import FlatPolygons
+from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, read_easyidp_json
 
-__all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA",
-           "camera_footprints", "Footprint", "FootprintStatus",
+__all__ = ["camera_footprints", "Footprint", "FootprintStatus",
            "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION", "PIXEL_CRS_WKT",
-           "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
+           "read_easyidp_json", "GeometryZ", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
-           "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
+           "ForwardShape", "forward_project", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
            "TrainingSet", "point_discs", "orthorectify_rois", "OrthoResult"]

@@ -1,4 +1,4 @@
-"""Exact clipping of polygons (holes and multipart) to a convex region, and polygon areas.
+"""Exact clipping of polygons (holes and multipart) to a convex region.
 
 The region is the intersection of K half-spaces F_k(p) >= 0 whose functions are *affine* along
 the straight edges of the subject, in whatever space the subject lives (2-D pixels for the photo
@@ -8,71 +8,26 @@ piece leaves the region, the boundary of the region is followed (in its positive
 to the next piece that enters it. Unlike Sutherland–Hodgman this never leaves zero-width
 bridges along the boundary: a concave ROI cut by the frame into two pieces gives two polygons.
 
-Rings are open (n, d) arrays. Exterior rings must be positively oriented (shoelace > 0 in the
-2-D output space, i.e. the interior on the left of each edge) and holes negatively; the region
-is given by its 2-D boundary polygon, positively oriented, whose edge k is the zero set of F_k.
+Polygons are those of :mod:`core.geometry` (lists of open rings, exterior first), the rings
+(n, d) arrays in the subject space, oriented (:func:`core.geometry.orient`: exteriors positive,
+shoelace > 0 in the 2-D output space, i.e. the interior on the left of each edge; holes
+negative); the region is given by its 2-D boundary polygon, positively oriented, whose edge k
+is the zero set of F_k.
 """
-from typing import Callable, List, Optional, Sequence, Tuple
+from typing import Callable, List, Optional, Sequence
 
 import numpy as np
 
-from ..geometry import points_in_rings
+from ..geometry import Polygons, points_in_rings, ring_area
+from ..ragged import cyclic_next, run_of
+from ..ragged import offsets as ragged_offsets
 
-Polygons = List[List[np.ndarray]]      # [[exterior, hole, ...], ...], 2-D open rings
 _EPS_T = 1e-12
 
 
-def following(a: np.ndarray) -> np.ndarray:
+def _following(a: np.ndarray) -> np.ndarray:
     """The next element of a closed sequence (a[1], ..., a[n-1], a[0]); faster than np.roll."""
     return np.concatenate((a[1:], a[:1]))
-
-
-def signed_area(ring: np.ndarray) -> float:
-    """Shoelace area of an open 2-D ring, relative to its first vertex (precise far from 0)."""
-    if len(ring) < 3:
-        return 0.0
-    x, y = ring[1:, 0] - ring[0, 0], ring[1:, 1] - ring[0, 1]
-    return 0.5 * float(np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1]))
-
-
-def polygons_area(polys: Polygons) -> float:
-    """Area of polygons given as [exterior, holes...] (exteriors minus holes)."""
-    return sum(abs(signed_area(p[0])) - sum(abs(signed_area(h)) for h in p[1:]) for p in polys)
-
-
-def area_centroid(polys: Polygons) -> Tuple[float, np.ndarray]:
-    """(area, centroid (2,)) of polygons [exterior, holes...]; centroid NaN for zero area."""
-    total, moment = 0.0, np.zeros(2)
-    for p in polys:
-        for k, ring in enumerate(p):
-            if len(ring) < 3:
-                continue
-            o = ring[0]
-            x, y = ring[:, 0] - o[0], ring[:, 1] - o[1]
-            xn, yn = following(x), following(y)
-            cross = x * yn - xn * y
-            a = 0.5 * float(cross.sum())
-            c = np.array([float(((x + xn) * cross).sum()), float(((y + yn) * cross).sum())])
-            sign = 1.0 if (a > 0) == (k == 0) else -1.0      # exteriors add, holes subtract
-            if a == 0:
-                continue
-            total += sign * abs(a)
-            moment += sign * abs(a) * (c / (6.0 * a) + o)
-    if total <= 0:
-        return 0.0, np.full(2, np.nan)
-    return total, moment / total
-
-
-def orient(polys: Polygons) -> Polygons:
-    """Exteriors positive, holes negative (as :func:`clip_convex` expects)."""
-    out = []
-    for p in polys:
-        rings = []
-        for k, r in enumerate(p):
-            positive = signed_area(r) > 0
-            rings.append(r if positive == (k == 0) else r[::-1])
-        out.append(rings)
-    return out
 
 
 class ConvexRegion:
@@ -109,7 +64,7 @@ def _pieces(ring: np.ndarray, region: ConvexRegion):
     per chain; or "inside" / "outside" for a ring that never crosses the boundary."""
     n = len(ring)
     F = region.values(ring)                                  # (n, K)
-    Fa, Fb = F, following(F)
+    Fa, Fb = F, _following(F)
     with np.errstate(divide="ignore", invalid="ignore"):
         tc = Fa / (Fa - Fb)                                  # crossing parameter per half-space
     lo = np.where((Fa < 0) & (Fb >= 0), tc, 0.0)
@@ -125,7 +80,7 @@ def _pieces(ring: np.ndarray, region: ConvexRegion):
     full = ins & (t0 == 0.0) & (t1 == 1.0)
     if full.all():
         return "inside"
-    b = following(ring)
+    b = _following(ring)
     # a segment continues the chain of the previous one when both meet at the shared vertex
     end = ins & (t1 == 1.0)
     cont = ins & (t0 == 0.0) & np.concatenate((end[-1:], end[:-1]))
@@ -195,7 +150,7 @@ def clip_convex(polys: Sequence[Sequence[np.ndarray]], region: ConvexRegion,
             inside = bool(probe_inside(probe))
         if inside:
             exteriors.append(v.copy())
-    result = [[e] for e in exteriors + inner_ext if abs(signed_area(e)) > 0]
+    result = [[e] for e in exteriors + inner_ext if abs(ring_area(e)) > 0]
     for h in inner_holes:
         owner = _smallest_container(h, [p[0] for p in result])
         if owner is not None:
@@ -208,7 +163,7 @@ def _smallest_container(ring: np.ndarray, exteriors: List[np.ndarray]) -> Option
     x, y = ring[:1, 0], ring[:1, 1]
     for i, e in enumerate(exteriors):
         if points_in_rings(x, y, [e])[0]:
-            a = abs(signed_area(e))
+            a = abs(ring_area(e))
             if a < best_a:
                 best, best_a = i, a
     return best
@@ -263,14 +218,13 @@ def clip_convex_rings_to_frames(xy: np.ndarray, offsets: np.ndarray, width: np.n
     offsets = np.asarray(offsets, np.int64)
     for axis, side in ((1, 0), (0, 1), (1, 1), (0, 0)):       # edges in the frame's order
         n = np.diff(offsets)
-        ring = np.repeat(np.arange(len(n)), n)
+        ring = run_of(offsets)
         if side:
             limit = (width if axis == 0 else height)[ring]
             F = limit - xy[:, axis]
         else:
             F = xy[:, axis]
-        nxt = np.arange(len(xy)) + 1
-        nxt[offsets[1:][n > 0] - 1] = offsets[:-1][n > 0]
+        nxt = cyclic_next(offsets)
         ins = F >= 0
         cross = ins != ins[nxt]
         emit = ins.astype(np.int64) + cross
@@ -283,15 +237,12 @@ def clip_convex_rings_to_frames(xy: np.ndarray, offsets: np.ndarray, width: np.n
         p = xy[c] + t[:, None] * (xy[nxt[c]] - xy[c])
         p[:, axis] = (width if axis == 0 else height)[ring[c]] if side else 0.0  # exactly on it
         out[slot[c] + ins[c]] = p
-        offsets = _counts_to_offsets(np.bincount(ring, emit, minlength=len(n)).astype(np.int64))
+        offsets = ragged_offsets(np.bincount(ring, emit, minlength=len(n)).astype(np.int64))
         xy = out
     # drop consecutive duplicates (corners met exactly)
-    n = np.diff(offsets)
-    ring = np.repeat(np.arange(len(n)), n)
-    nxt = np.arange(len(xy)) + 1
-    nxt[offsets[1:][n > 0] - 1] = offsets[:-1][n > 0]
-    keep = np.any(xy != xy[nxt], axis=1) if len(xy) else np.zeros(0, bool)
-    return xy[keep], _counts_to_offsets(np.bincount(ring[keep], minlength=len(n)).astype(np.int64))
+    ring = run_of(offsets)
+    keep = np.any(xy != xy[cyclic_next(offsets)], axis=1) if len(xy) else np.zeros(0, bool)
+    return xy[keep], ragged_offsets(np.bincount(ring[keep], minlength=len(offsets) - 1).astype(np.int64))
 
 
 def convex_rings(xy: np.ndarray, offsets: np.ndarray) -> np.ndarray:
@@ -299,8 +250,7 @@ def convex_rings(xy: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     n = np.diff(offsets)
     if not len(xy):
         return np.zeros(len(n), bool)
-    nxt = np.arange(len(xy)) + 1
-    nxt[offsets[1:] - 1] = offsets[:-1]
+    nxt = cyclic_next(offsets)
     e = xy[nxt] - xy
     turn = e[:, 0] * e[nxt, 1] - e[:, 1] * e[nxt, 0]
     starts = offsets[:-1]
@@ -309,9 +259,3 @@ def convex_rings(xy: np.ndarray, offsets: np.ndarray) -> np.ndarray:
     total = np.add.reduceat(np.arctan2(turn, np.einsum("ij,ij->i", e, e[nxt])), starts)
     # one full turn (not a star that winds twice) and no turn against the others
     return (n >= 3) & ((lo >= 0) | (hi <= 0)) & (np.abs(np.abs(total) - 2 * np.pi) < 1e-6)
-
-
-def _counts_to_offsets(counts: np.ndarray) -> np.ndarray:
-    out = np.zeros(len(counts) + 1, np.int64)
-    np.cumsum(counts, out=out[1:])
-    return out

@@ -1,8 +1,8 @@
 """Camera ground footprints.
 
 The ground is a constant height (in the project CRS's vertical reference) or a DSM
-(:class:`.ray_surface.DSMSurface`). Each footprint is the image border (densified) cast as
-rays from the camera: on a DSM, their exact first hits (:func:`.ray_surface.first_hits`);
+(:class:`core.raster.DSM`). Each footprint is the image border (densified) cast as rays from
+the camera: on a DSM, their exact first hits on its ray surface (:func:`core.raster.first_hits`);
 on a constant height, the exact point of the ray at that height (Newton's method on the
 project CRS height, to 1e-6 m).
 """
@@ -15,10 +15,10 @@ import numpy as np
 from ..errors import EasyIDPError
 from ..geometry import ring_area
 from ..progress import as_progress
+from ..raster import DSM, first_hits
 from ..reconstruction import Reconstruction, border_pixels
-from .ray_surface import DSMSurface, first_hits
 
-Ground = Union[float, DSMSurface]   # a height, or a DSM
+Ground = Union[float, DSM]   # a height, or a DSM
 
 
 class FootprintStatus(Enum):
@@ -72,8 +72,8 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
                       progress=None, is_cancelled=None) -> List[Footprint]:
     """Footprints of the aligned, enabled cameras (or ``cameras``) on ``ground``.
 
-    ``ground``: a constant height in the project CRS, or a :class:`.ray_surface.DSMSurface`
-    (any CRS the project can convert to). On a DSM, border rays that leave it, miss it or enter
+    ``ground``: a constant height in the project CRS, or a :class:`~core.raster.DSM` (any CRS
+    the project can convert to). On a DSM, border rays that leave it, miss it or enter
     nodata continue on the plane at the DSM height under the camera (``complete`` is then
     False). Output coordinates are in ``crs`` (default: the project CRS).
     """
@@ -83,9 +83,10 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         return []
     C = np.array([c.C for c in cams])
     up = recon.frame.up(C)
-    on_dsm = isinstance(ground, DSMSurface)
+    on_dsm = isinstance(ground, DSM)
     if on_dsm:       # height above ground: the camera's vertical ray on the DSM
-        below = first_hits(ground, recon.frame, C, -up)
+        surface = ground.ray_surface()
+        below = first_hits(surface, recon.frame, C, -up)
         hag = np.where(below.hit, below.distance, np.nan)
     else:
         h0 = float(ground)
@@ -115,7 +116,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
         complete = True
         h_i, status = float(hag[i]), FootprintStatus.OK
         if on_dsm:
-            hits = first_hits(ground, recon.frame, origin, d)
+            hits = first_hits(surface, recon.frame, origin, d)
             t = np.where(hits.hit, hits.distance, np.nan)
             complete = bool(hits.hit.all())
             rest = ~hits.hit & (cos_t > 1e-6)            # on the plane under the camera

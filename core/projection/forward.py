@@ -1,7 +1,7 @@
 """Forward projection: shapes drawn or detected on a raw photo → the map, on the DSM.
 
 Each vertex's pixel becomes a ray (``Reconstruction.pixel_to_ray``, lens distortion inverted)
-whose first hit on the DSM (:func:`.ray_surface.first_hits`) is the vertex on the map: exact
+whose first hit on the DSM (:func:`core.raster.first_hits`) is the vertex on the map: exact
 on any terrain or canopy. Polygon and line edges are densified *in the photo* first, so that a
 long edge follows the surface instead of cutting across it. A vertex whose ray misses the DSM,
 leaves it or enters nodata is reported (``status``); its polygon is marked incomplete and keeps
@@ -21,7 +21,7 @@ from ..annotations import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transformer
 from ..errors import EasyIDPError
 from ..progress import as_progress
-from .ray_surface import HIT, STATUS_NAMES, DSMSurface, first_hits
+from ..raster import HIT, STATUS_NAMES, as_dsm, first_hits
 
 DENSIFY_PX = 4.0     # default spacing of densified vertices along edges, photo pixels
 
@@ -31,7 +31,7 @@ class ForwardShape:
     """One shape of a photo on the map.
 
     ``points``: per ring, (k, 3) map coordinates of every (densified) vertex, NaN where its ray
-    did not hit; ``status``: per ring, (k,) uint8 ray status (``ray_surface.HIT`` …);
+    did not hit; ``status``: per ring, (k,) uint8 ray status (``core.raster.HIT`` …);
     ``original``: per ring, (k,) bool, True for the vertices of the input shape (False for
     those added by densification). ``rings``: per ring, the vertices that hit (the geometry).
     ``area_m2``/``perimeter_m``: planimetric, NaN for lines and points or with < 3 vertices.
@@ -72,28 +72,6 @@ class ForwardShape:
         return ", ".join(f"{n} {k}" for k, n in sorted(counts.items()))
 
 
-def densify_ring(ring: np.ndarray, step: float, closed: bool):
-    """(points (m, 2), original (m,) bool): ``ring`` with vertices inserted every ``step`` or
-    less along each edge (the closing edge too when ``closed``)."""
-    ring = np.asarray(ring, np.float64)
-    if len(ring) < 2 or not step or step <= 0:
-        return ring.copy(), np.ones(len(ring), bool)
-    ends = np.vstack([ring[1:], ring[:1]]) if closed else ring[1:]
-    starts = ring if closed else ring[:-1]
-    pts, orig = [], []
-    for a, b in zip(starts, ends):
-        n = max(int(np.ceil(np.hypot(*(b - a)) / step)), 1)
-        s = np.arange(n)[:, None] / n
-        pts.append(a + s * (b - a))
-        o = np.zeros(n, bool)
-        o[0] = True
-        orig.append(o)
-    if not closed:
-        pts.append(ring[-1:])
-        orig.append(np.ones(1, bool))
-    return np.vstack(pts), np.concatenate(orig)
-
-
 def _as_shapes(polygons_px) -> List[PhotoShape]:
     out = []
     for k, p in enumerate(polygons_px):
@@ -115,12 +93,13 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     ``polygons_px``: :class:`PhotoShape` objects (polygons, lines, points; from the annotation
     readers) or plain polygons ((n, 2) pixel arrays, or lists of rings). ``photo``: the camera
     label (or a ``Camera``); ``recon``: the :class:`Reconstruction`; ``dsm``: a
-    :class:`DSMSurface`, a GeoTIFF path or an opened GeoTiff. ``densify``: True (a vertex every
+    :class:`~core.raster.DSM` (its ray surface keeps the tiles read for the next call), a
+    GeoTIFF path or an opened GeoTiff. ``densify``: True (a vertex every
     :data:`DENSIFY_PX` pixels along edges), a spacing in pixels, or False. ``crs``: output CRS
     (default: the DSM's). Heights are in the output CRS's vertical reference (the DSM's).
     """
     prog = as_progress(progress, is_cancelled)
-    surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm)
+    surface = as_dsm(dsm).ray_surface()
     cam = recon.select_cameras([photo])[0]
     recon.calibrated_sensor(cam)                 # a clear error for an uncalibrated sensor
     step = DENSIFY_PX if densify is True else float(densify or 0)
@@ -132,7 +111,12 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
             if s.kind == POINT:
                 pts, orig = np.asarray(ring, np.float64)[:1], np.ones(1, bool)
             else:
-                pts, orig = densify_ring(ring, step, closed=s.kind == POLYGON)
+                pts = np.asarray(ring, np.float64)
+                if len(pts) >= 2 and step > 0:
+                    pts, _, orig = geometry.densify(pts, np.array([0, len(pts)]), step,
+                                                    closed=s.kind == POLYGON)
+                else:
+                    pts, orig = pts.copy(), np.ones(len(pts), bool)
             parts.append(pts)
             index.append((i, j, orig))
     if not parts:
@@ -215,5 +199,5 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     return result
 
 
-__all__ = ["ForwardShape", "forward_project", "densify_ring", "DENSIFY_PX", "LINE", "POINT",
+__all__ = ["ForwardShape", "forward_project", "DENSIFY_PX", "LINE", "POINT",
            "POLYGON"]

@@ -28,8 +28,13 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..geometry import rasterize
+from ..progress import as_progress
+from ..raster import as_dsm
+from ..roi import ROI, ROISet
+from .backward import back_project
 from .forward import ForwardShape
-from .merge import MapPolygon, _polygon
+from .map_polygon import MapPolygon, shapely_polygon
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
 
@@ -72,7 +77,6 @@ def _consensus(members, n_photos: int):
     """(exterior ring (k, 2) map units, shapely polygon) covered by more than half the photos."""
     import shapely
     from skimage.measure import find_contours
-    from ..geometry import rasterize
     x0, y0, x1, y1 = shapely.total_bounds(members)
     cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
     if not cell > 0:
@@ -115,22 +119,19 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
                nms_iou: float = 0.5, group_iou: float = 0.3, max_distance: Optional[float] = None,
                min_visible: float = 0.5, occlusion: bool = True, dsm_crs=None,
                progress=None) -> List[FusedObject]:
-    """Fuse forward-projected detections (see the module docstring). ``dsm``: GeoTIFF path of
-    the DSM the shapes were projected on (or an opened ``GeoTiff``) (heights and the expected-views test; its CRS must be
-    that of the shapes, ``dsm_crs`` overriding its GeoKeys); ``photos``: labels of every photo
+    """Fuse forward-projected detections (see the module docstring). ``dsm``: the DSM the
+    shapes were projected on (a :class:`~core.raster.DSM`, a GeoTIFF path or an opened
+    ``GeoTiff``; heights and the expected-views test; its CRS must be that of the shapes,
+    ``dsm_crs`` overriding its GeoKeys); ``photos``: labels of every photo
     searched, also those without a detection (default: the photos of ``shapes``)."""
     import shapely
-    from ..progress import as_progress
-    from ..raster.dsm_heights import sample_points
-    from ..roi import ROI, ROISet
-    from .backward import back_project
-    from .heights import DSMHeights
     for name, v in (("nms_iou", nms_iou), ("group_iou", group_iou)):
         if not 0.0 < v <= 1.0:
             raise EasyIDPError(f"{name} must be in (0, 1], not {v}.")
     prog = as_progress(progress)
+    dsm = as_dsm(dsm, dsm_crs)
     polys = [f for f in shapes if f.kind == "polygon"]
-    geoms = [_polygon(f) for f in polys]
+    geoms = [shapely_polygon(f) for f in polys]
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
     scores = [f.score if f.score is not None else 1.0 for f in polys]
     by = {}
@@ -186,7 +187,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     prog.set(60)
     # heights from the DSM: outline vertices and the position
     allxy = np.vstack(rings + [np.array([o.position[:2] for o in out])])
-    z = sample_points(dsm, allxy[:, 0], allxy[:, 1])
+    z = dsm.heights(allxy[:, 0], allxy[:, 1])
     k = 0
     for o, r in zip(out, rings):
         o.parts = [[np.column_stack([r, z[k:k + len(r)]])]]
@@ -195,11 +196,9 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         o.position = (float(o.position[0]), float(o.position[1]), float(zz))
     # expected views: the photos searched that could have seen each object
     searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
-    rois = ROISet([ROI(str(j), [[r]]) for j, r in enumerate(rings)],
-                  crs=dsm_crs if dsm_crs is not None else _dsm_crs(dsm))
-    heights = DSMHeights(dsm, crs=dsm_crs)
-    bp = back_project(rois, recon, heights=heights, cameras=searched,
-                      occlusion_dsm=heights if occlusion else None, min_visible=min_visible,
+    rois = ROISet([ROI(str(j), [[r]]) for j, r in enumerate(rings)], crs=dsm.crs)
+    bp = back_project(rois, recon, heights=dsm, cameras=searched,
+                      occlusion_dsm=dsm if occlusion else None, min_visible=min_visible,
                       progress=prog.sub(60, 100))
     expected = bp.photos_per_roi()
     for o, e in zip(out, expected.tolist()):
@@ -238,11 +237,6 @@ def _components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
         if rx != ry:
             parent[rx] = ry
     return np.array([root(i) for i in range(n)], np.int64)
-
-
-def _dsm_crs(dsm):
-    from ..raster.geotiff import GeoTiff, open_geotiff
-    return (dsm if isinstance(dsm, GeoTiff) else open_geotiff(dsm)).crs
 
 
 __all__ = ["fuse_views", "FusedObject"]

@@ -9,44 +9,16 @@ first, then the highest score, then the most nadir view, then the largest in pix
 consensus outline, scores, DSM height and a confidence from the views that could see it).
 Geometry work is done by shapely on the map x, y.
 """
-from dataclasses import dataclass, field
-from typing import List, Optional
+from typing import List
 
 import numpy as np
 
 from ..errors import EasyIDPError
 from .forward import ForwardShape
+from .fuse import fuse_views
+from .map_polygon import MapPolygon, shapely_polygon
 
 MERGE_MODES = ("none", "union", "best", "fuse")
-
-
-@dataclass
-class MapPolygon:
-    """One object on the map. ``parts``: list of polygons, each a list of (k, 3) rings
-    (exterior first, open). ``photos``: the photos it was found in (the chosen one first)."""
-    label: str
-    parts: List[List[np.ndarray]]
-    photos: List[str]
-    views: int
-    complete: bool
-    area_m2: float
-    perimeter_m: float
-    score: Optional[float] = None
-    members: List[ForwardShape] = field(default_factory=list)
-
-
-def _polygon(f: ForwardShape):
-    import shapely
-    rings = [r for r in f.rings if len(r) >= 3]
-    if not rings or len(f.rings[0]) < 3:
-        return None
-    g = shapely.Polygon(rings[0][:, :2], [r[:, :2] for r in rings[1:]])
-    if not g.is_valid:                 # folds at occlusion edges: the area it covers
-        g = shapely.make_valid(g)
-        polys = [p for p in getattr(g, "geoms", [g]) if p.geom_type == "Polygon"] \
-            if g.geom_type != "Polygon" else [g]
-        g = shapely.MultiPolygon(polys) if len(polys) != 1 else polys[0]
-    return g if not g.is_empty else None
 
 
 def _single(f: ForwardShape, views: int = 1, photos=None) -> MapPolygon:
@@ -65,13 +37,12 @@ def merge_views(shapes: List[ForwardShape], mode: str = "union",
     if mode == "fuse":
         if recon is None or dsm is None:
             raise EasyIDPError("merge mode 'fuse' needs the project and the DSM (recon=, dsm=).")
-        from .fuse import fuse_views
         return fuse_views(shapes, recon, dsm, **fuse_options)
     polys = [f for f in shapes if f.kind == "polygon"]
     if mode == "none":
         return [_single(f) for f in polys]
     import shapely
-    geoms = [_polygon(f) for f in polys]
+    geoms = [shapely_polygon(f) for f in polys]
     keep = [i for i, g in enumerate(geoms) if g is not None]
     parent = list(range(len(polys)))
 

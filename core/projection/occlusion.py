@@ -4,7 +4,7 @@
 centres inside the polygon, in the DSM's CRS) and placed **on the DSM surface** (bilinear
 between pixel centres, the surface the rays are cast on). A sample seen by a photo (inside its
 frame) is *occluded* when the line of sight from the camera centre to the sample meets the
-surface more than ``tolerance`` before the sample (:func:`.ray_surface.first_hits`
+surface more than ``tolerance`` before the sample (:func:`core.raster.first_hits`
 with the ray ended at ``distance − tolerance``). ``occluded_fraction`` is the share of the
 in-frame samples that are occluded.
 
@@ -24,10 +24,8 @@ from ..crs import as_crs, same_crs, transform_xy
 from ..geometry import area as rings_area
 from ..geometry import points_in_rings
 from ..progress import as_progress
-from ..raster.dsm_heights import sample_points
+from ..raster import HIT, NODATA, as_dsm, first_hits
 from ..reconstruction import INSIDE
-from .heights import DSMHeights
-from .ray_surface import HIT, NODATA, DSMSurface, first_hits
 
 MAX_REFINE = 4     # halvings of the grid spacing for thin ROIs with too few samples inside
 RAYS_AT_ONCE = 1 << 18   # lines of sight cast per call (bounds the memory of the ray caster)
@@ -56,22 +54,17 @@ def sample_grid(rings: List[np.ndarray], n: int) -> np.ndarray:
     return pts
 
 
-def _surface(dsm) -> DSMSurface:
-    if isinstance(dsm, DSMHeights):
-        return DSMSurface(dsm.dsm, crs=dsm.crs)
-    return DSMSurface(dsm)
-
-
 def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, cams, dsm,
                        samples: int = 256, tolerance: Optional[float] = None,
                        progress=None) -> Tuple[np.ndarray, List[str]]:
     """Occluded share of each record (ROI ``rec_roi[i]`` in camera ``cams[rec_cam[i]]``);
-    NaN where no sample of the ROI is inside the photo. Returns (fractions, notes)."""
-
+    NaN where no sample of the ROI is inside the photo. ``dsm``: a :class:`~core.raster.DSM`
+    (or a path or ``GeoTiff``). Returns (fractions, notes)."""
     prog = as_progress(progress)
-    surface = _surface(dsm)
-    tif = surface.tif
-    dcrs = surface.crs
+    dsm = as_dsm(dsm)
+    surface = dsm.ray_surface()
+    tif = dsm.tif
+    dcrs = dsm.crs
     rcrs = as_crs(rois.crs)
     notes: List[str] = []
     need = np.unique(rec_roi)
@@ -87,7 +80,7 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
         starts[int(r)] = (k, k + len(pts))
         k += len(pts)
     xy = np.concatenate(xy_all) if xy_all else np.zeros((0, 2))
-    z = np.asarray(sample_points(tif, xy[:, 0], xy[:, 1]), np.float64) if len(xy) else np.zeros(0)
+    z = dsm.heights(xy[:, 0], xy[:, 1]) if len(xy) else np.zeros(0)
     valid = np.isfinite(z)
     empty = [rois[int(r)].name for r in need if not valid[slice(*starts[int(r)])].any()]
     if empty:

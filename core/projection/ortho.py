@@ -6,7 +6,7 @@ from the DSM (bilinear between pixel centres), is projected into the photo with 
 camera (``Reconstruction.project_points``, lens distortion included) and the photo is sampled
 there bilinearly (``scipy.ndimage.map_coordinates``, order 1). Output pixels outside the ROI,
 on DSM nodata, outside the photo's frame, or whose line of sight to the camera the DSM blocks
-(:func:`.ray_surface.first_hits`, the first hit more than ``occlusion_tolerance`` before the
+(:func:`core.raster.first_hits`, the first hit more than ``occlusion_tolerance`` before the
 point) get alpha 0. GeoTIFF (the photo's bands and data type, plus an alpha band), written
 atomically with the DSM's georeferencing keys.
 
@@ -25,10 +25,11 @@ from ..files import OutputFolder
 from ..geometry import points_in_rings
 from ..naming import unique_names
 from ..progress import as_progress
-from ..raster import TAG_GDAL_METADATA, rois_in_raster_crs, write_geotiff
+from ..raster import (HIT, MISS, TAG_GDAL_METADATA, RaySurface, as_dsm, first_hits,
+                      rois_in_raster_crs, write_geotiff)
 from ..roi import ROISet
+from .backward import back_project
 from .photos import DecodedPhotos, resolve_photos
-from .ray_surface import HIT, MISS, DSMSurface, first_hits
 
 SELECTIONS = ("best", "all", "photo")
 MAX_PIXELS = 50_000_000        # output pixels per ROI image
@@ -52,7 +53,7 @@ class OrthoResult:
     skipped: Dict[str, str] = field(default_factory=dict)
 
 
-def _metres_per_unit(surface: DSMSurface) -> float:
+def _metres_per_unit(surface: RaySurface) -> float:
     crs = surface.crs
     if crs is not None and crs.is_geographic:
         return 111_320.0
@@ -96,8 +97,9 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
     if gsd is not None and not gsd > 0:
         raise InputError(f"The output pixel size (GSD) must be positive, not {gsd}.")
     prog = as_progress(progress, is_cancelled)
-    surface = dsm if isinstance(dsm, DSMSurface) else DSMSurface(dsm, crs=dsm_crs)
-    tif = surface.tif
+    dsm = as_dsm(dsm, dsm_crs)
+    surface = dsm.ray_surface()
+    tif = dsm.tif
     local = rois_in_raster_crs(rois, tif)
     result = OrthoResult()
     # which photos for which ROI
@@ -106,9 +108,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         cam = recon.select_cameras([photo])[0]
         pairs = [(r, cam) for r in range(len(rois))]
     else:
-        from .backward import back_project
-        from .heights import DSMHeights
-        bp = back_project(rois, recon, heights=DSMHeights(tif), min_visible=0.0,
+        bp = back_project(rois, recon, heights=dsm, min_visible=0.0,
                           max_images=1 if selection == "best" else 0,
                           progress=prog.sub(0, 10))
         cams = {c.label: c for c in recon.cameras}
@@ -169,7 +169,7 @@ def _render_all(by_photo, found, missing, pairs, cams, paths, local, names, reco
             prog.set(10 + 90.0 * done / max(len(pairs), 1))
 
 
-def line_of_sight(recon, cam, surface: DSMSurface, p: np.ndarray, tol: float) -> np.ndarray:
+def line_of_sight(recon, cam, surface: RaySurface, p: np.ndarray, tol: float) -> np.ndarray:
     """True where the straight line from the camera centre to model point ``p`` meets the DSM
     no earlier than ``tol`` before the point (or not at all)."""
     d = p - cam.C
@@ -213,7 +213,7 @@ def line_of_sight_coarse_first(recon, cam, surface, p, tol, job, row, col, step:
     return seen
 
 
-def _render(jobs, recon, cam, image, surface: DSMSurface, gsd, occlusion, tol, result):
+def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, result):
     """Write the images of ``jobs`` [(ROI in the DSM CRS, output path)] from one photo (all
     their pixels projected and ray-tested at once); returns why not, per job (None: written)."""
     from scipy.ndimage import map_coordinates

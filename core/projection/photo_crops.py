@@ -32,7 +32,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
-from ..geometry import rasterize
+from ..geometry import densify, rasterize
 from ..naming import unique_names
 from ..progress import as_progress
 from .photos import DecodedPhotos, photo_stems, resolve_photos
@@ -117,7 +117,7 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
         by_photo.setdefault(j, []).append(i)
-    sheets = _Sheets(result, previews_folder, preview_views, roi_dirs) if previews_folder else None
+    sheets = PreviewSheets(result, previews_folder, preview_views, roi_dirs) if previews_folder else None
     todo = [j for j in used if result.photo_labels[j] in found]
     early = []
     if sheets is not None:
@@ -283,7 +283,7 @@ def _sidecar(result, i, polys, off, size, margin, photo_path) -> dict:
 
 
 # --- previews -----------------------------------------------------------------------------------------
-class _Sheets:
+class PreviewSheets:
     """Tiles of the best views per ROI, composed into a sheet once all have been seen."""
 
     def __init__(self, result: BackProjection, folder, views: int, roi_dirs):
@@ -408,11 +408,7 @@ def _tile(result: BackProjection, i: int, img: np.ndarray) -> np.ndarray:
 
 def _draw_ring(img: np.ndarray, ring: np.ndarray, colour) -> None:
     """A closed polyline, 2 px wide, burnt into ``img`` (rows, cols, 3)."""
-    a, b = ring, np.concatenate((ring[1:], ring[:1]))
-    n = np.maximum(np.ceil(np.linalg.norm(b - a, axis=1) * 2).astype(np.int64), 1)
-    seg = np.repeat(np.arange(len(a)), n)
-    t = (np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)) / np.repeat(n, n)
-    p = a[seg] + t[:, None] * (b[seg] - a[seg])
+    p = densify(ring, np.array([0, len(ring)]), 0.5)[0]          # a point every ½ px
     for dx in (-0.5, 0.5):
         for dy in (-0.5, 0.5):
             c = np.floor(p[:, 0] + dx).astype(np.int64)

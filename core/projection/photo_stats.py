@@ -34,172 +34,28 @@ ignores a single outlying view). NaN with fewer than two views.
 Photos are measured as stored: no vignetting or radiometric correction is applied (correct the
 photos first when the study needs reflectance).
 """
-import csv
-import io
 import math
 import os
 from contextlib import ExitStack
-from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
 from .. import indices as ix
 from ..errors import EasyIDPError, InputError
-from ..files import OutputFolder, write_bytes
+from ..files import OutputFolder
 from ..geometry import rasterize
 from ..progress import as_progress
 from ..photo_files import photo_notes
+from .across_views import aggregate_views
 from .photos import DecodedPhotos, resolve_photos
 from .result import BackProjection
-
-STATISTICS = ("mean", "median", "std")
-"""Statistics of every band and index (plus percentiles, ``p5``, ``p95``…)."""
-MAD_SCALE = 1.4826          # MAD → standard deviation of a normal distribution
-MIN_VIEWS_FOR_SPREAD = 3    # ROIs with at least this many views define the typical spread
-
-
-def percentile_name(q: float) -> str:
-    """'p5', 'p97_5'."""
-    return f"p{q:g}".replace(".", "_")
+from .stat_previews import StatSheets
+from .stats_table import PhotoStatistics
+from .view_measure import STATISTICS, ViewMeasure, band_names_for
+from .view_occlusion import PhotoOcclusion
 
 
-@dataclass
-class PhotoStatistics:
-    """The statistics of every ROI × photo and their across-view summary per ROI.
-
-    Views (one row per record of the back-projection, in its order): ``record`` (its index),
-    ``roi`` (index into ``roi_names``), ``photo``, ``values`` (k, len(columns)),
-    ``polygon_pixels`` (pixel centres in the polygon), ``pixels`` (measured: not occluded, not
-    masked), ``occluded_share`` (share of the polygon's pixels left out as occluded; NaN when not
-    tested), ``undecided_share`` (lines of sight that met no DSM data), ``visible_share``,
-    ``used`` and ``why`` (why a view is not used), ``deviation`` (see the module docstring), and
-    from the back-projection ``rank``, ``score``, ``view_angle``, ``gsd``, ``visible_fraction``.
-
-    Per ROI: ``median``/``mad``/``minimum``/``maximum`` (n_rois, len(columns)), ``views``
-    (views used) and ``disagreement``.
-    """
-    roi_names: List[str]
-    bands: List[str]
-    indices: List[str]
-    columns: List[str]
-    record: np.ndarray
-    roi: np.ndarray
-    photo: np.ndarray
-    rank: np.ndarray
-    score: np.ndarray
-    view_angle: np.ndarray
-    gsd: np.ndarray
-    visible_fraction: np.ndarray
-    values: np.ndarray
-    polygon_pixels: np.ndarray
-    pixels: np.ndarray
-    occluded_share: np.ndarray
-    undecided_share: np.ndarray
-    visible_share: np.ndarray
-    used: np.ndarray
-    why: List[str]
-    deviation: np.ndarray
-    median: np.ndarray
-    mad: np.ndarray
-    minimum: np.ndarray
-    maximum: np.ndarray
-    views: np.ndarray
-    disagreement: np.ndarray
-    cover_index: Optional[str] = None
-    cover_threshold: Optional[float] = None
-    threshold_source: str = ""
-    weighted: bool = False
-    skipped_photos: Dict[str, str] = field(default_factory=dict)
-    previews: List[str] = field(default_factory=list)
-    notes: List[str] = field(default_factory=list)
-    photos_decoded: int = 0
-    rays: int = 0
-
-    def column(self, name: str) -> np.ndarray:
-        """One statistic of every view."""
-        return self.values[:, self.columns.index(name)]
-
-    def roi_value(self, name: str) -> np.ndarray:
-        """One statistic's across-view value of every ROI."""
-        return self.median[:, self.columns.index(name)]
-
-    VIEW_FIELDS = ("roi", "photo", "rank", "score", "view_angle", "gsd", "visible_fraction",
-                   "polygon_pixels", "pixels", "occluded_share", "undecided_share",
-                   "visible_share", "used", "why", "deviation")
-
-    def view_rows(self) -> List[dict]:
-        rows = []
-        for k in range(len(self.record)):
-            row = {"roi": self.roi_names[int(self.roi[k])], "photo": str(self.photo[k]),
-                   "rank": int(self.rank[k]), "score": _num(self.score[k]),
-                   "view_angle": _num(self.view_angle[k]), "gsd": _num(self.gsd[k]),
-                   "visible_fraction": _num(self.visible_fraction[k]),
-                   "polygon_pixels": int(self.polygon_pixels[k]), "pixels": int(self.pixels[k]),
-                   "occluded_share": _num(self.occluded_share[k]),
-                   "undecided_share": _num(self.undecided_share[k]),
-                   "visible_share": _num(self.visible_share[k]), "used": bool(self.used[k]),
-                   "why": self.why[k], "deviation": _num(self.deviation[k])}
-            row.update({c: _num(v) for c, v in zip(self.columns, self.values[k])})
-            rows.append(row)
-        return rows
-
-    def roi_fields(self) -> List[str]:
-        """Names of the per-ROI values: each statistic (its across-view median), then its
-        ``_mad``, ``_min`` and ``_max``, then ``views`` and ``disagreement``."""
-        out = list(self.columns)
-        for suffix in ("mad", "min", "max"):
-            out += [f"{c}_{suffix}" for c in self.columns]
-        return out + ["views", "disagreement"]
-
-    def roi_rows(self) -> List[dict]:
-        rows = []
-        for r, name in enumerate(self.roi_names):
-            vals = list(self.median[r]) + list(self.mad[r]) + list(self.minimum[r]) \
-                + list(self.maximum[r])
-            row = {"roi": name}
-            row.update({f: _num(v) for f, v in zip(self.roi_fields(), vals)})
-            row["views"] = int(self.views[r])
-            row["disagreement"] = _num(self.disagreement[r])
-            rows.append(row)
-        return rows
-
-    def write_csv(self, views_path=None, rois_path=None) -> List[str]:
-        """The views table and/or the per-ROI table as CSV (atomically); returns the paths."""
-        out = []
-        for path, rows in ((views_path, self.view_rows), (rois_path, self.roi_rows)):
-            if path is None:
-                continue
-            data = rows()
-            buf = io.StringIO()
-            if data:
-                w = csv.DictWriter(buf, fieldnames=list(data[0]), lineterminator="\n")
-                w.writeheader()
-                w.writerows({k: ("" if v is None else v) for k, v in row.items()} for row in data)
-            write_bytes(path, buf.getvalue().encode("utf-8"))
-            out.append(os.fspath(path))
-        return out
-
-    def summary(self) -> str:
-        used = int(self.used.sum())
-        seen = int((self.views > 0).sum())
-        out = (f"{len(self.record)} views measured, {used} used, for {seen} of "
-               f"{len(self.roi_names)} ROIs")
-        if self.cover_index:
-            out += (f"; cover: {self.cover_index.upper()} ≥ {self.cover_threshold:.4f} "
-                    f"({self.threshold_source})") if self.cover_threshold is not None else \
-                f"; cover: no threshold ({self.threshold_source})"
-        if self.skipped_photos:
-            out += f"; {len(self.skipped_photos)} photo(s) skipped"
-        return out
-
-
-def _num(v):
-    v = float(v)
-    return None if not math.isfinite(v) else v
-
-
-# --- checks of the inputs ------------------------------------------------------------------------
 def _check_args(statistics, percentiles, min_visible, max_images, cover_threshold):
     stats = tuple(dict.fromkeys(str(s).strip().lower() for s in statistics if str(s).strip()))
     bad = [s for s in stats if s not in STATISTICS]
@@ -228,163 +84,6 @@ def _check_args(statistics, percentiles, min_visible, max_images, cover_threshol
     return stats, qs
 
 
-def band_names_for(n: int, given: Optional[Sequence[str]]) -> List[str]:
-    """Names of a photo's ``n`` bands: ``given`` (canonical, :func:`core.indices.canonical_band`),
-    else red/green/blue for 3 bands, else b1…bn."""
-    if given:
-        names = [ix.canonical_band(b) for b in given]
-        if len(names) != n:
-            raise InputError(f"The photos have {n} band(s) but {len(names)} band name(s) were "
-                             f"given ({', '.join(names)}): give one name per band.")
-        if len(set(names)) != len(names):
-            raise InputError(f"Band names must differ: {', '.join(names)}.")
-        return names
-    if n == 3:
-        return list(ix.RGB_NAMES)
-    return [f"b{k + 1}" for k in range(n)]
-
-
-# --- the measurement of one view -------------------------------------------------------------------
-class _Measure:
-    """Column layout and the statistics of one view's pixels."""
-
-    def __init__(self, names: List[str], stats, qs, wanted_indices, cover_kind, threshold):
-        self.names = names
-        self.alpha = names.index("alpha") if "alpha" in names else None
-        self.band_idx = [k for k, n in enumerate(names) if n != "alpha"]
-        self.bands = [names[k] for k in self.band_idx]
-        self.stats, self.qs = stats, qs
-        self.indices = [k for k in wanted_indices if k in ix.available(self.bands)]
-        self.cover_kind = cover_kind
-        self.threshold = threshold
-        per = list(stats) + [percentile_name(q) for q in qs]
-        self.columns = [f"{b}_{s}" for b in self.bands for s in per] + \
-            [f"{k}_{s}" for k in self.indices for s in per] + (["cover"] if cover_kind else [])
-
-    def stats_of(self, v: np.ndarray, out: np.ndarray, integer: bool) -> None:
-        """Statistics of the 1-D float64 ``v`` into ``out`` (len: stats + percentiles)."""
-        k = 0
-        n = len(v)
-        if n == 0:
-            out[:] = np.nan
-            return
-        for s in self.stats:
-            if s == "mean":
-                out[k] = np.mean(v)
-            elif s == "std":
-                out[k] = np.std(v)
-            k += 1
-        need = [s for s in self.stats if s == "median"]
-        if need or self.qs:
-            if integer:
-                med, pct = _order_stats_int(v, bool(need), self.qs)
-            else:
-                med, pct = _order_stats_float(v, bool(need), self.qs)
-            if need:
-                out[self.stats.index("median")] = med
-            for j, p in enumerate(pct):
-                out[len(self.stats) + j] = p
-
-    def view(self, img: np.ndarray, r0: int, c0: int, keep: np.ndarray):
-        """(values (len(columns),), pixel count, cover histogram or None) of the pixels
-        ``keep`` (a window whose top-left pixel is (r0, c0)) of the photo ``img``."""
-        out = np.full(len(self.columns), np.nan)
-        rr, cc = np.nonzero(keep)
-        flat = (rr + r0) * img.shape[1] + (cc + c0)
-        px = np.take(img.reshape(img.shape[0] * img.shape[1], -1), flat, axis=0)  # (n, bands)
-        if self.alpha is not None:
-            px = px[px[:, self.alpha] > 0]
-        n = len(px)
-        if n == 0:
-            return out, 0, None
-        integer = px.dtype.kind == "u" and px.dtype.itemsize <= 2
-        v = np.ascontiguousarray(px[:, self.band_idx].T, dtype=np.float64)   # (bands, n)
-        per = len(self.stats) + len(self.qs)
-        k = 0
-        for b in range(len(self.bands)):
-            self.stats_of(v[b], out[k:k + per], integer)
-            k += per
-        hist = None
-        for kind in self.indices:
-            idx = ix.compute(kind, v, self.bands)
-            fin = idx[np.isfinite(idx)]
-            self.stats_of(fin, out[k:k + per], False)
-            k += per
-            if kind == self.cover_kind:
-                if self.threshold is not None:
-                    out[-1] = ix.cover(fin, self.threshold)
-                else:
-                    hist = ix.index_histogram(kind, fin)
-        if self.cover_kind and self.cover_kind not in self.indices:
-            idx = ix.compute(self.cover_kind, v, self.bands)
-            fin = idx[np.isfinite(idx)]
-            if self.threshold is not None:
-                out[-1] = ix.cover(fin, self.threshold)
-            else:
-                hist = ix.index_histogram(self.cover_kind, fin)
-        return out, n, hist
-
-
-def _order_stats_int(v: np.ndarray, median: bool, qs):
-    """(median, percentiles) of non-negative integer values (as float64) from their histogram,
-    as numpy's ``median`` and ``percentile`` (linear rule) compute them."""
-    counts = np.bincount(v.astype(np.int64))
-    cum = np.cumsum(counts)
-
-    def kth(k):                       # the k-th smallest value (0-based)
-        return float(np.searchsorted(cum, k, side="right"))
-    return _interpolate(kth, len(v), median, qs)
-
-
-SELECT_BINS = 1024
-
-
-def _order_stats_float(v: np.ndarray, median: bool, qs):
-    """(median, percentiles) of finite float64 values, exactly as numpy's ``median`` and
-    ``percentile`` (linear rule): the order statistics needed are found by a histogram of
-    :data:`SELECT_BINS` bins (monotone in the value), then selected among the values of their
-    bin only (about twice as fast as ``np.percentile``'s partition of all values)."""
-    n = len(v)
-    lo, hi = float(v.min()), float(v.max())
-    if n < 4 * SELECT_BINS or not hi > lo:
-        s = np.sort(v) if n < 4 * SELECT_BINS else None
-        return _interpolate((lambda k: float(s[k])) if s is not None else (lambda k: lo), n,
-                            median, qs)
-    scale = (SELECT_BINS - 1) / (hi - lo)
-    b = ((v - lo) * scale).astype(np.int64)          # monotone in v: order is kept across bins
-    cum = np.cumsum(np.bincount(b, minlength=SELECT_BINS))
-    cache = {}
-
-    def kth(k):
-        if k not in cache:
-            j = int(np.searchsorted(cum, k, side="right"))
-            inside = np.sort(v[b == j])
-            cache[k] = float(inside[k - (cum[j - 1] if j else 0)])
-        return cache[k]
-    return _interpolate(kth, n, median, qs)
-
-
-def _interpolate(kth, n: int, median: bool, qs):
-    """(median, percentiles) from ``kth(k)``, the k-th smallest of ``n`` values, with numpy's
-    rules: the median of an even count is the mean of the middle two; percentiles are linear
-    between order statistics, with numpy's ``_lerp``."""
-    med = None
-    if median:
-        med = kth(n // 2) if n % 2 else (kth(n // 2 - 1) + kth(n // 2)) / 2.0
-    pct = []
-    for q in qs:
-        virtual = (n - 1) * (q / 100.0)
-        if virtual >= n - 1:
-            pct.append(kth(n - 1))
-            continue
-        lo = int(math.floor(virtual))
-        a, b, t = kth(lo), kth(lo + 1), virtual - lo
-        diff = b - a                  # numpy's _lerp, both branches
-        pct.append(b - diff * (1 - t) if t >= 0.5 else a + diff * t)
-    return med, pct
-
-
-# --- the pass over the photos ----------------------------------------------------------------------
 def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Sequence[str]] = None,
                      statistics: Sequence[str] = STATISTICS, percentiles: Sequence[float] = (),
                      indices: Optional[Sequence[str]] = None,
@@ -417,7 +116,7 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
         distortion = bool(result.settings.get("distortion", True))
     occ = None
     if occlusion_dsm is not None:
-        occ = _Occlusion(result, recon, rois, occlusion_dsm, distortion, occlusion_samples)
+        occ = PhotoOcclusion(result, recon, rois, occlusion_dsm, distortion, occlusion_samples)
     k = len(result)
     used_photos = sorted(set(result.photo_index.tolist()), key=lambda j: result.photo_labels[j])
     labels = [result.photo_labels[j] for j in used_photos]
@@ -430,7 +129,6 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     state.notes += photo_notes(list(found.values()))
     sheets = None
     if previews_folder is not None:
-        from .stat_previews import StatSheets
         sheets = StatSheets(result, previews_folder, preview_views, min_visible, max_images)
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
@@ -502,7 +200,7 @@ class _Pass:
         self.stats, self.qs, self.wanted = stats, qs, wanted
         self.threshold = None if threshold is None else float(threshold)
         self.given_bands = bands
-        self.m: Optional[_Measure] = None
+        self.m: Optional[ViewMeasure] = None
         self.n_bands = None
         self.values = None
         self.k = k
@@ -522,7 +220,7 @@ class _Pass:
         if self.m is None:
             names = band_names_for(n, self.given_bands)
             kind = ix.cover_kind([b for b in names if b != "alpha"])
-            self.m = _Measure(names, self.stats, self.qs, self.wanted, kind, self.threshold)
+            self.m = ViewMeasure(names, self.stats, self.qs, self.wanted, kind, self.threshold)
             self.n_bands = n
             self.values = np.full((self.k, len(self.m.columns)), np.nan)
             missing = [x for x in self.wanted if x not in self.m.indices]
@@ -560,7 +258,7 @@ class _Pass:
         res = self.result
         k = self.k
         if self.m is None:                 # no photo could be read
-            self.m = _Measure(band_names_for(3, None) if not self.given_bands else
+            self.m = ViewMeasure(band_names_for(3, None) if not self.given_bands else
                               band_names_for(len(self.given_bands), self.given_bands),
                               self.stats, self.qs, self.wanted, None, self.threshold)
             self.values = np.full((k, len(self.m.columns)), np.nan)
@@ -598,7 +296,7 @@ class _Pass:
                     if count[res.roi[i]] > max_images:
                         used[i] = False
                         why[i] = "beyond the views per ROI"
-        agg = _aggregate(res, self.values, used, m.columns, weighted)
+        agg = aggregate_views(res, self.values, used, m.columns, weighted)
         return PhotoStatistics(
             roi_names=list(res.roi_names), bands=m.bands, indices=m.indices, columns=m.columns,
             record=np.arange(k), roi=res.roi.copy(), photo=res.photo.copy(), rank=res.rank.copy(),
@@ -614,143 +312,5 @@ class _Pass:
             photos_decoded=self.photos_decoded, notes=list(self.notes))
 
 
-# --- across views ----------------------------------------------------------------------------------
-def weighted_median(x: np.ndarray, w: np.ndarray) -> float:
-    """The weighted median of ``x``: the smallest value whose cumulative weight reaches half the
-    total, or the midpoint of two values when it lands exactly on half (so equal weights give
-    numpy's median). NaN for no positive weight."""
-    ok = np.isfinite(x) & (w > 0)
-    x, w = x[ok], w[ok]
-    if not len(x):
-        return float("nan")
-    o = np.argsort(x, kind="stable")
-    x, w = x[o], w[o]
-    cum = np.cumsum(w)
-    half = 0.5 * cum[-1]
-    i = int(np.searchsorted(cum, half * (1 - 1e-12)))
-    if abs(cum[i] - half) <= 1e-12 * cum[-1] and i + 1 < len(x):
-        return float(0.5 * (x[i] + x[i + 1]))
-    return float(x[i])
 
-
-def _aggregate(res: BackProjection, values: np.ndarray, used: np.ndarray, columns, weighted):
-    n, c = len(res.roi_names), len(columns)
-    med = np.full((n, c), np.nan)
-    mad, lo, hi = med.copy(), med.copy(), med.copy()
-    views = np.bincount(res.roi[used], minlength=n)
-    order = np.flatnonzero(used)
-    groups: Dict[int, np.ndarray] = {}
-    if len(order):
-        by = order[np.argsort(res.roi[order], kind="stable")]
-        cuts = np.flatnonzero(np.diff(res.roi[by])) + 1
-        for g in np.split(by, cuts):
-            groups[int(res.roi[g[0]])] = g
-    with np.errstate(invalid="ignore"):
-        for r, g in groups.items():
-            X = values[g]
-            if weighted:
-                wts = np.clip(np.nan_to_num(res.score[g], nan=0.0), 0, None)
-                if not (wts > 0).any():
-                    wts = np.ones(len(g))
-                med[r] = [weighted_median(X[:, q], wts) for q in range(c)]
-                mad[r] = [weighted_median(np.abs(X[:, q] - med[r, q]), wts) for q in range(c)]
-            else:
-                med[r] = _nanmedian(X)
-                mad[r] = _nanmedian(np.abs(X - med[r]))
-            fin = np.isfinite(X)
-            lo[r] = np.where(fin.any(axis=0), np.nanmin(np.where(fin, X, np.inf), axis=0), np.nan)
-            hi[r] = np.where(fin.any(axis=0), np.nanmax(np.where(fin, X, -np.inf), axis=0), np.nan)
-    # disagreement: the "mean" statistics and the cover, against the field's typical spread
-    key = [q for q, name in enumerate(columns) if name.endswith("_mean") or name == "cover"]
-    spread = MAD_SCALE * mad[:, key]
-    many = views >= MIN_VIEWS_FOR_SPREAD
-    if not many.any():
-        many = views >= 2
-    typical = np.array([np.nanmedian(spread[many, q]) if np.isfinite(spread[many, q]).any()
-                        else np.nan for q in range(len(key))]) if many.any() else \
-        np.full(len(key), np.nan)
-    typical = np.where(typical > 0, typical, np.nan)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        dev = np.full(len(res.roi), np.nan)
-        if len(key):
-            z = _mean_finite(np.abs(values[:, key] - med[res.roi][:, key]) / typical)
-            ok = used & (views[res.roi] >= 2) & np.isfinite(z)
-            dev[ok] = z[ok]
-    dis = np.full(n, np.nan)
-    ok = np.flatnonzero(np.isfinite(dev))
-    if len(ok):
-        np.fmax.at(dis, res.roi[ok], dev[ok])
-    return {"median": med, "mad": mad, "min": lo, "max": hi, "views": views,
-            "disagreement": dis, "deviation": dev}
-
-
-def _mean_finite(a: np.ndarray) -> np.ndarray:
-    """Row means over the finite values (NaN for a row without any)."""
-    fin = np.isfinite(a)
-    n = fin.sum(axis=1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        return np.where(n > 0, np.where(fin, a, 0.0).sum(axis=1) / np.maximum(n, 1), np.nan)
-
-
-def _nanmedian(X: np.ndarray) -> np.ndarray:
-    """Column medians ignoring NaN (NaN for an all-NaN column), without numpy's warning."""
-    fin = np.isfinite(X)
-    if fin.all():
-        return np.median(X, axis=0)
-    out = np.full(X.shape[1], np.nan)
-    for q in range(X.shape[1]):
-        v = X[fin[:, q], q]
-        if len(v):
-            out[q] = np.median(v)
-    return out
-
-
-# --- occlusion per pixel ---------------------------------------------------------------------------
-class _Occlusion:
-    """The per-pixel occlusion test of each photo's records (:mod:`.pixel_occlusion`)."""
-
-    def __init__(self, result, recon, rois, dsm, distortion, samples):
-        from .occlusion import _surface
-        from .pixel_occlusion import rings_in_dsm_crs
-        if recon is None or rois is None:
-            raise EasyIDPError("The occlusion test of the photo pixels needs the photogrammetry "
-                               "project and the ROIs as well as the DSM.")
-        names = list(rois.names)
-        if names != list(result.roi_names):
-            raise EasyIDPError("The ROIs given are not those of the back-projection (names or "
-                               "order differ): give the ROI set it was made from.")
-        self.recon, self.distortion, self.samples = recon, distortion, int(samples)
-        self.surface = _surface(dsm)
-        self.rings = rings_in_dsm_crs(rois, self.surface, sorted(set(result.roi.tolist())))
-        self.cams = {}
-        for label in result.photo_labels:
-            try:
-                self.cams[label] = recon.camera(label)
-            except EasyIDPError:
-                raise EasyIDPError(f"Photo {label} of the back-projection is not a camera of "
-                                   f"{recon.source}: give the project it was made with.") from None
-        self.result = result
-        self.rays = 0
-        self.undecided = 0
-
-    def photo(self, j, recs, windows, prog):
-        from .pixel_occlusion import PixelJob, test_pixels
-        jobs = [PixelJob(int(self.result.roi[i]), r0, c0, mask) for i, (r0, c0, mask) in
-                zip(recs, windows)]
-        test_pixels(jobs, self.recon, self.cams[self.result.photo_labels[j]], self.surface,
-                    self.rings, distortion=self.distortion, coarse=self.samples,
-                    is_cancelled=prog.cancelled)
-        self.rays += sum(jb.rays for jb in jobs)
-        self.undecided += sum(jb.undecided for jb in jobs)
-        return [(jb.occluded, jb.undecided) for jb in jobs]
-
-    def notes(self) -> List[str]:
-        out = [f"occlusion per pixel: {self.rays:,} lines of sight cast"]
-        if self.undecided:
-            out.append(f"{self.undecided:,} pixel(s) whose line of sight met no DSM data were "
-                       "kept (undecided)")
-        return out
-
-
-__all__ = ["photo_statistics", "PhotoStatistics", "STATISTICS", "band_names_for",
-           "weighted_median", "percentile_name"]
+__all__ = ["photo_statistics"]

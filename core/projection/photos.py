@@ -21,7 +21,9 @@ from typing import List, Optional, Sequence
 import numpy as np
 
 from ..errors import InputError
-from ..photo_files import PHOTO_EXTENSIONS, file_name, resolve_photos  # noqa: F401 (the one lookup)
+from ..naming import unique_names
+from ..photo_files import (PHOTO_EXTENSIONS, file_name, resolve_photos,  # noqa: F401 (the one lookup)
+                          scale_to)
 
 
 def read_photo(path) -> np.ndarray:
@@ -65,7 +67,6 @@ def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
     resized photos it finds, :func:`..reconstruction.model.fit_sensors_to_photos`)."""
     if arr.shape[1] == width and arr.shape[0] == height:
         return None
-    from ..photo_files import scale_to
     size = f"{file_name(os.fspath(path))} is {arr.shape[1]}×{arr.shape[0]} px but the camera's " \
            f"sensor is {width}×{height}"
     if scale_to((width, height), (arr.shape[1], arr.shape[0])) is None:
@@ -76,7 +77,6 @@ def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
 
 def photo_stems(labels: List[str]) -> List[str]:
     """Safe, unique file stems for photo labels (``DJI_0001.JPG`` → ``DJI_0001``)."""
-    from ..naming import unique_names
     stems = []
     for lab in labels:
         stem, ext = os.path.splitext(lab)

@@ -2,7 +2,7 @@
 
 **Rule.** A pixel inside a ROI's polygon in a photo (its centre inside: the raster rule) shows the
 ROI when the line of sight through its centre (:meth:`Reconstruction.pixel_to_ray`, lens
-distortion inverted) first meets the DSM (:func:`.ray_surface.first_hits`, the exact bilinear
+distortion inverted) first meets the DSM (:func:`core.raster.first_hits`, the exact bilinear
 surface) inside the ROI, or within ``tolerance`` (default one DSM pixel) of its boundary, in the
 DSM's CRS. Otherwise the pixel shows something in front of the ROI (a tree, the next plot's
 canopy, a wall), or beyond it: it is *occluded* and left out. A line of sight that enters DSM
@@ -25,8 +25,9 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from ..crs import as_crs, same_crs, transform_xy
+from ..errors import Cancelled
 from ..geometry import distance_to_rings, points_in_rings
-from .ray_surface import HIT, DSMSurface, first_hits
+from ..raster import HIT, RaySurface, first_hits
 
 COARSE_SAMPLES = 256
 """Cells of the first grid per ROI (its spacing is the power of two closest to
@@ -117,7 +118,7 @@ def _advance(job: PixelJob, verdict: np.ndarray) -> None:
     job._rc = ()
 
 
-def test_pixels(jobs: Sequence[PixelJob], recon, camera, surface: DSMSurface,
+def test_pixels(jobs: Sequence[PixelJob], recon, camera, surface: RaySurface,
                 rings_dsm: Dict[int, List[np.ndarray]], *, distortion: bool = True,
                 tolerance: Optional[float] = None, coarse: int = COARSE_SAMPLES,
                 is_cancelled=None) -> None:
@@ -132,7 +133,6 @@ def test_pixels(jobs: Sequence[PixelJob], recon, camera, surface: DSMSurface,
         _start(j, coarse)
     while active:
         if is_cancelled is not None and is_cancelled():
-            from ..errors import Cancelled
             raise Cancelled("cancelled")
         uv = np.concatenate([np.column_stack([j._rc[1] + j.c0 + 0.5, j._rc[0] + j.r0 + 0.5])
                              for j in active])
@@ -157,7 +157,7 @@ def test_pixels(jobs: Sequence[PixelJob], recon, camera, surface: DSMSurface,
         active = [j for j in active if j.occluded is None]
 
 
-def rings_in_dsm_crs(rois, surface: DSMSurface, which: Sequence[int]) -> Dict[int, List[np.ndarray]]:
+def rings_in_dsm_crs(rois, surface: RaySurface, which: Sequence[int]) -> Dict[int, List[np.ndarray]]:
     """{roi index: its rings in the DSM's CRS} for the ROIs ``which``."""
     dcrs, rcrs = surface.crs, as_crs(rois.crs)
     out = {}

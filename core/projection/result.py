@@ -2,9 +2,8 @@
 
 Pixels: origin at the top-left *corner* of the photo, x = column to the right, y = row down;
 the centre of the top-left pixel is (0.5, 0.5) (the same numbers EasyIDP 2.0.4 gives for
-Metashape and Pix4D). Polygons are stored flat: all vertices in ``xy``, rings delimited by
-``ring_offsets``, each ring tagged with its polygon (``ring_polygon``, numbered within its
-record) and whether it is a hole; a record's rings are ``record_rings[i]:record_rings[i + 1]``.
+Metashape and Pix4D). Polygons are stored flat (:class:`core.geometry.FlatPolygons`, one
+record per ROI × photo).
 """
 import json
 import os
@@ -13,7 +12,9 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
+from ..errors import EasyIDPError
 from ..files import write_json
+from ..geometry import FlatPolygons
 
 DROP_REASONS = {"partly_outside": "partly outside the frame (whole ROIs only)",
                 "below_min_visible": "below the minimum visible, unoccluded share",
@@ -31,125 +32,6 @@ CRS, which GeoPackage stores as its "Undefined cartesian SRS" (srs_id −1), not
 
 
 @dataclass
-class FlatPolygons:
-    """Polygons of many records in flat arrays (see the module docstring)."""
-    xy: np.ndarray                 # (V, 2) float64
-    ring_offsets: np.ndarray       # (R + 1,) int64
-    ring_polygon: np.ndarray       # (R,) int32, polygon number within the record
-    ring_hole: np.ndarray          # (R,) bool
-    record_rings: np.ndarray       # (k + 1,) int64
-
-    @classmethod
-    def empty(cls) -> "FlatPolygons":
-        return cls(np.zeros((0, 2)), np.zeros(1, np.int64), np.zeros(0, np.int32),
-                   np.zeros(0, bool), np.zeros(1, np.int64))
-
-    @classmethod
-    def from_lists(cls, records: List[List[List[np.ndarray]]]) -> "FlatPolygons":
-        """From per-record polygons ``[[exterior, hole, ...], ...]``."""
-        rings, poly, hole, per_rec = [], [], [], []
-        for polys in records:
-            n = 0
-            for j, p in enumerate(polys):
-                for k, r in enumerate(p):
-                    rings.append(np.asarray(r, np.float64).reshape(-1, 2))
-                    poly.append(j)
-                    hole.append(k > 0)
-                    n += 1
-            per_rec.append(n)
-        if not rings:
-            out = cls.empty()
-            out.record_rings = np.zeros(len(records) + 1, np.int64)
-            return out
-        lens = np.array([len(r) for r in rings], np.int64)
-        return cls(np.concatenate(rings), _offsets(lens), np.array(poly, np.int32),
-                   np.array(hole, bool), _offsets(np.array(per_rec, np.int64)))
-
-    @staticmethod
-    def concat(parts: List["FlatPolygons"]) -> "FlatPolygons":
-        parts = [p for p in parts if p is not None]
-        if not parts:
-            return FlatPolygons.empty()
-        xy = np.concatenate([p.xy for p in parts])
-        ring_lens = np.concatenate([np.diff(p.ring_offsets) for p in parts])
-        rec_lens = np.concatenate([np.diff(p.record_rings) for p in parts])
-        return FlatPolygons(xy, _offsets(ring_lens), np.concatenate([p.ring_polygon for p in parts]),
-                            np.concatenate([p.ring_hole for p in parts]), _offsets(rec_lens))
-
-    def __len__(self) -> int:
-        return len(self.record_rings) - 1
-
-    def polygons(self, i: int) -> List[List[np.ndarray]]:
-        """Record ``i`` as ``[[exterior, hole, ...], ...]`` (open rings, views into ``xy``)."""
-        out: List[List[np.ndarray]] = []
-        for j in range(self.record_rings[i], self.record_rings[i + 1]):
-            ring = self.xy[self.ring_offsets[j]:self.ring_offsets[j + 1]]
-            if not self.ring_hole[j] or not out:
-                out.append([ring])
-            else:
-                out[-1].append(ring)
-        return out
-
-    def take(self, order: np.ndarray) -> "FlatPolygons":
-        """The records ``order`` (indices), in that order."""
-        order = np.asarray(order, np.int64)
-        rr0, rr1 = self.record_rings[order], self.record_rings[order + 1]
-        ring_idx = _ranges(rr0, rr1)
-        v0, v1 = self.ring_offsets[ring_idx], self.ring_offsets[ring_idx + 1]
-        return FlatPolygons(self.xy[_ranges(v0, v1)], _offsets(v1 - v0),
-                            self.ring_polygon[ring_idx], self.ring_hole[ring_idx],
-                            _offsets(rr1 - rr0))
-
-    def areas_centroids(self):
-        """(area (k,), centroid (k, 2)) of every record (exteriors minus holes), vectorised."""
-        k = len(self)
-        if len(self.xy) == 0:
-            return np.zeros(k), np.full((k, 2), np.nan)
-        starts = self.ring_offsets[:-1]
-        lens = np.diff(self.ring_offsets)
-        ring_of_vertex = np.repeat(np.arange(len(lens)), lens)
-        nxt = np.arange(len(self.xy)) + 1
-        last = self.ring_offsets[1:] - 1
-        nxt[last] = starts
-        o = self.xy[starts][ring_of_vertex]                 # relative to each ring's first vertex
-        a = self.xy - o
-        b = self.xy[nxt] - o
-        cross = a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]
-        ring_a = 0.5 * np.add.reduceat(cross, starts) if len(starts) else np.zeros(0)
-        mx = np.add.reduceat((a[:, 0] + b[:, 0]) * cross, starts) / 6.0
-        my = np.add.reduceat((a[:, 1] + b[:, 1]) * cross, starts) / 6.0
-        eff = np.where(self.ring_hole, -np.abs(ring_a), np.abs(ring_a))
-        with np.errstate(invalid="ignore", divide="ignore"):
-            scale = np.where(ring_a != 0, eff / ring_a, 0.0)
-        mx = (mx + ring_a * self.xy[starts, 0]) * scale     # moments about the origin
-        my = (my + ring_a * self.xy[starts, 1]) * scale
-        rec_of_ring = np.repeat(np.arange(k), np.diff(self.record_rings))
-        area = np.bincount(rec_of_ring, eff, minlength=k)
-        cx = np.bincount(rec_of_ring, mx, minlength=k)
-        cy = np.bincount(rec_of_ring, my, minlength=k)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            cen = np.column_stack([cx, cy]) / area[:, None]
-        cen[area <= 0] = np.nan
-        return area, cen
-
-
-def _offsets(lengths: np.ndarray) -> np.ndarray:
-    out = np.zeros(len(lengths) + 1, np.int64)
-    np.cumsum(lengths, out=out[1:])
-    return out
-
-
-def _ranges(starts: np.ndarray, stops: np.ndarray) -> np.ndarray:
-    """Concatenation of ``arange(starts[i], stops[i])`` for all i, vectorised."""
-    lens = np.asarray(stops, np.int64) - np.asarray(starts, np.int64)
-    total = int(lens.sum())
-    if total == 0:
-        return np.zeros(0, np.int64)
-    rep = np.repeat(np.asarray(starts, np.int64) - _offsets(lens)[:-1], lens)
-    return np.arange(total, dtype=np.int64) + rep
-
-
-@dataclass
 class BackProjection:
     """ROIs in raw photos: one record per kept ROI × photo, sorted by ROI then rank.
 
@@ -157,7 +39,7 @@ class BackProjection:
     ``photo_index`` into ``photo_labels``; ``visible_fraction`` the share of the ROI's ground
     area inside the frame; ``occluded_fraction`` the share of the in-frame sample points whose
     line of sight the DSM blocks (NaN without an occlusion test); ``score`` in [0, 1] (see
-    :func:`core.projection.backward.score`); ``view_angle`` degrees off nadir at the ROI;
+    :func:`core.projection.ranking.score`); ``view_angle`` degrees off nadir at the ROI;
     ``gsd`` ground sampling distance at the ROI (map units per pixel, from the visible part's
     ground and pixel areas); ``centre_distance`` of the visible part's centroid from the
     principal point, 0 at the principal point and 1 at a frame corner's distance; ``rank``
@@ -242,7 +124,6 @@ class BackProjection:
         ``visible_fraction``, ``occluded_fraction``, ``centre_distance``, ``clipped``
         (missing numbers: NaN; missing ranks: by score within each ROI). ``photos``: {label:
         {"path": …, "width": …, "height": …, "principal_point": (cx, cy) (optional)}}."""
-        from ..errors import EasyIDPError
         index = {n: k for k, n in enumerate(roi_names)}
         labels = sorted(photos)
         pidx = {lab: k for k, lab in enumerate(labels)}

@@ -14,13 +14,13 @@ import numpy as np
 
 from ..files import write_bytes
 from ..naming import unique_names
-from .photo_crops import PNG_FAST, PREVIEW_GAP, _Sheets
+from .photo_crops import PNG_FAST, PREVIEW_GAP, PreviewSheets
 from .result import BackProjection
 
 CAPTION_LINES = 3
 
 
-class StatSheets(_Sheets):
+class StatSheets(PreviewSheets):
     """Tiles of the candidate views, kept (spilled to disk beyond the cache) until the end."""
 
     def __init__(self, result: BackProjection, folder, views: int, min_visible: float,

@@ -48,12 +48,14 @@ from ..annotations import (LabelledImage, LabelledShape, write_coco, write_label
                            write_yolo_labels, yolo_data_yaml)
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
+from ..geometry import orient, polygons_area
 from ..naming import unique_names
 from ..progress import as_progress
+from ..raster import as_dsm
 from ..roi import ROI, ROISet
 from .backward import back_project
-from .clip import clip_convex, orient, polygons_area, rectangle
-from .heights import DSMHeights
+from .clip import clip_convex, rectangle
+from .photo_crops import PNG_FAST
 from .photos import DecodedPhotos, resolve_photos
 
 SPLITS = ("train", "val")
@@ -174,8 +176,8 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     if tile_size < 0 or tile_overlap < 0 or (tile_size and tile_overlap >= tile_size):
         raise InputError(f"Tiles of {tile_size} px with {tile_overlap} px overlap: the size must "
                          "be 0 (whole photos) or more than the overlap, both ≥ 0.")
-    heights = DSMHeights(dsm, crs=dsm_crs)
-    bp = back_project(rois, recon, heights=heights, cameras=cameras, occlusion_dsm=heights,
+    dsm = as_dsm(dsm, dsm_crs)
+    bp = back_project(rois, recon, heights=dsm, cameras=cameras, occlusion_dsm=dsm,
                       min_visible=min_visible, max_images=best_k, progress=prog.sub(0, 60))
     categories = sorted(set(classes))
     obj_split = _object_splits(rois, bp, split, val_fraction, region_size, seed)
@@ -246,7 +248,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
                       os.path.join("yolo_detect", "images", s, im.file_name),
                       os.path.join("yolo_detect", "labels", s, stem + ".txt"),
                       os.path.join("labelme", s, stem + ".json")})
-    inputs = [dsm] + list(found.values())
+    inputs = [dsm.path] + list(found.values())
     with OutputFolder(out_folder, overwrite=overwrite, inputs=inputs,
                       what="Training set folder") as out:
         out.claim(sorted(names))
@@ -294,7 +296,6 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
 def _write_images(folder, images, found, bp, used, result, prog):
     """Whole photos copied (no decode); tiles cut from one decode per photo."""
     import imagecodecs
-    from .photo_crops import PNG_FAST
     by_label = {}
     for s, im, label, win in images:
         by_label.setdefault(label, []).append((s, im, win))

@@ -31,7 +31,8 @@ from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import GeocentricFrame, LocalFrame, is_local
 from .model import Camera, Marker, Reconstruction, Sensor
-from .rolling_shutter import RollingShutter, rotation_vector
+from ..rotations import rotation_vector
+from .rolling_shutter import RollingShutter
 
 SUPPORTED_SENSOR_TYPES = {"frame"}
 _FALSE = {"false", "0", "no", "off"}

@@ -28,6 +28,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from ..errors import InputError
+from ..rotations import rotation_matrix
 from .frame_model import BROWN, FISHEYE, Calibration
 
 PROJECTION_TYPES = {
@@ -77,42 +78,6 @@ def read_reconstruction_list(path: Path) -> List[dict]:
             raise InputError(f"{path}: reconstruction {i} has no 'cameras' or 'shots' table; "
                              "this is not an OpenSfM reconstruction file.")
     return doc
-
-
-# --- rotations ------------------------------------------------------------------------------------
-def rotation_from_vector(v) -> np.ndarray:
-    """Rotation matrices (…, 3, 3) of axis-angle vectors (…, 3) in radians (Rodrigues)."""
-    v = np.asarray(v, dtype=np.float64)
-    a = np.linalg.norm(v, axis=-1)[..., None, None]
-    k = v / np.where(a[..., 0] > 0, a[..., 0], 1.0)
-    K = np.zeros(v.shape[:-1] + (3, 3))
-    K[..., 0, 1], K[..., 0, 2], K[..., 1, 2] = -k[..., 2], k[..., 1], -k[..., 0]
-    K[..., 1, 0], K[..., 2, 0], K[..., 2, 1] = k[..., 2], -k[..., 1], k[..., 0]
-    return np.eye(3) + np.sin(a) * K + (1.0 - np.cos(a)) * (K @ K)
-
-
-def rotation_to_vector(R) -> np.ndarray:
-    """Axis-angle vector (3,) of a rotation matrix (inverse of :func:`rotation_from_vector`),
-    through the unit quaternion, so it is accurate near 0 and 180°."""
-    R = np.asarray(R, dtype=np.float64)
-    t = np.trace(R)
-    m = [t, R[0, 0], R[1, 1], R[2, 2]]
-    i = int(np.argmax(m))
-    if i == 0:
-        w = 0.5 * np.sqrt(1.0 + t)
-        q = np.array([R[2, 1] - R[1, 2], R[0, 2] - R[2, 0], R[1, 0] - R[0, 1]]) / (4.0 * w)
-    else:
-        j, k = (i % 3), ((i + 1) % 3)
-        i -= 1
-        q = np.zeros(3)
-        q[i] = 0.5 * np.sqrt(1.0 + R[i, i] - R[j, j] - R[k, k])
-        w = (R[k, j] - R[j, k]) / (4.0 * q[i])
-        q[j] = (R[j, i] + R[i, j]) / (4.0 * q[i])
-        q[k] = (R[k, i] + R[i, k]) / (4.0 * q[i])
-    if w < 0:
-        w, q = -w, -q
-    s = np.linalg.norm(q)
-    return q * (2.0 * np.arctan2(s, w) / s) if s > 0 else np.zeros(3)
 
 
 # --- cameras ----------------------------------------------------------------------------------------
@@ -178,7 +143,7 @@ def shot_pose(key: str, shot: dict, where: str) -> Tuple[np.ndarray, np.ndarray]
     if r.shape != (3,) or t.shape != (3,) or not (np.all(np.isfinite(r)) and np.all(np.isfinite(t))):
         raise InputError(f"{where}: the pose of shot {key!r} should be two vectors of 3 finite "
                          "numbers (rotation, translation).")
-    R = rotation_from_vector(r)
+    R = rotation_matrix(r)
     return R, -R.T @ t
 
 

@@ -62,18 +62,6 @@ class RollingShutter:
         return not (np.any(self.rotation) or np.any(self.translation))
 
 
-def rotation_vector(M: np.ndarray) -> np.ndarray:
-    """Rotation vector (axis × angle, radians) of a rotation matrix (angle < π)."""
-    M = np.asarray(M, dtype=np.float64)
-    w = np.array([M[2, 1] - M[1, 2], M[0, 2] - M[2, 0], M[1, 0] - M[0, 1]])
-    s = 0.5 * np.linalg.norm(w)                       # sin θ
-    c = 0.5 * (np.trace(M) - 1.0)                     # cos θ
-    theta = np.arctan2(s, c)
-    if s < 1e-12:
-        return 0.5 * w                                # θ ≈ sin θ
-    return w * (theta / (2.0 * s))
-
-
 def row_tau(v, height: int) -> np.ndarray:
     """τ of sensor rows ``v`` (pixels), clamped to [−1, 1]."""
     half = 0.5 * height
@@ -334,5 +322,5 @@ def _pinhole_row_rate(a, cam, f: float):
     return f * (dy - (ay / az) * dz) / az
 
 
-__all__ = ["RollingShutter", "rotation_vector", "row_tau", "ray_poses", "sensor_rows",
+__all__ = ["RollingShutter", "row_tau", "ray_poses", "sensor_rows",
            "project_block_rs", "frame_box", "TOL_PX"]

@@ -20,9 +20,8 @@ from ..crs import same_crs, transform_xy
 from ..errors import Cancelled, EasyIDPError
 from ..pointcloud import crop_indices, crop_point_cloud, read_point_cloud
 from ..progress import Progress
-from ..raster.dsm_heights import _valid as valid_heights
 from ..raster import (NO_PIXEL, GeoTiff, crop_raster_by_rois, open_geotiff, place_rois,
-                      require_overlap, rois_in_raster_crs, sweep_windows)
+                      require_overlap, rois_in_raster_crs, sweep_windows, valid_heights)
 from ..roi import ROISet
 from . import traits as tr
 from .. import indices

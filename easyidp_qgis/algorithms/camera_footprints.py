@@ -83,8 +83,8 @@ class CameraFootprints(EasyIDPAlgorithm):
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         if layer is not None:
-            from ...core.projection import DSMSurface
-            ground = DSMSurface(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
+            from ...core.raster import DSM
+            ground = DSM(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
         elif parameters.get(self.GROUND_HEIGHT) not in (None, ""):
             ground = self.parameterAsDouble(parameters, self.GROUND_HEIGHT, context)
         else:

@@ -135,7 +135,8 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
 
     def run_tool(self, parameters, context, feedback):
         from ...core.annotations import PhotoIndex, read_annotations
-        from ...core.projection import DSMSurface, forward_project, merge_views
+        from ...core.projection import forward_project, merge_views
+        from ...core.raster import DSM
 
         path = self.parameterAsFile(parameters, self.INPUT, context)
         folder = self.parameterAsFile(parameters, self.INPUT_FOLDER, context)
@@ -148,7 +149,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
                 "photo-pixel layer."))
         recon = open_project_parameter(self, parameters, context, feedback)
         dsm_layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
-        dsm = DSMSurface(geotiff_source(dsm_layer, self.tr("DSM")), crs=crs_string(dsm_layer.crs()))
+        dsm = DSM(geotiff_source(dsm_layer, self.tr("DSM")), crs=crs_string(dsm_layer.crs()))
         if layer is not None:
             index = PhotoIndex(recon)
             items = [(a, index.find(a.image, a.source)) for a in photo_layer_annotations(layer, feedback)]
@@ -169,7 +170,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         if skipped:
             feedback.pushWarning(self.tr("{n} lines or points skipped: only polygons are "
                                          "forward-projected by this tool.").format(n=skipped))
-        merged = merge_views(shapes, merge, recon=recon, dsm=dsm.tif,
+        merged = merge_views(shapes, merge, recon=recon, dsm=dsm,
                              photos=[cam.label for _, cam in items]) if merge == "fuse" \
             else merge_views(shapes, merge)
 

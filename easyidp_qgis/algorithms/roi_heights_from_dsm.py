@@ -18,7 +18,8 @@ from .base import EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
          ("vertex", translatable("Per vertex: the DSM height at each vertex"))]
-STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]  # core.heights
+# the statistics of core.height_statistics, in the order of the tool's menu
+STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]
 SAMPLING = ["bilinear", "nearest"]
 
 
@@ -75,11 +76,10 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     def run_tool(self, parameters, context, feedback):
-        from ...core.raster.dsm_heights import roi_heights, vertex_heights
-        from ...core.raster.geotiff import open_geotiff
+        from ...core.raster import DSM, roi_heights, vertex_heights
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
-        dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
+        dsm = DSM(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
         # the ROIs on the DSM's CRS, transformed by QGIS; the features keep their own geometry
         source, rois, features = rois_parameter(self, parameters, context, feedback, layer.crs())
         for note in dsm.notes:

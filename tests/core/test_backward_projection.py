@@ -21,8 +21,9 @@ from pyproj import CRS
 from easyidp_toolbox.core import EasyIDPError, ROIError, open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.geometry import points_in_rings
-from easyidp_toolbox.core.projection import (BackProjection, DSMHeights, PerROIHeights,
-                                             back_project, read_easyidp_json)
+from easyidp_toolbox.core.projection import (BackProjection, PerROIHeights, back_project,
+                                             read_easyidp_json)
+from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import (INSIDE, Calibration, Camera, Reconstruction,
                                                  Sensor)
 from easyidp_toolbox.core.reconstruction.geodesy import LocalFrame, OffsetFrame
@@ -58,7 +59,7 @@ def test_whole_only_photo_sets_equal_the_truth(survey, truth, plots, project):
     """Truth kind: the demo survey's own truth (every 10 cm of the plot inside the frame)."""
     recon = open_reconstruction(survey.metashape_project if project == "metashape"
                                 else survey.pix4d_project)
-    res = back_project(plots, recon, heights=DSMHeights(survey.dsm), clip=False, min_visible=0)
+    res = back_project(plots, recon, heights=DSM(survey.dsm), clip=False, min_visible=0)
     assert not res.clipped.any() and (res.visible_fraction == 1).all()
     for name in plots.names:
         ours = {Path(p).stem for p in res.photo[res.records_of(name)]}
@@ -68,7 +69,7 @@ def test_whole_only_photo_sets_equal_the_truth(survey, truth, plots, project):
 
 def test_corners_land_on_the_true_pixels(survey, truth, plots, metashape):
     """Truth kind: demo truth observations of the plot corners (on the surface)."""
-    res = back_project(plots, metashape, heights=DSMHeights(survey.dsm), clip=False,
+    res = back_project(plots, metashape, heights=DSM(survey.dsm), clip=False,
                        min_visible=0, densify_tolerance=NO_DENSIFY)
     ids = truth["points"]["id"]
     obs = truth["observations"]
@@ -100,7 +101,7 @@ def _dense_fraction(recon, corners, n=(300, 200)):
 
 def test_clipped_visible_fractions_against_dense_sampling(survey, truth, plots, metashape):
     """Truth kind: dense ground sampling (60,000 points per plot) of the demo plots."""
-    res = back_project(plots, metashape, heights=DSMHeights(survey.dsm), clip=True, min_visible=0)
+    res = back_project(plots, metashape, heights=DSM(survey.dsm), clip=True, min_visible=0)
     assert res.clipped.sum() > 100
     errs = []
     for name in plots.names:
@@ -118,7 +119,7 @@ def test_clipped_visible_fractions_against_dense_sampling(survey, truth, plots, 
 
 
 def test_ranking_fields_and_limits(survey, plots, metashape):
-    res = back_project(plots, metashape, heights=DSMHeights(survey.dsm), min_visible=0.5,
+    res = back_project(plots, metashape, heights=DSM(survey.dsm), min_visible=0.5,
                        max_images=3)
     assert isinstance(res, BackProjection)
     counts = res.photos_per_roi()
@@ -139,7 +140,7 @@ def test_ranking_fields_and_limits(survey, plots, metashape):
 
 
 def test_easyidp_dict_and_json(tmp_path, survey, plots, metashape):
-    res = back_project(plots, metashape, heights=DSMHeights(survey.dsm))
+    res = back_project(plots, metashape, heights=DSM(survey.dsm))
     d = res.to_easyidp_dict()
     assert list(d) == plots.names
     i = 0
@@ -171,7 +172,7 @@ def test_height_sources_agree(survey, plots, metashape):
 
 
 def test_dsm_heights_follow_the_densified_edges(survey, plots, metashape):
-    res = back_project(ROISet(plots[:3], plots.crs), metashape, heights=DSMHeights(survey.dsm))
+    res = back_project(ROISet(plots[:3], plots.crs), metashape, heights=DSM(survey.dsm))
     v = res.settings["vertices"]
     assert v["densified"] > v["input"] == 12
     assert np.isfinite(res.polygons.xy).all()
@@ -334,7 +335,7 @@ def test_dsm_not_under_the_rois(tmp_path, plots, metashape):
     dsm = write_tif(str(tmp_path / "far.tif"), np.zeros((10, 10), np.float32),
                     origin=(100000.0, 100000.0))
     with pytest.raises(ROIError, match="DSM has no data under some vertices of 40 ROI"):
-        back_project(plots, metashape, heights=DSMHeights(dsm))
+        back_project(plots, metashape, heights=DSM(dsm))
 
 
 def test_rois_without_crs_or_in_an_unrelated_crs(plots, metashape):

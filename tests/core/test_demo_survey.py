@@ -132,14 +132,14 @@ def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, t
 @pytest.mark.parametrize("project", ["metashape", "pix4d", "odm"])
 def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, project):
     from easyidp_toolbox.core.geometry import points_in_rings
-    from easyidp_toolbox.core.projection import DSMSurface
+    from easyidp_toolbox.core.raster import DSM
     from easyidp_toolbox.core.projection import camera_footprints
     recon = open_reconstruction({"metashape": survey.metashape_project, "pix4d": survey.pix4d_project,
                                  "odm": survey.odm_project}[project])
-    dsm = DSMSurface(survey.dsm)
+    dsm = DSM(survey.dsm)
     fps = camera_footprints(recon, dsm, crs="EPSG:32654", per_edge=24)
-    (west, east), (north, south) = dsm.tif.pixel_to_map(np.array([40.0, dsm.W]),
-                                                       np.array([0.0, dsm.H]))
+    (west, east), (north, south) = dsm.tif.pixel_to_map(np.array([40.0, dsm.tif.width]),
+                                                       np.array([0.0, dsm.tif.height]))
     w, h = truth["image_size"]
     t = truth["obs_pixel"]
     # crop up to 0.7 m tall near the border pulls the ring inwards by up to ~15 px
@@ -207,7 +207,7 @@ def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth
 
 
 def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
-    from easyidp_toolbox.core.raster.dsm_heights import sample_points
+    from easyidp_toolbox.core.raster import DSM
     assert len(survey.labelme) == 4
     ms = open_reconstruction(survey.metashape_project)
     p4 = open_reconstruction(survey.pix4d_project)
@@ -228,7 +228,7 @@ def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
             xyz = np.array(st["map"])
             assert np.allclose(uv, st["pixels"])
             # the true map point is on the DSM surface and projects back to the clicked pixel
-            assert np.allclose(sample_points(survey.dsm, xyz[:, 0], xyz[:, 1]), xyz[:, 2], atol=2e-4)
+            assert np.allclose(DSM(survey.dsm).heights(xyz[:, 0], xyz[:, 1]), xyz[:, 2], atol=2e-4)
             for recon, name in ((ms, t["photo"]), (p4, t["photo"] + ".JPG")):
                 back = recon.project_points(xyz, "EPSG:32654", cameras=[name]).pixels[0]
                 assert np.abs(back - uv).max() < 0.01
@@ -242,7 +242,7 @@ def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
 def test_plot_layers_and_point_cloud(survey):
     import sqlite3
     from easyidp_toolbox.core import read_geojson, read_point_cloud
-    from easyidp_toolbox.core.raster.dsm_heights import sample_points
+    from easyidp_toolbox.core.raster import DSM
     rois = read_geojson(survey.plots_geojson, "plot_id")
     assert len(rois) == 40
     con = sqlite3.connect(survey.plots_gpkg)
@@ -258,7 +258,7 @@ def test_plot_layers_and_point_cloud(survey):
     xyz = laz.xyz
     assert {"red", "green", "blue"} <= set(laz.attribute_names)
     pick = np.random.default_rng(1).choice(len(xyz), 2000, replace=False)
-    z = sample_points(survey.dsm, xyz[pick, 0], xyz[pick, 1])
+    z = DSM(survey.dsm).heights(xyz[pick, 0], xyz[pick, 1])
     assert np.nanmax(np.abs(z - xyz[pick, 2])) < 1e-3
     assert np.allclose(ply.xyz[pick], xyz[pick], atol=1e-3)
 

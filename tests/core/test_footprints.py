@@ -45,7 +45,7 @@ def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
     has data (checked against the DSM's own bilinear heights), the plane under the camera
     elsewhere (``complete`` False)."""
     from synthetic import write_tif
-    from easyidp_toolbox.core.projection import DSMSurface
+    from easyidp_toolbox.core.raster import DSM
     _, c = pix4d.camera_centres()
     x0, y1 = c[:, 0].min() - 150, c[:, 1].max() + 150
     w, h = int((c[:, 0].max() + 150 - x0) / 0.5), int((y1 - c[:, 1].min() + 150) / 0.5)
@@ -53,8 +53,8 @@ def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
     z = np.broadcast_to(96.0 + 0.1 * (x - 368109.0), (h, w)).astype(np.float32).copy()
     hole = 368112.0                       # under some footprints, beside others
     z[:, x > hole] = -9999
-    dsm = DSMSurface(write_tif(str(tmp_path / "dsm.tif"), z, origin=(x0, y1), pixel=0.5,
-                               nodata=-9999, tile=256))
+    dsm = DSM(write_tif(str(tmp_path / "dsm.tif"), z, origin=(x0, y1), pixel=0.5,
+                        nodata=-9999, tile=256))
 
     def ground(px, py):                   # the DSM's surface where it has data (a plane)
         return 96.0 + 0.1 * (px - 368109.0)

@@ -11,8 +11,8 @@ import pytest
 from easyidp_toolbox.core import InputError, open_reconstruction
 from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.annotations.model import POINT, PhotoShape
-from easyidp_toolbox.core.projection import (HIT, NODATA, DSMSurface, forward_project,
-                                             merge_views)
+from easyidp_toolbox.core.projection import forward_project, merge_views
+from easyidp_toolbox.core.raster import DSM, HIT, NODATA
 
 DSM_CELL = 0.02
 
@@ -25,7 +25,7 @@ def project(request, demo):
 
 @pytest.fixture(scope="module")
 def dsm(demo):
-    return DSMSurface(demo.dsm)
+    return DSM(demo.dsm)
 
 
 def _truth_shapes(demo, cam):
@@ -101,9 +101,8 @@ def test_densified_edges_follow_the_surface(demo, project, dsm):
     assert np.allclose(fine.points[0][fine.original[0]], coarse.points[0], atol=1e-9)
     assert len(fine.points[0]) > 10 * len(coarse.points[0])
     # every densified vertex is on the DSM surface (heights from the DSM itself)
-    from easyidp_toolbox.core.raster import sample_points
     p = fine.points[0]
-    assert np.abs(sample_points(demo.dsm, p[:, 0], p[:, 1]) - p[:, 2]).max() < 1e-3
+    assert np.abs(DSM(demo.dsm).heights(p[:, 0], p[:, 1]) - p[:, 2]).max() < 1e-3
 
 
 def test_multi_view_merge(demo, project, dsm):
@@ -141,7 +140,7 @@ def test_dsm_in_another_crs(demo, project, tmp_path):
     """The DSM resampled onto a transverse Mercator grid of its own: results given back in
     UTM 54N agree with the truth to a fraction of a DSM cell (the resampling smooths)."""
     from pyproj import CRS, Transformer
-    from easyidp_toolbox.core.raster import open_geotiff, sample_points
+    from easyidp_toolbox.core.raster import open_geotiff
     from easyidp_toolbox.core.raster.geotiff_write import write_geotiff
     tm = CRS.from_proj4("+proj=tmerc +lat_0=35.73 +lon_0=139.0 +k=1 +x_0=0 +y_0=0 +ellps=WGS84 +units=m")
     src = open_geotiff(demo.dsm)
@@ -154,11 +153,11 @@ def test_dsm_in_another_crs(demo, project, tmp_path):
     nx, ny = int((max(cx) - gx0) / px), int((gy1 - min(cy)) / px)
     gx, gy = np.meshgrid(gx0 + (np.arange(nx) + 0.5) * px, gy1 - (np.arange(ny) + 0.5) * px)
     ux, uy = Transformer.from_crs(tm, "EPSG:32654", always_xy=True).transform(gx, gy)
-    z = sample_points(src, ux.ravel(), uy.ravel()).reshape(ny, nx)
+    z = DSM(src).heights(ux.ravel(), uy.ravel()).reshape(ny, nx)
     z = np.where(np.isnan(z), -9999.0, z).astype(np.float32)
     path = str(tmp_path / "dsm_tm.tif")
     write_geotiff(path, z, (gx0, px, 0.0, gy1, 0.0, -px), {}, nodata_text="-9999")
-    dsm_tm = DSMSurface(path, crs=tm.to_wkt())
+    dsm_tm = DSM(path, crs=tm.to_wkt())
     errors = []
     for ann, cam in read_annotations(os.path.dirname(demo.labelme[0]), project):
         shapes = forward_project(ann.shapes, cam, project, dsm_tm, densify=False, crs="EPSG:32654")

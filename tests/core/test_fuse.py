@@ -17,10 +17,10 @@ from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.demo.plants import demo_objects, disc_ring
 from easyidp_toolbox.core.demo.round_trip import position_of, score_objects, simulate_detections
-from easyidp_toolbox.core.projection import (DSMSurface, export_training_set, forward_project,
-                                             fuse_views, merge_views)
+from easyidp_toolbox.core.projection import (export_training_set, forward_project, fuse_views,
+                                             merge_views)
 from easyidp_toolbox.core.projection.forward import ForwardShape
-from easyidp_toolbox.core.projection.ray_surface import HIT
+from easyidp_toolbox.core.raster import DSM, HIT
 from easyidp_toolbox.core.reconstruction import open_reconstruction
 from easyidp_toolbox.core.roi import ROI, ROISet
 
@@ -40,7 +40,7 @@ def round_trip(tmp_path_factory):
     coco = out / "set" / "coco" / "instances_train.json"
     sim = simulate_detections(coco, out / "detections.json", seed=0)
     items = read_annotations(out / "detections.json", recon, dataset=coco)
-    dsm = DSMSurface(s.dsm)
+    dsm = DSM(s.dsm)
     shapes = [f for ann, cam in items for f in forward_project(ann.shapes, cam, recon, dsm)]
     photos = [cam.label for _, cam in items]
     fused = merge_views(shapes, "fuse", recon=recon, dsm=s.dsm, photos=photos)

@@ -1,4 +1,4 @@
-"""Occlusion of ROIs by the DSM (core/projection/occlusion.py on ray_surface.first_hits).
+"""Occlusion of ROIs by the DSM (core/projection/occlusion.py on core/raster/ray_surface.first_hits).
 
 Independent checks:
 - a scene true by construction: flat ground and a 6 m tall box; the truth is an analytic
@@ -19,7 +19,8 @@ from pyproj import CRS
 
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.geometry import points_in_rings
-from easyidp_toolbox.core.projection import DSMHeights, back_project
+from easyidp_toolbox.core.projection import back_project
+from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import (INSIDE, Calibration, Camera, Reconstruction,
                                                  Sensor)
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
@@ -83,7 +84,7 @@ def _segment_hits_box(P, C):
 
 def test_box_occludes_the_roi_behind_it_within_two_percent(box_scene):
     recon, rois, dsm = box_scene
-    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSMHeights(dsm), min_visible=0,
+    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0,
                        occlusion_samples=400)
     ring = rois[0].rings[0] - OFFSET[:2]
     g = (np.arange(300) + 0.5) / 300
@@ -111,7 +112,7 @@ def test_roi_is_not_occluded_by_its_own_canopy(box_scene):
     """The ROI on the box has its vertices at the ground (z = 0), 6 m below the box top:
     lines of sight to those heights would all go through the box; to its surface they don't."""
     recon, rois, dsm = box_scene
-    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSMHeights(dsm), min_visible=0)
+    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0)
     recs = res.records_of("on_top")
     assert len(recs) >= 3
     assert np.nanmax(res.occluded_fraction[recs]) < 0.01
@@ -119,8 +120,8 @@ def test_roi_is_not_occluded_by_its_own_canopy(box_scene):
 
 def test_min_visible_drops_occluded_photos(box_scene):
     recon, rois, dsm = box_scene
-    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSMHeights(dsm), min_visible=0.7)
-    occluded = back_project(rois, recon, heights=0.0, occlusion_dsm=DSMHeights(dsm), min_visible=0)
+    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0.7)
+    occluded = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0)
     share = occluded.visible_fraction * (1 - occluded.occluded_fraction)
     assert len(res) == int((share >= 0.7).sum()) and res.dropped["below_min_visible"] > 0
 
@@ -145,7 +146,7 @@ def test_demo_hidden_points_truth(survey):
                                             [x - d, y + d]])]], {}, [[np.full(4, z)]])
                    for i, (x, y, z) in ((i, xyz[i]) for i in surface)], "EPSG:32654")
     recon = open_reconstruction(survey.metashape_project)
-    res = back_project(rois, recon, heights="geometry", occlusion_dsm=DSMHeights(survey.dsm),
+    res = back_project(rois, recon, heights="geometry", occlusion_dsm=DSM(survey.dsm),
                        occlusion_samples=1, occlusion_tolerance=0.015, min_visible=0, clip=False)
     verdict = {(res.roi_names[r], p): o for r, p, o in zip(res.roi, res.photo, res.occluded_fraction)}
     hid = {(str(p), ph) for p, ph in zip(t["hidden"]["point"], t["hidden"]["photo"])}

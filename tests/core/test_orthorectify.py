@@ -13,7 +13,7 @@ import tifffile
 
 from easyidp_toolbox.core import InputError, open_reconstruction, read_geojson
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
-from easyidp_toolbox.core.raster import open_geotiff, sample_points
+from easyidp_toolbox.core.raster import DSM, open_geotiff
 
 
 @pytest.fixture(scope="module")
@@ -99,7 +99,7 @@ def _blocked(dsm_path, C, p, step=0.004, start=0.03):
     t = np.arange(start, L, step) / L
     q = p + t[:, None] * d
     q = q[q[:, 2] < zmax]
-    h = sample_points(info, q[:, 0], q[:, 1])
+    h = DSM(info).heights(q[:, 0], q[:, 1])
     return bool(np.any(h > q[:, 2]))
 
 
@@ -116,7 +116,7 @@ def test_occluded_pixels_are_transparent(demo, recon, plots, tmp_path):
     from easyidp_toolbox.core.geometry import points_in_rings
     roi = next(r for r in plots if r.name == res.rois[k])
     inside = points_in_rings(X.ravel(), Y.ravel(), [r[:, :2] for r in roi.rings]).reshape(X.shape)
-    z = sample_points(open_geotiff(demo.dsm), X.ravel(), Y.ravel()).reshape(X.shape)
+    z = DSM(open_geotiff(demo.dsm)).heights(X.ravel(), Y.ravel()).reshape(X.shape)
     uv = recon.project_points(np.column_stack([X.ravel(), Y.ravel(), z.ravel()]), "EPSG:32654",
                               cameras=[cam])
     in_frame = (uv.status[0] == 0).reshape(X.shape)

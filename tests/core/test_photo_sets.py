@@ -13,7 +13,8 @@ import tifffile
 import real_survey as rs
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.errors import InputError
-from easyidp_toolbox.core.projection import DSMHeights, back_project, photo_statistics, read_photo
+from easyidp_toolbox.core.projection import back_project, photo_statistics, read_photo
+from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 
 
@@ -44,8 +45,8 @@ def test_resized_photos_scale_the_calibration(folder, tmp_path):
     assert {(s.width, s.height) for s in big.sensors.values()
             if any(c.sensor_id == s.id for c in big.cameras)} == {(1368, 912)}
     orig = open_reconstruction(folder)
-    a = back_project(rs.roi_set(), big, heights=DSMHeights(dsm))
-    b = back_project(rs.roi_set(), orig, heights=DSMHeights(dsm))
+    a = back_project(rs.roi_set(), big, heights=DSM(dsm))
+    b = back_project(rs.roi_set(), orig, heights=DSM(dsm))
     assert len(a) == len(b)
     for i in range(len(a)):
         np.testing.assert_allclose(a.rings_of(i)[0], b.rings_of(i)[0], atol=1e-6)
@@ -84,7 +85,7 @@ def test_sixteen_bit_multiband_photos(folder, tmp_path):
     16 bits and 4 bands (+ alpha)."""
     dsm = str(folder / "odm_dem" / "dsm.tif")
     recon = open_reconstruction(folder)
-    bp = back_project(rs.roi_set(), recon, heights=DSMHeights(dsm), min_visible=0.0)
+    bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)
     photos16 = _sixteen_bit_multiband(folder, tmp_path / "p16")
     st8 = photo_statistics(bp, statistics=("mean",))
     st16 = photo_statistics(bp, photos=photos16, bands=["red", "green", "blue", "nir"],
@@ -142,7 +143,7 @@ def test_dji_thermal_rjpeg_is_said_to_be_a_palette(folder, tmp_path):
     from easyidp_toolbox.core.photo_files import jpeg_facts
     dsm = str(folder / "odm_dem" / "dsm.tif")
     recon = open_reconstruction(folder)
-    bp = back_project(rs.roi_set(), recon, heights=DSMHeights(dsm), min_visible=0.0)
+    bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)
     rj = _photos_as_jpeg(folder, tmp_path / "rjpeg", make="DJI", app3_segments=11)
     assert jpeg_facts(next(rj.iterdir()))["thermal"] is True
     st = photo_statistics(bp, photos=rj, statistics=("mean",))
@@ -160,7 +161,7 @@ def test_exif_rotated_photos_are_read_as_stored(folder, tmp_path):
     from easyidp_toolbox.core.photo_files import jpeg_facts
     dsm = str(folder / "odm_dem" / "dsm.tif")
     recon = open_reconstruction(folder)
-    bp = back_project(rs.roi_set(), recon, heights=DSMHeights(dsm), min_visible=0.0)
+    bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)
     rot = _photos_as_jpeg(folder, tmp_path / "rot", make="DJI", orientation=6)
     first = sorted(rot.iterdir())[0]
     assert jpeg_facts(first)["orientation"] == 6

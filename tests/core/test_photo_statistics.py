@@ -27,11 +27,12 @@ from pyproj import CRS
 
 from easyidp_toolbox.core import indices as ix
 from easyidp_toolbox.core.errors import Cancelled, EasyIDPError, InputError
-from easyidp_toolbox.core.projection import (DSMHeights, back_project, photo_statistics)
+from easyidp_toolbox.core.projection import back_project, photo_statistics
 from easyidp_toolbox.core.projection import photos as photos_module
-from easyidp_toolbox.core.projection.photo_stats import (_order_stats_float, _order_stats_int,
-                                                         weighted_median)
+from easyidp_toolbox.core.projection.across_views import weighted_median
+from easyidp_toolbox.core.projection.order_stats import order_stats_float, order_stats_int
 from easyidp_toolbox.core.projection.result import BackProjection
+from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import Calibration, Camera, Reconstruction, Sensor
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
 from easyidp_toolbox.core.roi import ROI, ROISet
@@ -125,14 +126,14 @@ def test_order_statistics_from_histograms_are_numpys():
     for n in (1, 2, 3, 10, 101, 1000, 4097):
         for top in (256, 65536):
             v = rng.integers(0, top, n).astype(np.float64)
-            med, pct = _order_stats_int(v, True, qs)
+            med, pct = order_stats_int(v, True, qs)
             assert med == np.median(v)
             assert list(pct) == list(np.percentile(v, qs)), (n, top)
     # floats (index values): few and many, with ties, one value, a wide spread
     for n in (1, 7, 5000, 20001):
         for v in (rng.normal(0.3, 0.2, n), np.round(rng.normal(0, 1, n), 2), np.full(n, 0.25),
                   np.concatenate([rng.normal(0, 1, n - 1), [1e6]])):
-            med, pct = _order_stats_float(v, True, qs)
+            med, pct = order_stats_float(v, True, qs)
             assert med == np.median(v) and list(pct) == list(np.percentile(v, qs)), n
 
 
@@ -420,10 +421,10 @@ def box_scene(tmp_path_factory):
 
 def test_pixels_hidden_by_a_box_are_left_out(box_scene):
     recon, rois, dsm, painted = box_scene
-    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSMHeights(dsm), min_visible=0)
+    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0)
     plain = photo_statistics(res, indices=[], statistics=("mean",))
     st = photo_statistics(res, indices=[], statistics=("mean",), recon=recon, rois=rois,
-                          occlusion_dsm=DSMHeights(dsm))
+                          occlusion_dsm=DSM(dsm))
     for k in range(len(st.record)):
         i = st.record[k]
         j = int(res.photo_index[i])
@@ -498,7 +499,7 @@ def test_demo_plots_against_the_colour_truth_and_the_orthomosaic(defects_survey)
     defects = s.truth_doc["ortho_defects"]
     rois = read_geojson(s.plots_geojson, name_field="plot_id")
     recon = open_reconstruction(s.metashape_project)
-    dsm = DSMHeights(s.dsm)
+    dsm = DSM(s.dsm)
     res = back_project(rois, recon, heights=dsm, occlusion_dsm=dsm, min_visible=0.0)
     st = photo_statistics(res, statistics=("mean",), indices=["exg"], max_images=3,
                           recon=recon, rois=rois, occlusion_dsm=dsm)

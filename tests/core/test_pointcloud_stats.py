@@ -6,7 +6,7 @@ from pc_helpers import winding_inside
 from easyidp_toolbox.core import (ROI, EasyIDPError, InputError, PointCloud, ROISet,
                                   canopy_summary, read_point_cloud)
 from easyidp_toolbox.core.pointcloud import roi_heights
-from easyidp_toolbox.core.heights import statistic_of
+from easyidp_toolbox.core.height_statistics import statistic_of
 
 E0, N0 = 368000.0, 3955000.0  # UTM-size coordinates
 

@@ -6,9 +6,9 @@ dense random sample), and against shapes whose clipped area is known by construc
 import numpy as np
 import pytest
 
-from easyidp_toolbox.core.geometry import points_in_rings, self_intersections
-from easyidp_toolbox.core.projection.clip import (area_centroid, clip_convex, orient,
-                                                  polygons_area, rectangle, signed_area)
+from easyidp_toolbox.core.geometry import (area_centroid, orient, points_in_rings, polygons_area,
+                                           ring_area, self_intersections)
+from easyidp_toolbox.core.projection.clip import clip_convex, rectangle
 
 FRAME = rectangle(10.0, 8.0)
 
@@ -31,9 +31,9 @@ def _in_frame(polys):
 def _valid(polys):
     """Every output ring is simple, exteriors positive, holes negative."""
     for p in polys:
-        assert signed_area(p[0]) > 0
+        assert ring_area(p[0]) > 0
         for h in p[1:]:
-            assert signed_area(h) < 0
+            assert ring_area(h) < 0
         for r in p:
             assert not self_intersections([r])
 
@@ -135,7 +135,7 @@ def test_vectorised_convex_clip_equals_the_general_one():
     for i, ring in enumerate(rings):
         out = xy[off[i]:off[i + 1]]
         ref = clip_convex(orient([[ring]]), rectangle(*sizes[i]))
-        a = abs(signed_area(out)) if len(out) >= 3 else 0.0
+        a = abs(ring_area(out)) if len(out) >= 3 else 0.0
         assert a == pytest.approx(polygons_area(ref), abs=1e-9)
         if len(out):
             assert out.min() >= 0 and (out <= sizes[i]).all()

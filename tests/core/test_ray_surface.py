@@ -11,7 +11,7 @@ import pytest
 from pyproj import CRS, Transformer
 
 from easyidp_toolbox.core.errors import EasyIDPError, InputError
-from easyidp_toolbox.core.projection import (HIT, LEFT, MISS, NODATA, DSMSurface, first_hits)
+from easyidp_toolbox.core.raster import DSM, HIT, LEFT, MISS, NODATA, first_hits
 from easyidp_toolbox.core.reconstruction.geodesy import GeocentricFrame, OffsetFrame
 
 from synthetic import write_tif
@@ -122,7 +122,7 @@ def test_offset_frame_matches_brute_force(dsm):
     o1, d1 = random_rays(rng, 250, offset)
     o2, d2 = aimed_rays(z, offset)
     o, d = np.vstack([o1, o2]), np.vstack([d1, d2])
-    surface = DSMSurface(path)
+    surface = DSM(path).ray_surface()
     hits = first_hits(surface, frame, o, d)
     assert hits.linearisation_error == 0.0            # same CRS: the affine map is exact
     height = reference_surface(z)
@@ -163,7 +163,7 @@ def test_geocentric_frame_is_linearised_within_a_millimetre(dsm):
     o = frame.to_model(o_map, "EPSG:32654")
     p2 = frame.to_model(o_map + 10.0 * d_map, "EPSG:32654")
     d = (p2 - o) / np.linalg.norm(p2 - o, axis=1, keepdims=True)
-    surface = DSMSurface(path)
+    surface = DSM(path).ray_surface()
     hits = first_hits(surface, frame, o, d)
     assert 0.0 < hits.linearisation_error < 1e-3
     height = reference_surface(z)
@@ -195,7 +195,7 @@ def test_hits_lie_on_the_surface_across_tile_edges(tmp_path):
     offset = np.array([ORIGIN[0], ORIGIN[1] - 50.0, 100.0])
     frame = OffsetFrame(CRS.from_epsg(32654), offset)
     o, d = random_rays(np.random.default_rng(5), 20000, offset)
-    surface = DSMSurface(path, tile=8)
+    surface = DSM(path).ray_surface(tile=8)
     cold = first_hits(surface, frame, o, d)
     warm = first_hits(surface, frame, o, d)
     assert np.array_equal(cold.status, warm.status)
@@ -221,11 +221,11 @@ def test_a_cancelled_read_leaves_the_surface_usable(tmp_path):
                          ORIGIN[1] - rng.uniform(0, 1200 * PIXEL, n),
                          np.full(n, float(z.max()) + 20.0)]) - offset
     d = np.column_stack([rng.normal(0, 0.2, n), rng.normal(0, 0.2, n), -np.ones(n)])
-    fresh = first_hits(DSMSurface(path, tile=8), frame, o, d)
+    fresh = first_hits(DSM(path).ray_surface(tile=8), frame, o, d)
     calls = []
-    first_hits(DSMSurface(path, tile=8), frame, o, d, is_cancelled=lambda: calls.append(1))
+    first_hits(DSM(path).ray_surface(tile=8), frame, o, d, is_cancelled=lambda: calls.append(1))
     for stop in range(1, len(calls), max(1, len(calls) // 6)):   # cancel at six points
-        surface = DSMSurface(path, tile=8)
+        surface = DSM(path).ray_surface(tile=8)
         checks = iter(range(len(calls)))
         with pytest.raises(Cancelled):
             first_hits(surface, frame, o, d, is_cancelled=lambda: next(checks) >= stop)
@@ -237,7 +237,7 @@ def test_reads_only_the_tiles_along_the_rays(dsm):
     path, _ = dsm
     offset = np.array([ORIGIN[0], ORIGIN[1] - 50.0, 100.0])
     frame = OffsetFrame(CRS.from_epsg(32654), offset)
-    surface = DSMSurface(path, tile=32)
+    surface = DSM(path).ray_surface(tile=32)
     o = np.array([[20.0, 20.0, 20.0]])
     hits = first_hits(surface, frame, o, np.array([[0.0, 0.0, -1.0]]))
     assert hits.status[0] == HIT
@@ -248,7 +248,7 @@ def test_max_distance_and_upward_rays(dsm):
     path, _ = dsm
     offset = np.array([ORIGIN[0], ORIGIN[1] - 50.0, 100.0])
     frame = OffsetFrame(CRS.from_epsg(32654), offset)
-    surface = DSMSurface(path)
+    surface = DSM(path).ray_surface()
     o = np.array([20.0, 20.0, 20.0])
     d = np.array([[0, 0, -1.0], [0, 0, -1.0], [0, 0, 1.0], [1.0, 0, 0]])
     hits = first_hits(surface, frame, o, d, max_distance=np.array([5.0, 50.0, 50.0, 500.0]))
@@ -262,14 +262,14 @@ def test_max_distance_and_upward_rays(dsm):
 def test_bad_input(dsm, tmp_path):
     path, z = dsm
     frame = OffsetFrame(CRS.from_epsg(32654), np.zeros(3))
-    surface = DSMSurface(path)
+    surface = DSM(path).ray_surface()
     with pytest.raises(EasyIDPError, match="zero vector"):
         first_hits(surface, frame, np.zeros(3), np.zeros((1, 3)))
     with pytest.raises(EasyIDPError, match=r"\(n, 3\)"):
         first_hits(surface, frame, np.zeros(3), np.zeros((2, 2)))
     rgb = write_tif(str(tmp_path / "rgb.tif"), np.zeros((8, 8, 3), np.uint8))
     with pytest.raises(InputError, match="exactly one"):
-        DSMSurface(rgb)
+        DSM(rgb)
     # a DSM in a CRS the frame cannot reach
     local = OffsetFrame(None, np.zeros(3))
     with pytest.raises(EasyIDPError, match="CRS is unknown"):

@@ -19,9 +19,9 @@ from pyproj import Transformer
 import real_survey as rs
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.errors import InputError
-from easyidp_toolbox.core.projection import (DSMHeights, DSMSurface, back_project, crop_photos,
-                                             first_hits, forward_project, photo_statistics,
-                                             read_photo)
+from easyidp_toolbox.core.projection import (back_project, crop_photos, forward_project,
+                                             photo_statistics, read_photo)
+from easyidp_toolbox.core.raster import DSM, first_hits
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.projection import camera_footprints
 from easyidp_toolbox.core.reconstruction import INSIDE
@@ -51,7 +51,7 @@ def cvcams(folder):
 
 @pytest.fixture(scope="module")
 def bp(survey, dsm):
-    return back_project(rs.roi_set(), survey, heights=DSMHeights(str(dsm)),
+    return back_project(rs.roi_set(), survey, heights=DSM(str(dsm)),
                         occlusion_dsm=str(dsm), min_visible=0.0)
 
 
@@ -127,7 +127,7 @@ def test_missing_offset_names_the_missing_file(folder, tmp_path):
 def test_footprints(survey, dsm, cvcams):
     """OpenCV check: every footprint vertex that met the DSM projects (cv2.projectPoints) onto
     the frame border of its photo, to 0.01 px."""
-    fps = camera_footprints(survey, DSMSurface(str(dsm)))
+    fps = camera_footprints(survey, DSM(str(dsm)))
     assert sorted(f.label for f in fps) == list(rs.PHOTOS)
     for f in fps:
         assert f.photo_path and os.path.isfile(f.photo_path)
@@ -187,13 +187,13 @@ def test_forward_projection_against_opencv(survey, dsm, cvcams, bp):
     onto the DSM, lands on points that cv2.projectPoints takes back to the input pixels (to
     0.01 px) and whose heights are the DSM's (bilinear, brute force, 1 cm); the result is the
     ROI again where the photo sees the ground it was cut from (round trip, 5 cm median)."""
-    surface = DSMSurface(str(dsm))
+    ground = DSM(str(dsm))
     for i in range(len(bp)):
         if int(bp.rank[i]) != 1:
             continue
         photo = str(bp.photo[i])
         ring = bp.rings_of(i)[0]
-        shape = forward_project([ring], photo, survey, surface, densify=False)[0]
+        shape = forward_project([ring], photo, survey, ground, densify=False)[0]
         pts, ok = shape.points[0], shape.status[0] == 0
         assert ok.mean() > 0.5
         uv = cvcams[photo].project(pts[ok])
@@ -214,7 +214,7 @@ def test_forward_projection_of_labelme_with_a_windows_image_path(survey, dsm, tm
     (tmp_path / "a.json").write_text(json.dumps(doc))
     [(ann, cam)] = read_annotations(tmp_path / "a.json", survey)
     assert cam.label == "100_0005_0140"
-    shapes = forward_project(ann.shapes, cam.label, survey, DSMSurface(str(dsm)))
+    shapes = forward_project(ann.shapes, cam.label, survey, DSM(str(dsm)))
     assert shapes[0].complete and 100 < shapes[0].area_m2 < 400
 
 
@@ -337,7 +337,7 @@ def test_features_agree_on_the_map(survey, dsm):
     ≤ 2 px from its match. What bounds it: the DSM (0.8 m cells over tree crowns, a height
     error dz moves a point dz·tan(view angle) sideways, differently in each view), not the
     keypoints (≈ 0.5 px ≈ 5 cm)."""
-    surface = DSMSurface(str(dsm))
+    surface = DSM(str(dsm)).ray_surface()
     cams = {c.label: c for c in survey.cameras}
     feats = {k: _sift(read_photo(cams[k].photo_path)) for k in rs.PHOTOS}
     print("\nfeatures agree on the map (SIFT + RANSAC; distances between the two map points)")

@@ -14,7 +14,7 @@ import pytest
 
 from easyidp_toolbox.core import InputError, open_reconstruction
 from easyidp_toolbox.core.reconstruction import Calibration, INSIDE, list_reconstructions
-from easyidp_toolbox.core.reconstruction.opensfm import rotation_from_vector, rotation_to_vector
+from easyidp_toolbox.core.rotations import rotation_matrix, rotation_vector
 
 BERLIN_SIZE = (3264, 2448)
 
@@ -35,7 +35,7 @@ def _opensfm_perspective(X, rvec, t, focal, k1, k2, w, h):
     """OpenSfM's own chain, transcribed: pose, PerspectiveProjection, Disto24, UniformScale
     (normalised coordinates), then ``features.denormalized_image_coordinates`` (OpenCV pixel
     centres) + 0.5 to our corner origin."""
-    Xc = X @ rotation_from_vector(rvec).T + t
+    Xc = X @ rotation_matrix(rvec).T + t
     p = Xc[:, :2] / Xc[:, 2:]
     r2 = (p ** 2).sum(1, keepdims=True)
     n = focal * p * (1 + r2 * (k1 + k2 * r2))
@@ -175,8 +175,8 @@ def _dataset(folder, cameras, n_shots=4, seed=0, extra=None):
     keys = list(cameras)
     for i in range(n_shots):
         C = np.array([rng.uniform(-20, 20), rng.uniform(-20, 20), 30 + rng.uniform(-2, 2)])
-        R = rotation_from_vector(rng.normal(0, 0.05, 3)) @ np.diag([1.0, -1.0, -1.0])
-        shots[f"IMG_{i:04d}.JPG"] = {"rotation": rotation_to_vector(R).tolist(),
+        R = rotation_matrix(rng.normal(0, 0.05, 3)) @ np.diag([1.0, -1.0, -1.0])
+        shots[f"IMG_{i:04d}.JPG"] = {"rotation": rotation_vector(R).tolist(),
                                      "translation": (-R @ C).tolist(), "camera": keys[i % len(keys)]}
     rec = dict({"cameras": cameras, "shots": shots, "points": {}, "reference_lla": REF}, **(extra or {}))
     folder.mkdir(parents=True, exist_ok=True)
@@ -265,9 +265,9 @@ def test_rotation_vectors_against_opencv():
                                                         np.array([0, 1e-9, 0]), np.zeros(3),
                                                         np.array([0.0, 2.0, 2.0]) * (np.pi - 1e-7) / np.sqrt(8)]
     for v in vecs:
-        R = rotation_from_vector(v)
+        R = rotation_matrix(v)
         assert np.allclose(R, cv2.Rodrigues(v)[0], atol=1e-12)
-        assert np.allclose(rotation_from_vector(rotation_to_vector(R)), R, atol=1e-12)
+        assert np.allclose(rotation_matrix(rotation_vector(R)), R, atol=1e-12)
 
 
 # --- partial models, photos, unaligned ------------------------------------------------------------------

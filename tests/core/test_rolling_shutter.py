@@ -15,8 +15,8 @@ import pytest
 from easyidp_toolbox.core import InputError, open_reconstruction
 from easyidp_toolbox.core.reconstruction import BEHIND, INSIDE, OUTSIDE
 from easyidp_toolbox.core.reconstruction.frame_model import project_block
-from easyidp_toolbox.core.reconstruction.rolling_shutter import (RollingShutter, project_block_rs,
-                                                                 rotation_vector)
+from easyidp_toolbox.core.reconstruction.rolling_shutter import RollingShutter, project_block_rs
+from easyidp_toolbox.core.rotations import rotation_vector
 
 
 @pytest.fixture(scope="module")

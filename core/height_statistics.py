@@ -1,5 +1,5 @@
-"""ROI heights: the statistics and the result type shared by the DSM (:mod:`.raster.dsm_heights`)
-and the point cloud (:mod:`.pointcloud.stats`), so both speak one vocabulary.
+"""The vocabulary of ROI height statistics: the modes, the statistics and the result type shared
+by the DSM (:mod:`.raster.roi_heights`) and the point cloud (:mod:`.pointcloud.stats`).
 
 ``mode``: ``"polygon"`` (one value per ROI, from the pixels or points inside it) or ``"vertex"``
 (one value per vertex of every ring). ``statistic`` (with ``percentile``, 0–100):

@@ -1,8 +1,12 @@
 """The first hit of rays on a DSM: exact, vectorised, reading only the DSM tiles along the rays.
 
+A :class:`RaySurface` is made by :meth:`core.raster.dsm.DSM.ray_surface`; it needs no camera,
+only a frame that maps model coordinates to the DSM's CRS and back (duck-typed:
+``to_model`` / ``from_model``, as ``Reconstruction.frame`` has).
+
 **Surface.** The DSM is the bilinear surface between pixel centres (ARCHITECTURE.md). Beyond
 the outermost pixel centres, out to the raster edge, it continues flat (the edge rows and
-columns are repeated), as :func:`core.raster.dsm_heights.sample_points` does; the *extent* is
+columns are repeated), as :meth:`core.raster.dsm.DSM.heights` does; the *extent* is
 the raster's [0, width] × [0, height] pixels. A dual *cell* is the square between four pixel
 centres; a cell with a nodata corner is a nodata cell (the surface there is unknown).
 
@@ -34,14 +38,14 @@ nodata cell below the highest height read, before any hit: what lies there is un
 import os
 import threading
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import EasyIDPError, InputError
+from ..errors import EasyIDPError
 from ..progress import as_progress
-from ..raster.geotiff import GeoTiff, open_geotiff
-from ..raster.sweep import Window, sweep_windows, thread_pool
+from .geotiff import GeoTiff
+from .sweep import Window, sweep_windows, thread_pool
 
 HIT, MISS, LEFT, NODATA = 0, 1, 2, 3
 STATUS_NAMES = {HIT: "hit", MISS: "miss", LEFT: "left the DSM", NODATA: "nodata"}
@@ -71,24 +75,15 @@ class RayHits:
         return self.status == HIT
 
 
-class DSMSurface:
-    """A DSM GeoTIFF as a surface for ray casting; its tiles are read on demand and kept.
+class RaySurface:
+    """A DSM as a surface for ray casting; its tiles are read on demand and kept.
 
-    ``dsm``: a GeoTIFF path or an opened :class:`GeoTiff`; ``crs`` overrides the file's CRS.
-    Heights are in the DSM's own vertical reference and units.
+    Made by :meth:`core.raster.dsm.DSM.ray_surface` from the DSM's (one-band, validated)
+    :class:`GeoTiff`. Heights are in the DSM's own vertical reference and units. ``tile``:
+    cells per tile side (a multiple of :data:`BLOCK`).
     """
 
-    def __init__(self, dsm, crs=None, tile: int = TILE):
-        if isinstance(dsm, GeoTiff):
-            tif = dsm
-            if crs is not None:
-                from ..crs import as_crs
-                tif = replace(dsm, crs=as_crs(crs, f"CRS of {dsm.path}"))
-        else:
-            tif = open_geotiff(str(dsm), crs=crs)
-        if tif.bands != 1:
-            raise InputError(f"The DSM {tif.path} has {tif.bands} bands; a DSM must have exactly "
-                             "one (heights). Choose the elevation raster.")
+    def __init__(self, tif: GeoTiff, tile: int = TILE):
         if tile % BLOCK:
             raise ValueError(f"tile must be a multiple of {BLOCK}")
         self.tif = tif
@@ -248,7 +243,7 @@ class DSMSurface:
 class _Affine:
     """Model-frame point p → (u, v, z) = M·p + m, linearised at ``anchor`` (DSM CRS x, y, z)."""
 
-    def __init__(self, frame, surface: DSMSurface, anchor_xyz):
+    def __init__(self, frame, surface: RaySurface, anchor_xyz):
         self.frame, self.surface = frame, surface
         anchor = np.asarray(anchor_xyz, np.float64).reshape(1, 3)
         p0 = frame.to_model(anchor, surface.crs)[0]
@@ -397,12 +392,12 @@ def _solve_cells(r: _Rays, idx, iv, iu, t_in, t_out, h):
     return np.where(np.isfinite(s), t_in + s, np.nan)
 
 
-def _nodata_ceiling(surface: DSMSurface) -> float:
+def _nodata_ceiling(surface: RaySurface) -> float:
     """Nodata may hide anything up to the highest height read (anything at all before a read)."""
     return surface.zmax if np.isfinite(surface.zmax) else np.inf
 
 
-def _tile_walk(surface: DSMSurface, r: _Rays, idx, ta, zc):
+def _tile_walk(surface: RaySurface, r: _Rays, idx, ta, zc):
     """Walk the rays ``idx`` from ``ta`` over the tiles to the first one they come down into
     (code 1) or that is not read yet (code 2); ``_walk``'s (code, iv, iu, t_in, t_out)."""
     def tile_class(ids, iv, iu, t_in, t_out, zl, aux):
@@ -420,7 +415,7 @@ def _tile_walk(surface: DSMSurface, r: _Rays, idx, ta, zc):
                  surface.ntu + surface.ntv + 2)
 
 
-def _read_wanted(surface: DSMSurface, r: _Rays, idx, tv, tu, ta, prog) -> None:
+def _read_wanted(surface: RaySurface, r: _Rays, idx, tv, tu, ta, prog) -> None:
     """Read the unread tiles (tv, tu) where the rays ``idx`` stopped at ``ta``, the unread
     tiles next on their way down, and (for a large job) the holes of the area read, so that
     file blocks shared by neighbouring tiles are decoded once."""
@@ -440,7 +435,7 @@ def _read_wanted(surface: DSMSurface, r: _Rays, idx, tv, tu, ta, prog) -> None:
     surface.load(need, prog)
 
 
-def _traverse(surface: DSMSurface, r: _Rays, prog):
+def _traverse(surface: RaySurface, r: _Rays, prog):
     """First hits of a batch of rays in pixel space → (t (n,), status (n,))."""
     n = len(r.t0)
     t = np.full(n, np.nan)
@@ -526,7 +521,7 @@ def _traverse(surface: DSMSurface, r: _Rays, prog):
     return t, status
 
 
-def _tiles_ahead(surface: DSMSurface, r: _Rays, idx, ta, k: int) -> set:
+def _tiles_ahead(surface: RaySurface, r: _Rays, idx, ta, k: int) -> set:
     """Unread tiles among the next ``k`` tiles on the rays' way from ``ta`` while they are
     not above the highest height read (so a wave reads more than one tile per ray)."""
     found = set()
@@ -545,7 +540,7 @@ def _tiles_ahead(surface: DSMSurface, r: _Rays, idx, ta, k: int) -> set:
     return found
 
 
-def _clip_to_extent(surface: DSMSurface, o, d, tmax):
+def _clip_to_extent(surface: RaySurface, o, d, tmax):
     """Ray parameter range [t0, t1] inside the extent (slab method) and whether t1 is the
     extent's edge (not ``tmax``)."""
     lo = np.array([0.5, 0.5])
@@ -567,7 +562,7 @@ def _clip_to_extent(surface: DSMSurface, o, d, tmax):
     return t0, t1, edge
 
 
-def _first_wave(surface: DSMSurface, r: _Rays, prog, waves: int = 2) -> None:
+def _first_wave(surface: RaySurface, r: _Rays, prog, waves: int = 2) -> None:
     """Read the tiles all rays come down into first, in a few large sweeps, before threads
     traverse batches of them: threads that read in turn, tile by tile, would decode the file
     blocks shared by neighbouring tiles again and again."""
@@ -580,7 +575,7 @@ def _first_wave(surface: DSMSurface, r: _Rays, prog, waves: int = 2) -> None:
         _read_wanted(surface, r, idx[want], tv[want], tu[want], ta[want], prog)
 
 
-def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
+def _run(surface: RaySurface, aff: _Affine, origins, directions, tmax, prog):
     o = origins @ aff.M.T + aff.m
     d = directions @ aff.M.T
     t0, t1, edge = _clip_to_extent(surface, o, d, tmax)
@@ -615,7 +610,7 @@ def _run(surface: DSMSurface, aff: _Affine, origins, directions, tmax, prog):
     return o, d, t, st, t0, t1
 
 
-def first_hits(surface: DSMSurface, frame, origins, directions, *, max_distance=None,
+def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=None,
                progress=None, is_cancelled=None,
                tolerance: float = LINEARISATION_TOLERANCE) -> RayHits:
     """First hit of each ray on the DSM surface.

@@ -1,11 +1,13 @@
-"""Heights of ROI vertices for backward projection: a ROI must be 3-D before it is projected.
+"""Where backward projection takes the heights of ROI vertices: a ROI must be 3-D before it is
+projected.
 
 Four sources, one of them required (:func:`height_source`):
 
 * :class:`GeometryZ` — the Z of 3-D geometries (PolygonZ, e.g. the output of *ROI heights from
   DSM*), linearly interpolated along the edges when they are densified;
-* :class:`DSMHeights` — a DSM sampled bilinearly (between pixel centres) at every vertex,
-  including the vertices added by densification, so long edges follow the terrain;
+* a :class:`~core.raster.DSM` — sampled bilinearly (between pixel centres,
+  :meth:`~core.raster.DSM.heights`) at every vertex, including the vertices added by
+  densification, so long edges follow the terrain (an opened ``GeoTiff`` is accepted for it);
 * :class:`PerROIHeights` — one height per ROI: a sequence aligned with the ROIs, or the name of
   a numeric ROI attribute (e.g. a plot's mean DSM height);
 * :class:`ConstantHeight` — one height for every vertex (a number is accepted for it).
@@ -19,12 +21,13 @@ from typing import List, Optional, Sequence, Union
 
 import numpy as np
 
-from ..crs import as_crs, same_crs, transform_xy
 from ..errors import EasyIDPError, ROIError
+from ..raster import DSM, GeoTiff
 
 
 class HeightSource:
-    """Base class: ``heights(rois, ring_xy) -> list of (n,) arrays``, aligned with the rings."""
+    """Base class of the sources that are not a DSM; ``describe()`` says what gives the heights
+    (a :class:`~core.raster.DSM` describes itself the same way)."""
 
     def describe(self) -> str:
         raise NotImplementedError
@@ -34,21 +37,6 @@ class HeightSource:
 class GeometryZ(HeightSource):
     def describe(self) -> str:
         return "geometry Z"
-
-
-@dataclass(frozen=True)
-class DSMHeights(HeightSource):
-    """``dsm``: a GeoTIFF path or an opened :class:`core.raster.geotiff.GeoTiff`; ``crs``
-    overrides the CRS of its GeoKeys."""
-    dsm: object
-    crs: object = None
-
-    def describe(self) -> str:
-        return f"DSM {getattr(self.dsm, 'path', self.dsm)} (bilinear per vertex)"
-
-    def opened(self):
-        from ..raster.geotiff import GeoTiff, open_geotiff
-        return self.dsm if isinstance(self.dsm, GeoTiff) else open_geotiff(self.dsm, crs=self.crs)
 
 
 @dataclass(frozen=True)
@@ -70,13 +58,14 @@ class ConstantHeight(HeightSource):
 
 
 HEIGHTS_HELP = ("Give the ROI vertex heights: heights='geometry' (3-D ROIs, e.g. from ROI heights "
-                "from DSM), DSMHeights(dsm_path), PerROIHeights(values or attribute name) or a "
+                "from DSM), DSM(dsm_path), PerROIHeights(values or attribute name) or a "
                 "constant ground height (a number).")
 
 
-def height_source(heights) -> HeightSource:
-    """Accept a :class:`HeightSource`, ``"geometry"``/``"z"``, or a number (constant)."""
-    if isinstance(heights, HeightSource):
+def height_source(heights):
+    """A :class:`HeightSource` or a :class:`~core.raster.DSM` from one of them, an opened
+    ``GeoTiff`` (a DSM), ``"geometry"``/``"z"``, or a number (constant)."""
+    if isinstance(heights, (HeightSource, DSM)):
         return heights
     if heights is None:
         raise EasyIDPError(f"No height source: a ROI must be 3-D to be projected into photos. "
@@ -87,12 +76,8 @@ def height_source(heights) -> HeightSource:
         if not np.isfinite(heights):
             raise EasyIDPError(f"The constant height {heights} is not a finite number.")
         return ConstantHeight(float(heights))
-    try:
-        from ..raster.geotiff import GeoTiff
-        if isinstance(heights, GeoTiff):
-            return DSMHeights(heights)
-    except ImportError:  # pragma: no cover
-        pass
+    if isinstance(heights, GeoTiff):
+        return DSM(heights)
     raise EasyIDPError(f"Height source {heights!r} not understood. {HEIGHTS_HELP}")
 
 
@@ -132,17 +117,6 @@ def check_geometry_z(rois) -> None:
         for z in r.ring_z:
             if not np.all(np.isfinite(z)):
                 raise ROIError(f"ROI {r.name!r} has vertices without a valid Z (NaN).")
-
-
-def sample_dsm(dsm, xy: np.ndarray, xy_crs) -> np.ndarray:
-    """Bilinear DSM heights at (n, 2) points given in ``xy_crs`` (NaN outside / nodata)."""
-    from ..raster.dsm_heights import sample_points
-    tif = dsm.opened() if isinstance(dsm, DSMHeights) else dsm
-    pts = xy
-    src = as_crs(xy_crs)
-    if tif.crs is not None and src is not None and not same_crs(src, tif.crs):
-        pts = transform_xy(src, tif.crs, xy)
-    return np.asarray(sample_points(tif, pts[:, 0], pts[:, 1]), np.float64)
 
 
 def missing_heights_error(names: List[str], what: Optional[str] = None) -> ROIError:

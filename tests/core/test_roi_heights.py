@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import ROI, ROISet, read_geojson
-from easyidp_toolbox.core.raster.dsm_heights import roi_heights, sample_points, vertex_heights
+from easyidp_toolbox.core.raster import DSM, roi_heights, vertex_heights
 from easyidp_toolbox.core.errors import InputError
 from synthetic import write_tif
 
@@ -26,10 +26,11 @@ def test_bilinear_is_exact_on_a_plane_and_nearest_is_the_pixel(tmp_path):
     x = O[0] + rng.uniform(1, 49, 200)
     y = O[1] - rng.uniform(1, 39, 200)
     truth = 100 + 0.5 * (x - O[0]) - 0.25 * (y - O[1])
-    assert np.allclose(sample_points(path, x, y, "bilinear"), truth, atol=1e-9)
-    near = sample_points(path, x, y, "nearest")
+    assert np.allclose(DSM(path).heights(x, y, method="bilinear"), truth, atol=1e-9)
+    near = DSM(path).heights(x, y, method="nearest")
     assert np.array_equal(near, z[((O[1] - y) / 0.5).astype(int), ((x - O[0]) / 0.5).astype(int)])
-    assert np.isnan(sample_points(path, np.array([O[0] - 5]), np.array([O[1]]), "nearest")).all()
+    assert np.isnan(DSM(path).heights(np.array([O[0] - 5]), np.array([O[1]]),
+                                      method="nearest")).all()
 
 
 def test_diamond_on_constant_dsm_without_nodata_is_the_constant(tmp_path):
@@ -169,8 +170,8 @@ def test_dense_points_over_many_blocks_match_the_pixel_rule(tmp_path):
             if v is not None:
                 num, den = num + w * v, den + w
         bil.append(num / den if den > 0 else np.nan)
-    np.testing.assert_allclose(sample_points(path, x, y, "nearest"), near, atol=1e-9)
-    np.testing.assert_allclose(sample_points(path, x, y, "bilinear"), bil, atol=1e-9)
+    np.testing.assert_allclose(DSM(path).heights(x, y, method="nearest"), near, atol=1e-9)
+    np.testing.assert_allclose(DSM(path).heights(x, y, method="bilinear"), bil, atol=1e-9)
 
 
 def test_a_negative_buffer_larger_than_the_roi_blames_the_buffer(tmp_path):

@@ -1,0 +1,96 @@
+"""ROI heights from a DSM: per vertex, or one statistic per polygon (the vocabulary of modes
+and statistics: :mod:`core.height_statistics`).
+
+Heights are in the DSM's own vertical reference and units. Nodata pixels are ignored; a vertex
+or polygon without any valid pixel gets NaN and is reported, never 0.
+"""
+import numpy as np
+
+from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
+from ..progress import as_progress
+from ..roi import ROI, ROISet
+from .dsm import as_dsm, valid_heights
+from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
+from .sweep import sweep_windows
+
+
+def roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean",
+                percentile: float = 50.0, buffer: float = 0.0, sampling: str = "bilinear",
+                dsm_crs=None, progress=None, is_cancelled=None) -> HeightResult:
+    """Heights of ROIs from a DSM (a :class:`~.dsm.DSM`, a path or an opened :class:`GeoTiff`;
+    ``dsm_crs`` overrides its CRS).
+
+    ``mode="vertex"``: the DSM sampled at every vertex (``sampling`` nearest or bilinear); with
+    ``buffer`` > 0, the ``statistic`` of the valid pixels whose centres lie within ``buffer``
+    (map units of the DSM CRS) of the vertex instead.
+    ``mode="polygon"``: the ``statistic`` (see :mod:`core.height_statistics`) of the valid
+    pixels whose centres are inside the polygon grown (``buffer`` > 0) or shrunk (< 0) by
+    ``buffer``. ROIs in another CRS are reprojected to the DSM's for sampling; vertex heights stay aligned with the
+    ROIs' own vertices.
+    """
+    mode = check_heights_args(mode, statistic, percentile)
+    prog = as_progress(progress, is_cancelled)
+    dsm = as_dsm(dsm, dsm_crs)
+    tif = dsm.tif
+    local = rois_in_raster_crs(rois, tif)
+    if mode == "vertex":
+        xy = np.concatenate([r for roi in local for r in roi.rings])
+        z = vertex_heights(dsm, xy[:, 0], xy[:, 1], sampling, buffer, statistic, percentile, prog)
+        result = vertex_result(z, local, "some vertices fall outside the DSM or on nodata")
+        result.notes.extend(tif.notes)
+        return result
+    placed, skipped = place_rois(tif, local, buffer=buffer)
+    require_overlap(placed, skipped, local, tif)
+    result = HeightResult("polygon", [np.nan] * len(local), dict(skipped), list(tif.notes))
+
+    def consume(k: int, arr: np.ndarray) -> None:
+        p = placed[k]
+        a = arr[..., 0]
+        mask = p.mask()
+        sel = mask & valid_heights(tif, a)
+        if sel.any():
+            result.values[p.index] = statistic_of(a[sel], statistic, percentile)
+        elif not mask.any():
+            result.missing[p.index] = NO_PIXEL if p.buffer >= 0 else (
+                f"the buffer of {p.buffer:g} (DSM map units) shrinks it to nothing: it is "
+                f"narrower than {-2 * p.buffer:g}; use a smaller negative buffer")
+        else:
+            result.missing[p.index] = "all DSM pixels inside it are nodata"
+
+    sweep_windows(tif, [p.window for p in placed], consume, prog)
+    return result
+
+
+def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear",
+                   buffer: float = 0.0, statistic: str = "mean", percentile: float = 50.0,
+                   progress=None, is_cancelled=None) -> np.ndarray:
+    """Heights at points (x, y) in the DSM CRS (``dsm``: as for :func:`roi_heights`): sampled
+    (``buffer`` <= 0, :meth:`~.dsm.DSM.heights`), or the ``statistic`` of the valid pixels
+    whose centres lie within ``buffer`` map units of each point. NaN where there is no valid
+    pixel."""
+    dsm = as_dsm(dsm)
+    tif = dsm.tif
+    prog = as_progress(progress, is_cancelled)
+    if buffer <= 0:
+        return dsm.heights(x, y, method=sampling, progress=prog)
+    x, y = np.ravel(np.asarray(x, float)), np.ravel(np.asarray(y, float))
+    t = np.linspace(0, 2 * np.pi, 33)[:-1]
+    grow = buffer / np.cos(np.pi / 32)  # polygon circumscribing the disc
+    discs = [ROI(str(k), [[np.column_stack([xk + grow * np.cos(t), yk + grow * np.sin(t)])]])
+             for k, (xk, yk) in enumerate(zip(x, y))]
+    placed, _ = place_rois(tif, ROISet(discs, None))
+    out = np.full(x.shape, np.nan)
+
+    def consume(k: int, arr: np.ndarray) -> None:
+        p = placed[k]
+        w = p.window
+        cc, rr = np.meshgrid(np.arange(w.cols) + w.col + 0.5, np.arange(w.rows) + w.row + 0.5)
+        mx, my = tif.pixel_to_map(cc, rr)
+        a = arr[..., 0]
+        sel = (np.hypot(mx - x[p.index], my - y[p.index]) <= buffer) & valid_heights(tif, a)
+        if sel.any():
+            out[p.index] = statistic_of(a[sel], statistic, percentile)
+
+    if placed:
+        sweep_windows(tif, [p.window for p in placed], consume, prog)
+    return out
