@@ -44,7 +44,7 @@ def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
     """A sloped DSM with a hole (nodata) under part of the scene: rings on the DSM where it
     has data (checked against the DSM's own bilinear heights), the plane under the camera
     elsewhere (``complete`` False)."""
-    from synthetic import write_tif
+    from easyidp_toolbox.tests.support.synthetic import write_tif
     from easyidp_toolbox.core.projection import DSMSurface
     from easyidp_toolbox.core.reconstruction.footprints import (GROUND_FROM_FOOTPRINT,
                                                                 GROUND_FROM_OTHERS)

@@ -10,7 +10,7 @@ import shapefile
 from easyidp_toolbox.core.errors import EasyIDPError, InputError, ROIError
 from easyidp_toolbox.core.roi import open_rois, rois_from_geo_interface
 
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 
 # ---- real files ------------------------------------------------------------------------------

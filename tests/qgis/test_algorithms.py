@@ -9,7 +9,7 @@ from qgis.core import (QgsApplication, QgsFeature, QgsGeometry, QgsProcessingCon
                        QgsProcessingException, QgsProcessingFeedback, QgsProject, QgsRasterLayer,
                        QgsVectorLayer, QgsWkbTypes)
 
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 ZONES = "data-to-science/zones_inside_test_tif.geojson"
 DSM = "data-to-science/test.tif"
@@ -127,7 +127,22 @@ def test_truncated_tiff_names_the_file(provider, tmp_path, realdata):
     p.write_bytes(data[: len(data) // 2])
     with pytest.raises(QgsProcessingException, match="cut.tif is (truncated|corrupt|not)"):
         _crop(str(p), str(realdata / ZONES), str(tmp_path / "o"))
-    assert not [f for f in os.listdir(tmp_path / "o") if f.endswith(".part")] if (tmp_path / "o").exists() else True
+    assert not _leftovers(tmp_path / "o")
+
+
+def _leftovers(folder):
+    """The temporary files (``core.files.part_name``) left in ``folder`` (none if it is absent)."""
+    from easyidp_toolbox.core.files import is_part_name
+    return [f for f in os.listdir(folder) if is_part_name(f)] if os.path.isdir(folder) else []
+
+
+@pytest.mark.parametrize("target", ["A1.tif", "A1.part.tif", "notes", "plot.gpkg"])
+def test_the_leftover_check_finds_a_planted_temporary_file(tmp_path, target):
+    from easyidp_toolbox.core.files import part_name
+    (tmp_path / target).write_bytes(b"done")
+    assert _leftovers(tmp_path) == []
+    part_name(tmp_path / target).write_bytes(b"half")
+    assert _leftovers(tmp_path) == [part_name(tmp_path / target).name]
 
 
 def test_raster_without_georeferencing(provider, tmp_path, realdata):
