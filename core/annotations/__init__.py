@@ -11,5 +11,7 @@ from .model import PhotoAnnotations, PhotoShape
 from .photos import PhotoIndex, detect_format, read_annotations
 from .yolo import read_yolo, read_yolo_folder
 
+from .model import LINE, POINT, POLYGON
 __all__ = ["PhotoAnnotations", "PhotoShape", "read_labelme", "read_coco", "read_yolo",
            "read_yolo_folder", "read_annotations", "detect_format", "PhotoIndex"]
+__all__ += ["POLYGON", "LINE", "POINT"]

@@ -30,6 +30,9 @@ from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
 from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, FlatPolygons, read_easyidp_json
 
+from .forward_photos import PhotosToMap, forward_project_photos
+from .ortho import orthorectify_rois
+from .training_set import point_discs
 __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA",
            "back_project", "score", "BackProjection", "FlatPolygons", "PIXEL_CONVENTION", "PIXEL_CRS_WKT",
            "read_easyidp_json", "GeometryZ", "DSMHeights", "PerROIHeights", "ConstantHeight",
@@ -38,3 +41,4 @@ __all__ = ["DSMSurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT", "NODATA
            "ForwardShape", "forward_project", "densify_ring", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
            "TrainingSet"]
+__all__ += ["PhotosToMap", "forward_project_photos", "orthorectify_rois", "point_discs"]

@@ -18,6 +18,9 @@ from .season import SeasonResult, run_season
 from .series import RowProblem, Survey, SurveyTable, read_survey_table, surveys_from_rows
 from .traits import DEFAULT_PERCENTILES, TRAIT_GROUPS
 
+from .curves import main_trait
+from .season import check_season_outputs, season_inputs
 __all__ = ["run_season", "SeasonResult", "read_survey_table", "surveys_from_rows", "Survey",
            "SurveyTable", "RowProblem", "write_long_csv", "write_season_geopackage",
            "plot_growth_curves", "TRAIT_GROUPS", "DEFAULT_PERCENTILES"]
+__all__ += ["main_trait", "check_season_outputs", "season_inputs"]

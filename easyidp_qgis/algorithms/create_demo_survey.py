@@ -8,6 +8,7 @@ from qgis.core import (QgsProcessingOutputFile, QgsProcessingOutputFolder,
 
 from .. import presentation
 from ..compat import ProcessingNumberParameterType, ProcessingParameterFlag
+from ..progress import feedback_progress
 from .base import EasyIDPAlgorithm
 
 SIZES = ["small", "medium"]
@@ -88,7 +89,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         feedback.pushInfo(self.tr("Writing a {size} demo survey (seed {seed}) into {folder}").format(
                               size=size, seed=seed, folder=folder))
         s = make_demo_survey(folder, seed=seed, size=size, overwrite=self.overwrite(parameters, context),
-                             progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
+                             progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled)
         if context.project() is not None:     # the desktop (qgis_process loads nothing)
             group = presentation.MapGroup(self.tr("Demo survey"), expanded=True)
             for rank, (path, name, out, hint, style) in enumerate((

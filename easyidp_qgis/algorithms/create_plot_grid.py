@@ -1,6 +1,6 @@
 """Processing tool: Create plot grid (easyidp:createplotgrid)."""
 from qgis.core import (QgsCoordinateTransform, QgsFeature,
-                       QgsField, QgsFields, QgsGeometry, QgsPointXY, QgsProcessingException, QgsProcessingParameterCrs,
+                       QgsField, QgsFields, QgsPointXY, QgsProcessingException, QgsProcessingParameterCrs,
                        QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterNumber,
@@ -9,8 +9,11 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature,
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from .. import presentation
-from ..outputs import close_sink
-from ..layers import crs_string, optional_number
+from ..crs import crs_string
+from ..geometries import polygon
+from ..parameters import optional_number
+from ..sinks import close_sink
+from ..values import is_null
 from .base import EasyIDPAlgorithm, translatable
 
 ANCHORS = [("corners", translatable("Four corner points (any order)")),
@@ -236,7 +239,7 @@ class CreatePlotGrid(EasyIDPAlgorithm):
         names = source.fields().names()
         rows = []
         for feat in source.getFeatures():
-            rows.append({n: (None if v is None or str(v) == "NULL" else v)
+            rows.append({n: (None if is_null(v) else v)
                          for n, v in zip(names, feat.attributes())})
         return rows, source.sourceName()
 
@@ -292,8 +295,7 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             feat = QgsFeature(fields)
             attrs = grid.attributes(i)
             feat.setAttributes([attrs[n] for n in names])
-            ring = [QgsPointXY(float(x), float(y)) for x, y in grid.corners[i]]
-            feat.setGeometry(QgsGeometry.fromPolygonXY([ring + ring[:1]]))
+            feat.setGeometry(polygon([grid.corners[i]]))
             sink.addFeature(feat, FeatureSinkFlag.FastInsert)
         close_sink(sink)
         presentation.present(

@@ -8,9 +8,12 @@ from qgis.core import (QgsProcessingException, QgsProcessingOutputMultipleLayers
 
 from .. import presentation
 from ..compat import FieldType, ProcessingParameterFlag
-from ..layers import (add_index_parameter, add_point_cloud_parameters, add_roi_parameters,
-                     add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_parameter,
-                     write_index, z_range)
+from ..crs import qgis_crs
+from ..parameters import add_z_range_parameters, z_range
+from ..point_clouds import add_point_cloud_parameters, read_point_cloud_parameter
+from ..progress import feedback_progress
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import add_index_parameter, write_index
 from .base import EasyIDPAlgorithm, translatable
 
 FORMATS = [("same", translatable("Same as input")), ("las", "LAS"),
@@ -104,7 +107,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         result = crop_point_cloud(
             cloud, rois, folder, fmt=fmt, z_min=z_min, z_max=z_max, write_empty=write_empty,
             overwrite=self.overwrite(parameters, context),
-            progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 100), is_cancelled=feedback.isCanceled)
         if result.items and len(result.missed) == len(result.items):
             raise QgsProcessingException(self.tr("None of the {n_items} ROIs overlaps the point "
                                                  "cloud: check that the ROIs and the cloud are in "

@@ -7,8 +7,12 @@ from qgis.core import (QgsCoordinateTransform, QgsFeatureRequest, QgsProcessingE
 
 from ..compat import (GeometryType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
-from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
-                      rois_from_source)
+from ..crs import crs_string
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import geotiff_source
+from ..rois import rois_from_source
+from ..values import is_null
 from .base import EasyIDPAlgorithm
 
 SPLITS = ("region", "photo")
@@ -136,7 +140,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
             region_size=self.parameterAsDouble(parameters, self.REGION_SIZE, context),
             seed=self.parameterAsInt(parameters, self.SEED, context),
             overwrite=self.overwrite(parameters, context),
-            progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 100), is_cancelled=feedback.isCanceled)
         for label, why in result.skipped_photos.items():
             feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
         for name, why in list(result.unseen.items())[:50]:
@@ -165,7 +169,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
                 g.transform(tr)
                 for p in (g.asMultiPoint() if g.isMultipart() else [g.asPoint()]):
                     name = feat[id_field] if id_field else feat.id()
-                    names.append(str(feat.id()) if name is None or str(name) == "NULL" else str(name))
+                    names.append(str(feat.id()) if is_null(name) else str(name))
                     xy.append((p.x(), p.y()))
                     features.append(feat)
             rois = point_discs(names, xy, radius, crs=crs_string(crs))

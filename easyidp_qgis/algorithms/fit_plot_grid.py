@@ -1,5 +1,5 @@
 """Processing tool: Fit plot grid to crop rows (easyidp:fitplotgrid)."""
-from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsPointXY,
+from qgis.core import (QgsFeature, QgsField, QgsFields,
                        QgsProcessingException, QgsProcessingParameterBand,
                        QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
@@ -9,8 +9,13 @@ from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsPointXY,
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from .. import presentation
-from ..outputs import close_sink
-from ..layers import crs_string, geotiff_source, optional_number, rois_from_source
+from ..crs import crs_string
+from ..geometries import multipolygon
+from ..parameters import optional_number
+from ..progress import feedback_progress
+from ..rasters import geotiff_source
+from ..rois import rois_from_source
+from ..sinks import close_sink
 from .base import EasyIDPAlgorithm, translatable
 
 INDICES = [("auto", translatable("Automatic (ExG for an RGB orthomosaic)")),
@@ -133,7 +138,7 @@ class FitPlotGrid(EasyIDPAlgorithm):
             search=optional_number(self, parameters, self.SEARCH, context),
             min_cover=self.parameterAsDouble(parameters, self.MIN_COVER, context),
             min_score=self.parameterAsDouble(parameters, self.MIN_SCORE, context),
-            progress=lambda p: feedback.setProgress(5 + 0.9 * p), is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled)
         for note in result.notes:
             feedback.pushInfo(note)
         feedback.pushInfo(result.summary(threshold))
@@ -164,9 +169,8 @@ class FitPlotGrid(EasyIDPAlgorithm):
                 attrs[fields.indexFromName(name)] = values[name]
             out = QgsFeature(fields)
             out.setAttributes(attrs)
-            polys = [[[QgsPointXY(float(x), float(y)) for x, y in
-                       _closed(result.move(i, ring))] for ring in part] for part in roi.parts]
-            out.setGeometry(QgsGeometry.fromMultiPolygonXY(polys))
+            out.setGeometry(multipolygon([[result.move(i, ring) for ring in part]
+                                          for part in roi.parts]))
             sink.addFeature(out, FeatureSinkFlag.FastInsert)
         close_sink(sink)
         label = f'"{name_field}"' if name_field else None
@@ -179,6 +183,3 @@ class FitPlotGrid(EasyIDPAlgorithm):
         feedback.setProgress(100)
         return {self.OUTPUT: dest_id}
 
-
-def _closed(xy):
-    return list(xy) + [xy[0]]

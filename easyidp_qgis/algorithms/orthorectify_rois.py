@@ -8,8 +8,12 @@ from qgis.core import (QgsProcessingOutputMultipleLayers, QgsProcessingOutputNum
 from .. import presentation
 from ..compat import (FieldType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
                       ProcessingParameterFlag)
-from ..layers import (add_index_parameter, add_project_parameters, add_roi_parameters, crs_string,
-                     geotiff_source, open_project_parameter, rois_parameter, write_index)
+from ..crs import crs_string
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import geotiff_source
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import add_index_parameter, write_index
 from .base import EasyIDPAlgorithm
 
 SELECTIONS = ("best", "all", "photo")
@@ -100,7 +104,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         result = orthorectify_rois(rois, recon, dsm, folder, selection=selection, photo=photo,
                                    photos_folder=photos, gsd=gsd, dsm_crs=crs_string(layer.crs()),
                                    overwrite=self.overwrite(parameters, context),
-                                   progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
+                                   progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled)
         for what, why in result.skipped.items():
             feedback.pushWarning(self.tr("{what}: no image ({why}).").format(what=what, why=why))
         index = write_index(self, parameters, context, source, [

@@ -10,10 +10,13 @@ from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
 from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
-from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
-                     optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
-                     rois_parameter, z_range)
-from ..outputs import close_sink
+from ..crs import qgis_crs
+from ..parameters import add_z_range_parameters, optional_number, parse_percentiles, z_range
+from ..point_clouds import add_point_cloud_parameters, read_point_cloud_parameter
+from ..progress import feedback_progress
+from ..rasters import dsm_ground
+from ..rois import rois_parameter
+from ..sinks import close_sink
 from .base import EasyIDPAlgorithm
 
 FIXED_FIELDS = [("count", FieldType.LongLong), ("density", FieldType.Double),
@@ -114,7 +117,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
 
         summary = canopy_summary(
             cloud, rois, ground=ground, percentiles=percentiles, ground_percentile=ground_pct,
-            z_min=z_min, z_max=z_max, progress=lambda p: feedback.setProgress(5 + 0.9 * p),
+            z_min=z_min, z_max=z_max, progress=feedback_progress(feedback, 5, 95),
             is_cancelled=feedback.isCanceled)
 
         stats = FIXED_FIELDS + [(percentile_field(q), FieldType.Double) for q in percentiles]

@@ -2,8 +2,7 @@
 import math
 
 import numpy as np
-from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsGeometry,
-                       QgsLineString, QgsMultiPolygon, QgsPointXY, QgsPolygon,
+from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsPointXY,
                        QgsProcessingException, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
@@ -12,8 +11,12 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, 
 from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
-from ..layers import crs_string, geotiff_source, rois_parameter
-from ..outputs import close_sink
+from ..crs import crs_string
+from ..geometries import multipolygon
+from ..progress import feedback_progress
+from ..rasters import geotiff_source
+from ..rois import rois_parameter
+from ..sinks import close_sink
 from .base import EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
@@ -90,7 +93,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         buffer = self.parameterAsDouble(parameters, self.BUFFER, context)
         sampling = SAMPLING[self.parameterAsEnum(parameters, self.SAMPLING, context)]
         rois.validate()
-        progress = lambda p: feedback.setProgress(5 + 0.9 * p)  # noqa: E731
+        progress = feedback_progress(feedback, 5, 95)  # noqa: E731
 
         if mode == "polygon":
             result = roi_heights(dsm, rois, "polygon", stat, pct, buffer, progress=progress,
@@ -159,20 +162,14 @@ def _rings(geom):
 
 
 def _with_z(polys, height, zs):
-    """A MultiPolygonZ from rings, Z = ``zs`` per vertex (in order) or ``height`` everywhere."""
-    multi = QgsMultiPolygon()
-    k = 0
+    """A MultiPolygonZ from closed rings, Z = ``zs`` per vertex (in order) or ``height``
+    everywhere."""
+    out, k = [], 0
     for poly in polys:
-        polygon = QgsPolygon()
-        for j, ring in enumerate(poly):
-            x = [p[0] for p in ring]
-            y = [p[1] for p in ring]
-            z = list(zs[k:k + len(ring)]) if zs is not None else [height] * len(ring)
+        rings = []
+        for ring in poly:
+            z = zs[k:k + len(ring)] if zs is not None else np.full(len(ring), height)
             k += len(ring)
-            line = QgsLineString(x, y, [float(v) for v in z])
-            if j == 0:
-                polygon.setExteriorRing(line)
-            else:
-                polygon.addInteriorRing(line)
-        multi.addGeometry(polygon)
-    return QgsGeometry(multi)
+            rings.append(np.column_stack([np.asarray(ring, np.float64).reshape(-1, 2), z]))
+        out.append(rings)
+    return multipolygon(out, z=True, close=False)

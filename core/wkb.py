@@ -1,0 +1,51 @@
+"""Well-Known Binary (ISO WKB, little-endian) of the core's polygons, written with numpy.
+
+The one form in which core geometry reaches a GIS: the QGIS plugin turns it into features with
+``QgsGeometry.fromWkb``. Polygons are ``[exterior, hole, …]``, each ring an (n, 2) or (n, 3)
+array of open vertices (the first vertex is not repeated): the encoder closes every ring by
+repeating its first vertex (``close=False``: the rings are already closed, as QGIS stores them). With Z, every ring of the geometry must have three columns.
+"""
+import struct
+from typing import Sequence
+
+import numpy as np
+
+__all__ = ["multipolygon_wkb", "polygon_wkb"]
+
+_POLYGON, _MULTIPOLYGON, _Z = 3, 6, 1000
+
+
+def _rings(rings, z: bool, close: bool) -> list:
+    out = [struct.pack("<I", len(rings))]
+    width = 3 if z else 2
+    for r in rings:
+        a = np.asarray(r, np.float64)[:, :width]
+        if close:
+            a = np.vstack([a, a[:1]])
+        out.append(struct.pack("<I", len(a)))
+        out.append(np.ascontiguousarray(a, "<f8").tobytes())
+    return out
+
+
+def polygon_wkb(rings: Sequence, z: bool = False, close: bool = True) -> bytes:
+    """The WKB Polygon (PolygonZ with ``z``) of one polygon ``[exterior, hole, …]``."""
+    return b"".join([struct.pack("<BI", 1, _POLYGON + (_Z if z else 0)), *_rings(rings, z, close)])
+
+
+def multipolygon_wkb(polygons: Sequence, z: bool = False, min_vertices: int = 0,
+                     close: bool = True) -> bytes:
+    """The WKB MultiPolygon (MultiPolygonZ with ``z``) of ``polygons`` ``[[exterior, hole, …],
+    …]``. Rings of fewer than ``min_vertices`` vertices are left out, and polygons left with no
+    ring; the result may then have no polygon."""
+    kept = []
+    for p in polygons:
+        rings = [r for r in p if len(r) >= min_vertices] if min_vertices else list(p)
+        if rings:
+            kept.append(rings)
+    ptype = struct.pack("<BI", 1, _POLYGON + (_Z if z else 0))
+    out = [struct.pack("<BII", 1, _MULTIPOLYGON + (_Z if z else 0), len(kept))]
+    for rings in kept:
+        out.append(ptype)
+        out += _rings(rings, z, close)
+    return b"".join(out)
+
