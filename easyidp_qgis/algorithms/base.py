@@ -168,6 +168,15 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         parameter. Reads the QGIS inputs (layers, features) but runs nothing of the core's work."""
         raise NotImplementedError
 
+    def step(self, parameters, context, feedback) -> CoreStep:
+        """:meth:`core_step` with a core error about the parameters (a file the season table
+        names given as an output…) raised as QgsProcessingException, as a run does."""
+        from ...core.errors import EasyIDPError
+        try:
+            return self.core_step(parameters, context, feedback)
+        except EasyIDPError as exc:
+            raise QgsProcessingException(str(exc)) from None
+
     def write_outputs(self, parameters, context, feedback, step: CoreStep, result) -> dict:
         """The core's ``result`` → the tool's outputs (sinks, map layers, log)."""
         raise NotImplementedError

@@ -17,7 +17,7 @@ from ..progress import feedback_progress
 from ..rasters import geotiff_source
 from ..rois import rois_parameter
 from ..sinks import close_sink
-from .base import EasyIDPAlgorithm, translatable
+from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
          ("vertex", translatable("Per vertex: the DSM height at each vertex"))]
@@ -77,9 +77,8 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.OUTPUT, self.tr("ROIs with heights"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
-    def run_tool(self, parameters, context, feedback):
-        from ...core.raster.dsm_heights import roi_heights, vertex_heights
-        from ...core.raster.geotiff import open_geotiff
+    def core_step(self, parameters, context, feedback):
+        from ...core.raster import open_geotiff, roi_heights, vertex_heights
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = open_geotiff(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
@@ -88,32 +87,37 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         for note in dsm.notes:
             feedback.pushWarning(note)
         mode = MODES[self.parameterAsEnum(parameters, self.MODE, context)][0]
-        stat = STATS[self.parameterAsEnum(parameters, self.STATISTIC, context)]
-        pct = self.parameterAsDouble(parameters, self.PERCENTILE, context)
-        buffer = self.parameterAsDouble(parameters, self.BUFFER, context)
-        sampling = SAMPLING[self.parameterAsEnum(parameters, self.SAMPLING, context)]
+        stats = dict(statistic=STATS[self.parameterAsEnum(parameters, self.STATISTIC, context)],
+                     percentile=self.parameterAsDouble(parameters, self.PERCENTILE, context),
+                     buffer=self.parameterAsDouble(parameters, self.BUFFER, context),
+                     progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled)
         rois.validate()
-        progress = feedback_progress(feedback, 5, 95)  # noqa: E731
-
+        inputs = dict(layer=layer, source=source, features=features, rois=rois)
         if mode == "polygon":
-            result = roi_heights(dsm, rois, "polygon", stat, pct, buffer, progress=progress,
-                                 is_cancelled=feedback.isCanceled)
+            return CoreStep(roi_heights, dict(dsm=dsm, rois=rois, mode="polygon", **stats), inputs)
+        # sample at the layer's own vertices (closing vertices included), in the DSM CRS
+        rings = [_rings(f.geometry()) for f in features]
+        to_dsm = QgsCoordinateTransform(source.sourceCrs(), layer.crs(), context.transformContext())
+        xy = np.array([(q.x(), q.y()) for q in (to_dsm.transform(QgsPointXY(*pt)) for polys
+                       in rings for poly in polys for ring in poly for pt in ring)],
+                      dtype=float).reshape(-1, 2)
+        return CoreStep(vertex_heights, dict(
+            dsm=dsm, x=xy[:, 0], y=xy[:, 1],
+            sampling=SAMPLING[self.parameterAsEnum(parameters, self.SAMPLING, context)], **stats),
+            dict(inputs, rings=rings))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        layer, source, features, rois = (step.inputs[k] for k in ("layer", "source", "features",
+                                                                   "rois"))
+        stat, pct = step.kwargs["statistic"], step.kwargs["percentile"]
+        if "rings" not in step.inputs:
             per_feature = [(v, None) for v in result.values]
             missing = result.missing
         else:
-            # sample at the layer's own vertices (closing vertices included), in the DSM CRS
-            rings = [_rings(f.geometry()) for f in features]
-            to_dsm = QgsCoordinateTransform(source.sourceCrs(), layer.crs(),
-                                            context.transformContext())
-            xy = np.array([(q.x(), q.y()) for q in (to_dsm.transform(QgsPointXY(*pt)) for polys
-                           in rings for poly in polys for ring in poly for pt in ring)],
-                          dtype=float).reshape(-1, 2)
-            z = vertex_heights(dsm, xy[:, 0], xy[:, 1], sampling, buffer, stat, pct, progress,
-                               feedback.isCanceled)
             per_feature, k, missing = [], 0, {}
-            for i, (roi, polys) in enumerate(zip(rois, rings)):
+            for i, (roi, polys) in enumerate(zip(rois, step.inputs["rings"])):
                 n = sum(len(r) for poly in polys for r in poly)
-                zs = z[k:k + n]
+                zs = result[k:k + n]
                 k += n
                 if np.isnan(zs).any():
                     missing[i] = "some vertices fall outside the DSM or on nodata"

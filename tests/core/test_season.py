@@ -27,7 +27,7 @@ from easyidp_toolbox.core.season import executors
 from easyidp_toolbox.core.season.ground import fit_plane, low_plane
 from easyidp_toolbox.core.indices import INDEX_BINS, index_histogram, otsu_threshold
 
-from season_helpers import small_season
+from easyidp_toolbox.tests.support.season_helpers import small_season
 from easyidp_toolbox.tests.support.synthetic import write_tif
 
 TIMEOUT = 600   # seconds: generous, for a loaded 2-core machine
