@@ -20,7 +20,7 @@ from ..rasters import dsm_parameter
 from ..rois import add_roi_parameters, rois_parameter
 from ..sinks import fields_of, write_features, write_roi_layer
 from ..vertex_heights import add_height_parameters, height_source_parameter
-from .base import EasyIDPAlgorithm
+from .base import CoreStep, EasyIDPAlgorithm
 
 
 class BackProjectROIs(EasyIDPAlgorithm):
@@ -121,8 +121,8 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     # --- running ----------------------------------------------------------------------------
-    def run_tool(self, parameters, context, feedback):
-        from ...core.projection import back_project, crop_photos, resolve_photos
+    def core_step(self, parameters, context, feedback):
+        from ...core.projection import back_project
 
         recon = open_project_parameter(self, parameters, context, feedback)
         source, rois, features = rois_parameter(self, parameters, context, feedback)
@@ -133,23 +133,28 @@ class BackProjectROIs(EasyIDPAlgorithm):
         occlusion = self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is not None
         if self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is None:
             feedback.pushInfo(self.tr("No DSM given: occlusion is not tested."))
-        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
         crops = optional_destination(self, parameters, self.CROPS_FOLDER, context)
         previews = optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
-        json_path = optional_destination(self, parameters, self.OUTPUT_JSON, context)
         span = 60.0 if (crops or previews) else 95.0
-
         feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
             n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
-        result = back_project(
-            rois, recon, heights=heights,
+        return CoreStep(back_project, dict(
+            rois=rois, recon=recon, heights=heights,
             distortion=self.parameterAsBool(parameters, self.DISTORTION, context),
             clip=self.parameterAsEnum(parameters, self.CLIP, context) == 0,
             occlusion_dsm=dsm if occlusion else None,
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
             max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
-            progress=feedback_progress(feedback, 5, 5 + span),
-            is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 5 + span), is_cancelled=feedback.isCanceled),
+            dict(source=source, features=features, crops=crops, previews=previews, span=span))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        from ...core.projection import crop_photos, resolve_photos
+        source, features, crops, previews, span = (step.inputs[k] for k in (
+            "source", "features", "crops", "previews", "span"))
+        rois = step.kwargs["rois"]
+        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
+        json_path = optional_destination(self, parameters, self.OUTPUT_JSON, context)
         for note in result.notes:
             feedback.pushWarning(note)
         for name, why in list(result.unseen.items())[:50]:
