@@ -167,3 +167,55 @@ def test_season_step_refuses_bad_parameters(provider, season, change, match):
         params["OUTPUT_CURVES"] = season.dsms[0]
     with pytest.raises(QgsProcessingException, match=match):
         _step("easyidp:seasontraits", params)
+
+
+# ---- ROI heights from DSM, Create plot grid, Create demo survey ------------------------------
+
+@pytest.mark.parametrize("mode, function, extra", [
+    (0, "roi_heights", {"mode": "polygon"}),
+    (1, "vertex_heights", {"sampling": "nearest"}),
+])
+def test_roi_heights_step(provider, raster, mode, function, extra):
+    from easyidp_toolbox.core import raster as core_raster
+    step = _step("easyidp:roiheightsfromdsm", {
+        "ROIS": _layer("Polygon", "EPSG:32654", PLOTS), "DSM": raster, "MODE": mode,
+        "STATISTIC": 4, "PERCENTILE": 90, "SAMPLING": 1, "OUTPUT": "memory:"})
+    assert step.function is getattr(core_raster, function)
+    kw = step.kwargs
+    assert kw["statistic"] == "percentile" and kw["percentile"] == 90 and kw["buffer"] == 0
+    for name, value in extra.items():
+        assert kw[name] == value
+    if mode == 1:       # the layer's own vertices, closing ones included: 4 per triangle
+        assert len(kw["x"]) == len(kw["y"]) == 8 and kw["x"][0] == 368002
+
+
+def test_create_plot_grid_step(provider, tmp_path):
+    from easyidp_toolbox.core.plotgrid import create_plot_grid
+    step = _step("easyidp:createplotgrid", {
+        "ANCHOR": 2, "ORIGIN": "500000,4000000 [EPSG:32654]", "ROWS": 2, "COLS": 3, "SIZE_X": 2,
+        "SIZE_Y": 1, "SPACING_X": 2.5, "GAP_Y": 1, "OUTPUT": str(tmp_path / "c.gpkg")})
+    assert step.function is create_plot_grid
+    kw = step.kwargs
+    assert (kw["crs"], kw["rows"], kw["cols"]) == ("EPSG:32654", 2, 3)
+    assert kw["origin"] == pytest.approx((500000, 4000000)) and kw["spacing_x"] == 2.5
+    assert kw["size_x"] == 2 and kw["gap_y"] == 1 and kw["gap_x"] is None
+    assert not (tmp_path / "c.gpkg").exists()
+
+
+@pytest.mark.parametrize("size, seed", [(0, 0), (1, 7)])
+def test_create_demo_survey_step(provider, tmp_path, size, seed):
+    from easyidp_toolbox.core.demo import make_demo_survey
+    step = _step("easyidp:createdemosurvey", {"OUTPUT_FOLDER": str(tmp_path / "demo"),
+                                               "SIZE": size, "SEED": seed})
+    assert step.function is make_demo_survey
+    assert {k: step.kwargs[k] for k in ("folder", "seed", "size", "overwrite")} == {
+        "folder": str(tmp_path / "demo"), "seed": seed, "size": ["small", "medium"][size],
+        "overwrite": False}
+    assert not (tmp_path / "demo").exists()
+
+
+def test_every_tool_but_two_has_a_core_step(provider):
+    """Camera footprints and Plot statistics from raw photos still run the core in run_tool."""
+    from easyidp_toolbox.easyidp_qgis.algorithms import ALGORITHMS
+    without = sorted(a.NAME for a in ALGORITHMS if "core_step" not in vars(a))
+    assert without == ["camerafootprints", "photostatistics"]
