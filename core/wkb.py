@@ -3,7 +3,9 @@
 The one form in which core geometry reaches a GIS: the QGIS plugin turns it into features with
 ``QgsGeometry.fromWkb``. Polygons are ``[exterior, hole, …]``, each ring an (n, 2) or (n, 3)
 array of open vertices (the first vertex is not repeated): the encoder closes every ring by
-repeating its first vertex (``close=False``: the rings are already closed, as QGIS stores them). With Z, every ring of the geometry must have three columns.
+repeating its first vertex (``close=False``: the rings are already closed, as QGIS stores
+them). With Z, every ring of the geometry must have three columns. Coordinates in the units of
+the geometry's CRS (photo pixels for the photo-pixel layers).
 """
 import struct
 from typing import Sequence

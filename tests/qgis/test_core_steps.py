@@ -5,9 +5,10 @@ import os
 
 import numpy as np
 import pytest
-from qgis.core import (QgsApplication, QgsFeature, QgsGeometry, QgsProcessingContext,
-                       QgsProcessingException, QgsProcessingFeedback, QgsVectorLayer)
+from qgis.core import (QgsApplication, QgsProcessingContext, QgsProcessingException,
+                       QgsProcessingFeedback)
 
+from easyidp_toolbox.tests.support.qgis_layers import memory_layer
 from easyidp_toolbox.tests.support.season_helpers import small_season
 from easyidp_toolbox.tests.support.synthetic import write_tif
 
@@ -17,18 +18,6 @@ def _step(alg_id, parameters):
     alg = QgsApplication.processingRegistry().createAlgorithmById(alg_id)
     context = QgsProcessingContext()
     return alg.step(parameters, context, QgsProcessingFeedback())
-
-
-def _layer(kind, crs, wkts):
-    layer = QgsVectorLayer(f"{kind}?crs={crs}&field=name:string", "rois", "memory")
-    feats = []
-    for n, w in wkts:
-        f = QgsFeature(layer.fields())
-        f.setAttributes([n])
-        f.setGeometry(QgsGeometry.fromWkt(w))
-        feats.append(f)
-    layer.dataProvider().addFeatures(feats)
-    return layer
 
 
 PLOTS = [("a", "POLYGON((368002 3955998, 368010 3955998, 368010 3955990, 368002 3955998))"),
@@ -55,7 +44,7 @@ def test_crop_raster_step(provider, raster, tmp_path, all_touched, overwrite):
     from easyidp_toolbox.core.raster import crop_raster_by_rois
     out = tmp_path / "crops"
     step = _step("easyidp:croprasterbyrois", {
-        "INPUT": raster, "ROIS": _layer("Polygon", "EPSG:32654", PLOTS), "NAME_FIELD": "name",
+        "INPUT": raster, "ROIS": memory_layer("EPSG:32654", PLOTS), "NAME_FIELD": "name",
         "ALL_TOUCHED": all_touched, "OVERWRITE": overwrite, "OUTPUT_FOLDER": str(out)})
     assert step.function is crop_raster_by_rois
     kw = step.kwargs
@@ -81,12 +70,13 @@ def _ascii_grid(path):
     ("name_field", r"ROIs: the ROI layer has no field 'plot_id'"),
 ])
 def test_crop_raster_step_refuses_bad_parameters(provider, raster, tmp_path, bad, match):
-    params = {"INPUT": raster, "ROIS": _layer("Polygon", "EPSG:32654", PLOTS),
+    params = {"INPUT": raster, "ROIS": memory_layer("EPSG:32654", PLOTS),
               "OUTPUT_FOLDER": str(tmp_path / "o")}
     if bad == "not_geotiff":
         params["INPUT"] = _ascii_grid(tmp_path / "dem.asc")
     elif bad == "points":
-        params["ROIS"] = _layer("Point", "EPSG:32654", [("p", "POINT(368005 3955995)")])
+        params["ROIS"] = memory_layer("EPSG:32654", [("p", "POINT(368005 3955995)")],
+                                      kind="Point")
     else:
         params["NAME_FIELD"] = "plot_id"
     with pytest.raises(QgsProcessingException, match=match):
@@ -178,7 +168,7 @@ def test_season_step_refuses_bad_parameters(provider, season, change, match):
 def test_roi_heights_step(provider, raster, mode, function, extra):
     from easyidp_toolbox.core import raster as core_raster
     step = _step("easyidp:roiheightsfromdsm", {
-        "ROIS": _layer("Polygon", "EPSG:32654", PLOTS), "DSM": raster, "MODE": mode,
+        "ROIS": memory_layer("EPSG:32654", PLOTS), "DSM": raster, "MODE": mode,
         "STATISTIC": 4, "PERCENTILE": 90, "SAMPLING": 1, "OUTPUT": "memory:"})
     assert step.function is getattr(core_raster, function)
     kw = step.kwargs
