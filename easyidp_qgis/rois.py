@@ -3,6 +3,7 @@ from qgis.core import (QgsCoordinateTransform, QgsCsException, QgsFeatureRequest
                        QgsProcessingException, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProject, QgsWkbTypes)
 
+from ..core.roi import ROISet, roi_from_coordinates
 from .compat import GeometryType, ProcessingSourceType
 from .crs import crs_string
 from .geometries import polygon_coordinates
@@ -29,7 +30,6 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
     and ``QgsFeatureRequest.setDestinationCrs`` do); otherwise they stay in the layer's CRS. A Z
     coordinate is kept as the ROI's vertex heights.
     """
-    from ..core.roi import ROISet, roi_from_coordinates
     if source is None:
         raise QgsProcessingException(f"{label}: no ROI layer given, or it could not be loaded.")
     if QgsWkbTypes.geometryType(source.wkbType()) != GeometryType.Polygon:
