@@ -10,13 +10,14 @@ def from_wkb(wkb: bytes) -> QgsGeometry:
     return g
 
 
-def multipolygon(polygons, z: bool = False, min_vertices: int = 0,
-                 close: bool = True) -> QgsGeometry:
+def multipolygon(polygons, z: bool = False, min_vertices: int = 0, close: bool = True,
+                 flip_y: bool = False) -> QgsGeometry:
     """A MultiPolygon(Z) QgsGeometry of the core's polygons ``[[exterior, hole, …], …]`` (open
     rings unless ``close=False``); rings shorter than ``min_vertices`` are dropped, so the
     geometry may be empty (``isEmpty()``). See ``core.wkb.multipolygon_wkb``."""
     from ..core.wkb import multipolygon_wkb
-    return from_wkb(multipolygon_wkb(polygons, z=z, min_vertices=min_vertices, close=close))
+    return from_wkb(multipolygon_wkb(polygons, z=z, min_vertices=min_vertices, close=close,
+                                     flip_y=flip_y))
 
 
 def polygon(rings, z: bool = False) -> QgsGeometry:
@@ -28,9 +29,7 @@ def polygon(rings, z: bool = False) -> QgsGeometry:
 def pixel_geometry(polys) -> QgsGeometry:
     """Photo-pixel polygons (x = column, y = row) → a MultiPolygon with x = column, y = −row
     (how QGIS places a photo opened without georeference)."""
-    import numpy as np
-    flip = np.array([1.0, -1.0])
-    return multipolygon([[np.asarray(r, np.float64)[:, :2] * flip for r in p] for p in polys])
+    return multipolygon(polys, flip_y=True)
 
 
 def polygon_coordinates(g) -> list:

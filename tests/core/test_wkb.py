@@ -42,3 +42,8 @@ def test_short_rings_and_empty_polygons_are_left_out():
 def test_closed_rings_are_kept_as_they_are():
     closed = np.vstack([SQUARE, SQUARE[:1]])
     assert multipolygon_wkb([[closed]], close=False) == multipolygon_wkb([[SQUARE]])
+
+
+def test_photo_pixels_are_written_with_y_down_as_minus_row():
+    got = shapely.wkb.loads(multipolygon_wkb([[SQUARE + [0, 1]]], flip_y=True))
+    assert got.wkt == "MULTIPOLYGON (((0 -1, 4 -1, 4 -5, 0 -5, 0 -1)))"
