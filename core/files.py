@@ -113,6 +113,12 @@ MIN_FREE_BYTES = 64 * 1024 * 1024
 _PART = re.compile(r"^\..+\.(\d+)-\d+\.part(\.[^.]*)?$")
 
 
+def is_part_name(name: str) -> bool:
+    """Whether a file name is a temporary name of :func:`part_name` (a write in progress, or the
+    leftover of a killed run)."""
+    return _PART.match(os.path.basename(name)) is not None
+
+
 def _alive(pid: int) -> bool:
     try:
         os.kill(pid, 0)

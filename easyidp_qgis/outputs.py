@@ -9,17 +9,12 @@ from qgis.core import (QgsProcessingException, QgsProcessingParameterFeatureSink
                        QgsProcessingParameterRasterDestination,
                        QgsProcessingParameterVectorDestination)
 
+from .layer_files import uri_file
 
-def _file_of(source: str) -> str:
-    """The file behind a layer source or output URI ('x.gpkg|layername=a', 'ogr:dbname=…')."""
-    s = str(source or "")
-    if s.startswith("ogr:"):
-        s = s[4:]
-        for part in s.split():
-            if part.startswith("dbname="):
-                s = part[7:].strip("'\"")
-                break
-    s = s.split("|")[0]
+
+def _file_of(source: str, provider: str = "ogr") -> str:
+    """The real path of the file behind a layer source or output URI ('' when none)."""
+    s = uri_file(source, provider)
     return os.path.realpath(s) if s and os.path.isabs(s) else ""
 
 
@@ -29,15 +24,16 @@ def _inputs(alg, parameters, context):
     for p in alg.parameterDefinitions():
         if p.isDestination() or p.name() not in parameters or parameters[p.name()] in (None, ""):
             continue
-        paths = []
+        files = []
         if isinstance(p, QgsProcessingParameterFile):
-            paths = [alg.parameterAsFile(parameters, p.name(), context)]
+            files = [_file_of(alg.parameterAsFile(parameters, p.name(), context))]
         elif isinstance(p, QgsProcessingParameterMultipleLayers):
-            paths = [lay.source() for lay in alg.parameterAsLayerList(parameters, p.name(), context)]
+            files = [_file_of(lay.source(), lay.providerType())
+                     for lay in alg.parameterAsLayerList(parameters, p.name(), context)]
         elif p.type() in ("source", "vector", "raster", "layer", "mesh", "pointcloud"):
             layer = alg.parameterAsLayer(parameters, p.name(), context)
-            paths = [layer.source()] if layer is not None else []
-        out += [(f, p.description()) for f in map(_file_of, paths) if f]
+            files = [_file_of(layer.source(), layer.providerType())] if layer is not None else []
+        out += [(f, p.description()) for f in files if f]
     return out
 
 
@@ -126,20 +122,3 @@ def check_values(alg, parameters, context):
                 return False, alg.tr("{name}: {value} is not one of the choices ({opts}).").format(
                     name=p.description(), value=k, opts=opts)
     return True, ""
-
-
-def close_sink(sink) -> None:
-    """Finish a sink of ``parameterAsSink`` and close its file now, before anything opens the
-    output: QGIS >= 3.42 ``finalize()`` (it flushes and reports write errors), else
-    ``flushBuffer()``; then the writer is destroyed here rather than whenever Python collects
-    it. A GeoPackage opened while its writer is still open costs SQLite's lock wait ('database
-    is locked', seconds per open) or reads as an empty file ('not recognized as a supported
-    file format'). The sink must not be used afterwards."""
-    from qgis.PyQt import sip
-    finalize = getattr(sink, "finalize", None)
-    if finalize is not None:
-        finalize()
-    else:
-        sink.flushBuffer()
-    if sip.ispyowned(sink):
-        sip.delete(sink)

@@ -9,6 +9,7 @@ from .layout import (CORNER_ORDER, ORDERS, START_CORNERS, Axis, GridFrame, Numbe
                      PlotGridError, check_metric_crs, frame_from_bearing, frame_from_boundary, frame_from_corners,
                      make_plot_grid, minimum_area_rectangle, sort_corners, utm_zone)
 
+from .layout import check_metric_crs
 __all__ = ["create_plot_grid", "write_plot_grid", "join_field_book", "read_field_book",
            "JoinReport", "fit_plot_grid", "FitResult", "Axis", "GridFrame", "Numbering",
            "PlotGrid", "PlotGridError", "frame_from_bearing", "frame_from_boundary",

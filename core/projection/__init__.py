@@ -34,6 +34,7 @@ from .ortho import OrthoResult, orthorectify_rois
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
+from .forward_photos import PhotosToMap, forward_project_photos
 from ..geometry import FlatPolygons
 from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, read_easyidp_json
 
@@ -44,4 +45,5 @@ __all__ = ["camera_footprints", "Footprint", "FootprintStatus",
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
            "ForwardShape", "forward_project", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
-           "TrainingSet", "point_discs", "orthorectify_rois", "OrthoResult"]
+           "TrainingSet", "point_discs", "orthorectify_rois", "OrthoResult", "PhotosToMap",
+           "forward_project_photos"]

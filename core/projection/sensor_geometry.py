@@ -6,7 +6,7 @@ import math
 
 import numpy as np
 
-from ..reconstruction.footprints import border_pixels
+from ..reconstruction import border_pixels
 
 MAX_SUBDIVISIONS = 4096
 """Most pieces one edge is cut into (an edge seen from a few metres by a fisheye)."""

@@ -14,10 +14,11 @@
 """
 from .curves import main_trait, plot_growth_curves
 from .outputs import write_long_csv, write_season_geopackage
-from .season import SeasonResult, run_season
+from .season import SeasonResult, check_season_outputs, run_season, season_inputs
 from .series import RowProblem, Survey, SurveyTable, read_survey_table, surveys_from_rows
 from .traits import DEFAULT_PERCENTILES, TRAIT_GROUPS
 
 __all__ = ["run_season", "SeasonResult", "read_survey_table", "surveys_from_rows", "Survey",
            "SurveyTable", "RowProblem", "write_long_csv", "write_season_geopackage",
-           "plot_growth_curves", "main_trait", "TRAIT_GROUPS", "DEFAULT_PERCENTILES"]
+           "plot_growth_curves", "main_trait", "check_season_outputs", "season_inputs",
+           "TRAIT_GROUPS", "DEFAULT_PERCENTILES"]

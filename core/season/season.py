@@ -15,6 +15,7 @@ from dataclasses import dataclass, field
 from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 
 from ..errors import Cancelled, EasyIDPError, ROIError
+from ..files import check_not_inputs
 from ..progress import as_progress
 from ..roi import ROISet
 from . import traits as tr
@@ -137,10 +138,8 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
     order = {r.name: k for k, r in enumerate(rois)}
     rows.sort(key=lambda r: (order[r[0]], r[1], index[r[2]]))
     results.sort(key=lambda r: (r.row, r.kind))
-    inputs = [p for p in [table.source, ground] if p]
-    inputs += [p for s in table.surveys for p in (*s.files().values(), s.project) if p]
     return SeasonResult(rois, dates, names, rows, problems, notes, results, runner.label,
-                        time.perf_counter() - t0, inputs)
+                        time.perf_counter() - t0, season_inputs(table, ground))
 
 
 def _checked_rois(rois: ROISet) -> ROISet:
@@ -289,3 +288,20 @@ def _percentile_of(name: str) -> float:
         except ValueError:
             pass
     return 0.0
+
+
+def season_inputs(table: SurveyTable, ground: Optional[str] = None) -> List[str]:
+    """The files a season reads (never written over): the table, the ground raster and every
+    file and project of its surveys."""
+    inputs = [p for p in [table.source, ground] if p]
+    return inputs + [p for s in table.surveys for p in (*s.files().values(), s.project) if p]
+
+
+def check_season_outputs(table: SurveyTable, outputs: Sequence[Optional[str]],
+                         ground: Optional[str] = None, also: Sequence[Optional[str]] = ()) -> None:
+    """Raise :class:`InputError` before any work when one of ``outputs`` (file paths; None
+    skipped) is a file the season reads (:func:`season_inputs`, plus ``also``)."""
+    inputs = season_inputs(table, ground) + [p for p in also if p]
+    for path in outputs:
+        if path:
+            check_not_inputs(path, inputs)

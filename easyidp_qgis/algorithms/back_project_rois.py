@@ -2,23 +2,25 @@
 import math
 import os
 
-from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsField, QgsFields, QgsGeometry,
-                       QgsLineString, QgsMultiPolygon, QgsPolygon, QgsProcessingException,
-                       QgsProcessingParameterBoolean, QgsProcessingParameterEnum,
-                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFile,
-                       QgsProcessingParameterFileDestination,
-                       QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
-                       QgsProcessingUtils)
+from qgis.core import (QgsCoordinateReferenceSystem, QgsProcessingParameterBoolean,
+                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
+                       QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
+                       QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber)
 
 from .. import presentation
-from ..compat import (FeatureSinkFlag, FieldType, ProcessingFileParameterBehavior,
+from ..compat import (FieldType, ProcessingFileParameterBehavior,
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType, WkbType)
-from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
-                     dsm_parameter, height_source_parameter, open_project_parameter,
-                     optional_destination, pixel_crs, rois_parameter)
-from ..outputs import close_sink
-from .base import EasyIDPAlgorithm
+from ..crs import pixel_crs
+from ..geometries import pixel_geometry
+from ..parameters import optional_destination
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import dsm_parameter
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import fields_of, write_features, write_roi_layer
+from ..vertex_heights import add_height_parameters, height_source_parameter
+from .base import CoreStep, EasyIDPAlgorithm
 
 
 class BackProjectROIs(EasyIDPAlgorithm):
@@ -119,8 +121,8 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     # --- running ----------------------------------------------------------------------------
-    def run_tool(self, parameters, context, feedback):
-        from ...core.projection import back_project, crop_photos, resolve_photos
+    def core_step(self, parameters, context, feedback):
+        from ...core.projection import back_project
 
         recon = open_project_parameter(self, parameters, context, feedback)
         source, rois, features = rois_parameter(self, parameters, context, feedback)
@@ -131,23 +133,28 @@ class BackProjectROIs(EasyIDPAlgorithm):
         occlusion = self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is not None
         if self.parameterAsBool(parameters, self.OCCLUSION, context) and dsm is None:
             feedback.pushInfo(self.tr("No DSM given: occlusion is not tested."))
-        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
         crops = optional_destination(self, parameters, self.CROPS_FOLDER, context)
         previews = optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
-        json_path = optional_destination(self, parameters, self.OUTPUT_JSON, context)
         span = 60.0 if (crops or previews) else 95.0
-
         feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
             n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
-        result = back_project(
-            rois, recon, heights=heights,
+        return CoreStep(back_project, dict(
+            rois=rois, recon=recon, heights=heights,
             distortion=self.parameterAsBool(parameters, self.DISTORTION, context),
             clip=self.parameterAsEnum(parameters, self.CLIP, context) == 0,
             occlusion_dsm=dsm if occlusion else None,
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
             max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
-            progress=lambda p: feedback.setProgress(5 + span * p / 100.0),
-            is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 5 + span), is_cancelled=feedback.isCanceled),
+            dict(source=source, features=features, crops=crops, previews=previews, span=span))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        from ...core.projection import crop_photos, resolve_photos
+        source, features, crops, previews, span = (step.inputs[k] for k in (
+            "source", "features", "crops", "previews", "span"))
+        rois = step.kwargs["rois"]
+        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
+        json_path = optional_destination(self, parameters, self.OUTPUT_JSON, context)
         for note in result.notes:
             feedback.pushWarning(note)
         for name, why in list(result.unseen.items())[:50]:
@@ -169,7 +176,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 result, crops, photos, previews_folder=previews,
                 margin=self.parameterAsInt(parameters, self.MARGIN, context),
                 overwrite=self.overwrite(parameters, context),
-                progress=lambda p: feedback.setProgress(5 + span + (95 - span) * p / 100.0),
+                progress=feedback_progress(feedback, 5 + span, 100),
                 is_cancelled=feedback.isCanceled)
             for label, why in written.skipped_photos.items():
                 feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
@@ -193,31 +200,26 @@ class BackProjectROIs(EasyIDPAlgorithm):
         return outputs
 
     def _write_pixels(self, parameters, context, result, paths):
-        fields = QgsFields()
-        for name, kind in (("roi", FieldType.QString), ("photo", FieldType.QString),
-                           ("photo_path", FieldType.QString), ("rank", FieldType.Int),
-                           ("score", FieldType.Double), ("view_angle", FieldType.Double),
-                           ("gsd", FieldType.Double), ("visible_fraction", FieldType.Double),
-                           ("occluded_fraction", FieldType.Double),
-                           ("centre_distance", FieldType.Double), ("clipped", FieldType.Bool),
-                           ("photo_width", FieldType.Int), ("photo_height", FieldType.Int)):
-            fields.append(QgsField(name, kind))
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          WkbType.MultiPolygon, pixel_crs())
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
-        for i in range(len(result)):
-            j = int(result.photo_index[i])
-            f = QgsFeature(fields)
-            f.setAttributes([result.roi_names[int(result.roi[i])], str(result.photo[i]),
-                             paths[j] or "", int(result.rank[i]), _num(result.score[i]),
-                             _num(result.view_angle[i]), _num(result.gsd[i]),
-                             _num(result.visible_fraction[i]), _num(result.occluded_fraction[i]),
-                             _num(result.centre_distance[i]), bool(result.clipped[i]),
-                             int(result.image_sizes[j][0]), int(result.image_sizes[j][1])])
-            f.setGeometry(pixel_geometry(result.polygons_of(i)))
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
+        fields = fields_of((("roi", FieldType.QString), ("photo", FieldType.QString),
+                            ("photo_path", FieldType.QString), ("rank", FieldType.Int),
+                            ("score", FieldType.Double), ("view_angle", FieldType.Double),
+                            ("gsd", FieldType.Double), ("visible_fraction", FieldType.Double),
+                            ("occluded_fraction", FieldType.Double),
+                            ("centre_distance", FieldType.Double), ("clipped", FieldType.Bool),
+                            ("photo_width", FieldType.Int), ("photo_height", FieldType.Int)))
+
+        def rows():
+            for i in range(len(result)):
+                j = int(result.photo_index[i])
+                yield ([result.roi_names[int(result.roi[i])], str(result.photo[i]), paths[j] or "",
+                        int(result.rank[i]), _num(result.score[i]), _num(result.view_angle[i]),
+                        _num(result.gsd[i]), _num(result.visible_fraction[i]),
+                        _num(result.occluded_fraction[i]), _num(result.centre_distance[i]),
+                        bool(result.clipped[i]), int(result.image_sizes[j][0]),
+                        int(result.image_sizes[j][1])],
+                       pixel_geometry(result.polygons_of(i)))
+        dest = write_features(self, parameters, self.OUTPUT, context, fields, WkbType.MultiPolygon,
+                              pixel_crs(), rows())
         # a file gets the undefined Cartesian CRS (GeoPackage srs_id -1). A photo opened without
         # georeference has no CRS; QGIS gives memory layers EPSG:4326 by default, which would
         # reproject the pixels: make the memory layer (held by the context) CRS-less like the
@@ -229,27 +231,16 @@ class BackProjectROIs(EasyIDPAlgorithm):
         return dest
 
     def _write_summary(self, parameters, context, source, features, result):
-        extra = QgsFields()
-        extra.append(QgsField("photos", FieldType.Int))
-        extra.append(QgsField("best_photo", FieldType.QString))
-        extra.append(QgsField("best_score", FieldType.Double))
-        fields = QgsProcessingUtils.combineFields(source.fields(), extra)
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT_SUMMARY, context, fields,
-                                          source.wkbType(), source.sourceCrs())
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_SUMMARY))
         counts = result.photos_per_roi()
         best = result.best()
+        rows = []
         for k, feat in enumerate(features):
             i = best.get(result.roi_names[k])
-            f = QgsFeature(fields)
-            f.setGeometry(feat.geometry())
-            f.setAttributes(list(feat.attributes()) + [
-                int(counts[k]), None if i is None else str(result.photo[i]),
-                None if i is None else _num(result.score[i])])
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
-        return dest
+            rows.append((feat, [int(counts[k]), None if i is None else str(result.photo[i]),
+                                None if i is None else _num(result.score[i])]))
+        return write_roi_layer(self, parameters, self.OUTPUT_SUMMARY, context, source, rows,
+                               [("photos", FieldType.Int), ("best_photo", FieldType.QString),
+                                ("best_score", FieldType.Double)])
 
 
 def pixel_style():
@@ -261,21 +252,6 @@ def pixel_style():
 def summary_style():
     """ROIs on the map coloured by how many photos see them (the legend gives the counts)."""
     return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu", label=False)
-
-
-def pixel_geometry(polys) -> QgsGeometry:
-    """Photo-pixel polygons → a MultiPolygon with x = column, y = −row (how QGIS places a
-    photo opened without georeference)."""
-    mp = QgsMultiPolygon()
-    for p in polys:
-        poly = QgsPolygon()
-        rings = [QgsLineString(list(map(float, r[:, 0])) + [float(r[0, 0])],
-                               list(map(float, -r[:, 1])) + [float(-r[0, 1])]) for r in p]
-        poly.setExteriorRing(rings[0])
-        for h in rings[1:]:
-            poly.addInteriorRing(h)
-        mp.addGeometry(poly)
-    return QgsGeometry(mp)
 
 
 def _num(v):

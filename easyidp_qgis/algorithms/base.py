@@ -2,6 +2,7 @@
 translation."""
 import os
 import threading
+from typing import Callable, NamedTuple
 
 from qgis.core import QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean
 from qgis.PyQt.QtCore import QCoreApplication
@@ -47,8 +48,20 @@ def keep_proj_context() -> None:
         _PROJ_CONTEXTS[threading.get_ident()] = manager
 
 
+class CoreStep(NamedTuple):
+    """A tool's pure step, parameters → the core call: the core ``function``, its keyword
+    arguments ``kwargs``, and ``inputs``, what the tool's outputs need besides the result (the
+    ROI layer and its features, a layer's name), which the core is not given."""
+    function: Callable
+    kwargs: dict
+    inputs: dict
+
+
 class EasyIDPAlgorithm(QgsProcessingAlgorithm):
-    """Subclasses set NAME, DISPLAY, GROUP, GROUP_ID, HELP and implement ``run_tool``."""
+    """Subclasses set NAME, DISPLAY, GROUP, GROUP_ID, HELP and implement ``core_step`` (the
+    parameters → the core call, testable without running it, as the GDAL provider's
+    ``getConsoleCommands``) and ``write_outputs`` (the result → the outputs); a tool not split
+    so yet implements ``run_tool``."""
 
     NAME = ""
     DISPLAY = ""
@@ -150,5 +163,25 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         return self.parameterDefinition(self.OVERWRITE) is not None and \
             self.parameterAsBool(parameters, self.OVERWRITE, context)
 
-    def run_tool(self, parameters, context, feedback) -> dict:
+    def core_step(self, parameters, context, feedback) -> CoreStep:
+        """Parameters → :class:`CoreStep`; QgsProcessingException naming the input for a bad
+        parameter. Reads the QGIS inputs (layers, features) but runs nothing of the core's work."""
         raise NotImplementedError
+
+    def step(self, parameters, context, feedback) -> CoreStep:
+        """:meth:`core_step` with a core error about the parameters (a file the season table
+        names given as an output…) raised as QgsProcessingException, as a run does."""
+        from ...core.errors import EasyIDPError
+        try:
+            return self.core_step(parameters, context, feedback)
+        except EasyIDPError as exc:
+            raise QgsProcessingException(str(exc)) from None
+
+    def write_outputs(self, parameters, context, feedback, step: CoreStep, result) -> dict:
+        """The core's ``result`` → the tool's outputs (sinks, map layers, log)."""
+        raise NotImplementedError
+
+    def run_tool(self, parameters, context, feedback) -> dict:
+        step = self.core_step(parameters, context, feedback)
+        return self.write_outputs(parameters, context, feedback, step,
+                                  step.function(**step.kwargs))

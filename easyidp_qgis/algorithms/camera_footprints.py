@@ -2,17 +2,20 @@
 import math
 import os
 
-import numpy as np
 from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsField, QgsFields, QgsGeometry,
-                       QgsLineString, QgsPoint, QgsPolygon, QgsProcessingException,
+                       QgsPoint, QgsProcessingException,
                        QgsProcessingParameterCrs, QgsProcessingParameterFeatureSink,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer)
 
 from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
-from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
-from ..outputs import close_sink
+from ..crs import crs_string
+from ..geometries import polygon
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import geotiff_source
+from ..sinks import close_sink
 from .base import EasyIDPAlgorithm
 
 
@@ -94,7 +97,7 @@ class CameraFootprints(EasyIDPAlgorithm):
         qcrs, target = self._output_crs(parameters, context, feedback, recon, layer)
         cams = [c for c in recon.cameras if c.aligned]
         prints = camera_footprints(recon, ground, crs=target, cameras=cams,
-                                   progress=lambda p: feedback.setProgress(0.95 * p),
+                                   progress=feedback_progress(feedback, 0, 95),
                                    is_cancelled=feedback.isCanceled)
 
         fields = QgsFields()
@@ -123,11 +126,9 @@ class CameraFootprints(EasyIDPAlgorithm):
                 below.append(fp.label)
             if fp.ring is None or len(fp.ring) < 3:
                 continue
-            ring = np.vstack([fp.ring, fp.ring[:1]])
             g = QgsFeature(fp_fields)
             g.setAttributes(attrs + [_num(fp.area), bool(fp.complete)])
-            g.setGeometry(QgsGeometry(QgsPolygon(QgsLineString(*[list(map(float, ring[:, k]))
-                                                                 for k in range(3)]))))
+            g.setGeometry(polygon([fp.ring], z=True))
             fp_sink.addFeature(g, FeatureSinkFlag.FastInsert)
             beyond += not fp.complete
         close_sink(cam_sink)

@@ -8,7 +8,8 @@ from qgis.core import (QgsProcessingOutputFile, QgsProcessingOutputFolder,
 
 from .. import presentation
 from ..compat import ProcessingNumberParameterType, ProcessingParameterFlag
-from .base import EasyIDPAlgorithm
+from ..progress import feedback_progress
+from .base import CoreStep, EasyIDPAlgorithm
 
 SIZES = ["small", "medium"]
 
@@ -79,7 +80,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputFolder(self.ODM_PROJECT, self.tr("OpenDroneMap project")))
         self.addOutput(QgsProcessingOutputFile(self.TRUTH, self.tr("Truth file")))
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.demo import make_demo_survey
 
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
@@ -87,8 +88,12 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         seed = self.parameterAsInt(parameters, self.SEED, context)
         feedback.pushInfo(self.tr("Writing a {size} demo survey (seed {seed}) into {folder}").format(
                               size=size, seed=seed, folder=folder))
-        s = make_demo_survey(folder, seed=seed, size=size, overwrite=self.overwrite(parameters, context),
-                             progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
+        return CoreStep(make_demo_survey, dict(
+            folder=folder, seed=seed, size=size, overwrite=self.overwrite(parameters, context),
+            progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled), {})
+
+    def write_outputs(self, parameters, context, feedback, step, s):
+        folder, seed = step.kwargs["folder"], step.kwargs["seed"]
         if context.project() is not None:     # the desktop (qgis_process loads nothing)
             group = presentation.MapGroup(self.tr("Demo survey"), expanded=True)
             for rank, (path, name, out, hint, style) in enumerate((

@@ -1,6 +1,6 @@
 """Processing tool: Create plot grid (easyidp:createplotgrid)."""
 from qgis.core import (QgsCoordinateTransform, QgsFeature,
-                       QgsField, QgsFields, QgsGeometry, QgsPointXY, QgsProcessingException, QgsProcessingParameterCrs,
+                       QgsField, QgsFields, QgsPointXY, QgsProcessingException, QgsProcessingParameterCrs,
                        QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterNumber,
@@ -9,9 +9,12 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature,
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from .. import presentation
-from ..outputs import close_sink
-from ..layers import crs_string, optional_number
-from .base import EasyIDPAlgorithm, translatable
+from ..crs import crs_string
+from ..geometries import polygon
+from ..parameters import optional_number
+from ..sinks import close_sink
+from ..values import is_null
+from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 ANCHORS = [("corners", translatable("Four corner points (any order)")),
            ("boundary", translatable("Field boundary polygon (its minimum-area rectangle)")),
@@ -236,20 +239,20 @@ class CreatePlotGrid(EasyIDPAlgorithm):
         names = source.fields().names()
         rows = []
         for feat in source.getFeatures():
-            rows.append({n: (None if v is None or str(v) == "NULL" else v)
+            rows.append({n: (None if is_null(v) else v)
                          for n, v in zip(names, feat.attributes())})
         return rows, source.sourceName()
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.plotgrid import create_plot_grid
 
         kind, value, crs = self._anchor(parameters, context)
         book, book_name = self._field_book(parameters, context)
         num = lambda n: optional_number(self, parameters, n, context)  # noqa: E731
         text = lambda n: self.parameterAsString(parameters, n, context) or None  # noqa: E731
-        grid, report = create_plot_grid(
-            crs_string(crs), self.parameterAsInt(parameters, self.ROWS, context),
-            self.parameterAsInt(parameters, self.COLS, context), **{kind: value},
+        return CoreStep(create_plot_grid, dict(
+            crs=crs_string(crs), rows=self.parameterAsInt(parameters, self.ROWS, context),
+            cols=self.parameterAsInt(parameters, self.COLS, context), **{kind: value},
             bearing=self.parameterAsDouble(parameters, self.BEARING, context),
             size_x=num(self.SIZE_X), size_y=num(self.SIZE_Y), gap_x=num(self.GAP_X),
             gap_y=num(self.GAP_Y), spacing_x=num(self.SPACING_X), spacing_y=num(self.SPACING_Y),
@@ -264,7 +267,12 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             tolerance=self.parameterAsDouble(parameters, self.TOLERANCE, context),
             field_book=book,
             join_by=JOINS[self.parameterAsEnum(parameters, self.JOIN_BY, context)][0],
-            book_id=text(self.BOOK_ID), book_row=text(self.BOOK_ROW), book_col=text(self.BOOK_COL))
+            book_id=text(self.BOOK_ID), book_row=text(self.BOOK_ROW), book_col=text(self.BOOK_COL)),
+            dict(crs=crs, book_name=book_name))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        grid, report = result
+        crs, book_name = step.inputs["crs"], step.inputs["book_name"]
         for note in grid.notes:
             feedback.pushInfo(note)
         if report is not None:
@@ -292,8 +300,7 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             feat = QgsFeature(fields)
             attrs = grid.attributes(i)
             feat.setAttributes([attrs[n] for n in names])
-            ring = [QgsPointXY(float(x), float(y)) for x, y in grid.corners[i]]
-            feat.setGeometry(QgsGeometry.fromPolygonXY([ring + ring[:1]]))
+            feat.setGeometry(polygon([grid.corners[i]]))
             sink.addFeature(feat, FeatureSinkFlag.FastInsert)
         close_sink(sink)
         presentation.present(

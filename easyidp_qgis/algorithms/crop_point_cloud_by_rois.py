@@ -8,10 +8,13 @@ from qgis.core import (QgsProcessingException, QgsProcessingOutputMultipleLayers
 
 from .. import presentation
 from ..compat import FieldType, ProcessingParameterFlag
-from ..layers import (add_index_parameter, add_point_cloud_parameters, add_roi_parameters,
-                     add_z_range_parameters, qgis_crs, read_point_cloud_parameter, rois_parameter,
-                     write_index, z_range)
-from .base import EasyIDPAlgorithm, translatable
+from ..crs import qgis_crs
+from ..parameters import add_z_range_parameters, z_range
+from ..point_clouds import add_point_cloud_parameters, read_point_cloud_parameter
+from ..progress import feedback_progress
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import add_index_parameter, write_index
+from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 FORMATS = [("same", translatable("Same as input")), ("las", "LAS"),
            ("laz", translatable("LAZ (compressed LAS)")), ("ply", "PLY")]
@@ -89,7 +92,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputNumber(self.MISSED,
                                                  self.tr("Number of ROIs outside the cloud")))
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.pointcloud import crop_point_cloud
 
         cloud = read_point_cloud_parameter(self, parameters, context, feedback)
@@ -101,10 +104,15 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
         write_empty = self.parameterAsBool(parameters, self.WRITE_EMPTY, context)
         feedback.pushInfo(self.tr("Cropping {n_rois} ROIs into {folder}").format(
                               n_rois=len(rois), folder=folder))
-        result = crop_point_cloud(
-            cloud, rois, folder, fmt=fmt, z_min=z_min, z_max=z_max, write_empty=write_empty,
-            overwrite=self.overwrite(parameters, context),
-            progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+        return CoreStep(crop_point_cloud, dict(
+            cloud=cloud, rois=rois, output_folder=folder, fmt=fmt, z_min=z_min, z_max=z_max,
+            write_empty=write_empty, overwrite=self.overwrite(parameters, context),
+            progress=feedback_progress(feedback, 5, 100), is_cancelled=feedback.isCanceled),
+            dict(source=source, features=features))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        source, features = step.inputs["source"], step.inputs["features"]
+        cloud, folder = step.kwargs["cloud"], step.kwargs["output_folder"]
         if result.items and len(result.missed) == len(result.items):
             raise QgsProcessingException(self.tr("None of the {n_items} ROIs overlaps the point "
                                                  "cloud: check that the ROIs and the cloud are in "

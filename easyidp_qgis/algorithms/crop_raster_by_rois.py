@@ -5,9 +5,12 @@ from qgis.core import (QgsProcessingOutputMultipleLayers, QgsProcessingOutputNum
 
 from .. import presentation
 from ..compat import FieldType, ProcessingParameterFlag
-from ..layers import (add_index_parameter, add_roi_parameters, crs_string, geotiff_source,
-                     rois_parameter, write_index)
-from .base import EasyIDPAlgorithm
+from ..crs import crs_string
+from ..progress import feedback_progress
+from ..rasters import geotiff_source
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import add_index_parameter, write_index
+from .base import CoreStep, EasyIDPAlgorithm
 
 
 class CropRasterByROIs(EasyIDPAlgorithm):
@@ -61,20 +64,25 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
         self.addOutput(QgsProcessingOutputNumber(self.SKIPPED, self.tr("Number of ROIs skipped")))
 
-    def run_tool(self, parameters, context, feedback):
-        from ...core.raster.crop import crop_raster_by_rois
+    def core_step(self, parameters, context, feedback):
+        from ...core.raster import crop_raster_by_rois
 
         layer = self.parameterAsRasterLayer(parameters, self.INPUT, context)
         raster = geotiff_source(layer, self.tr("Raster"))
         source, rois, features = rois_parameter(self, parameters, context, feedback, layer.crs())
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
-        all_touched = self.parameterAsBool(parameters, self.ALL_TOUCHED, context)
         feedback.pushInfo(self.tr("Cropping {n_rois} ROIs out of {raster} into {folder}").format(
                               n_rois=len(rois), raster=raster, folder=folder))
-        result = crop_raster_by_rois(
-            raster, rois, folder, all_touched=all_touched, raster_crs=crs_string(layer.crs()),
-            overwrite=self.overwrite(parameters, context),
-            progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+        return CoreStep(crop_raster_by_rois, dict(
+            raster=raster, rois=rois, output_folder=folder,
+            all_touched=self.parameterAsBool(parameters, self.ALL_TOUCHED, context),
+            raster_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
+            progress=feedback_progress(feedback, 5, 100)),
+            dict(layer=layer, source=source, features=features))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        layer, source, features = (step.inputs[k] for k in ("layer", "source", "features"))
+        rois, folder = step.kwargs["rois"], step.kwargs["output_folder"]
         for note in result.notes:
             feedback.pushWarning(note)
         for i, reason in result.skipped.items():

@@ -7,9 +7,13 @@ from qgis.core import (QgsCoordinateTransform, QgsFeatureRequest, QgsProcessingE
 
 from ..compat import (GeometryType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
-from ..layers import (add_project_parameters, crs_string, geotiff_source, open_project_parameter,
-                      rois_from_source)
-from .base import EasyIDPAlgorithm
+from ..crs import crs_string
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import geotiff_source
+from ..rois import rois_from_source
+from ..values import is_null
+from .base import CoreStep, EasyIDPAlgorithm
 
 SPLITS = ("region", "photo")
 
@@ -104,7 +108,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
             self.OUTPUT_FOLDER, self.tr("Training set folder")))
         self.add_overwrite_parameter()
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.projection import export_training_set
 
         source = self.parameterAsSource(parameters, self.OBJECTS, context)
@@ -123,9 +127,10 @@ class ExportTrainingSet(EasyIDPAlgorithm):
         crs = dsm_layer.crs()
         rois, classes = self._objects(parameters, context, feedback, source, class_field,
                                       id_field, crs)
-        folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
-        result = export_training_set(
-            rois, classes, recon, dsm, folder, dsm_crs=crs_string(crs),
+        return CoreStep(export_training_set, dict(
+            rois=rois, classes=classes, recon=recon, dsm=dsm,
+            out_folder=self.parameterAsString(parameters, self.OUTPUT_FOLDER, context),
+            dsm_crs=crs_string(crs),
             photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context) or None,
             best_k=self.parameterAsInt(parameters, self.BEST_K, context),
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
@@ -136,7 +141,9 @@ class ExportTrainingSet(EasyIDPAlgorithm):
             region_size=self.parameterAsDouble(parameters, self.REGION_SIZE, context),
             seed=self.parameterAsInt(parameters, self.SEED, context),
             overwrite=self.overwrite(parameters, context),
-            progress=lambda p: feedback.setProgress(5 + 0.95 * p), is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 100), is_cancelled=feedback.isCanceled), {})
+
+    def write_outputs(self, parameters, context, feedback, step, result):
         for label, why in result.skipped_photos.items():
             feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
         for name, why in list(result.unseen.items())[:50]:
@@ -146,7 +153,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
 
     def _objects(self, parameters, context, feedback, source, class_field, id_field, crs):
         """(ROISet in the DSM's CRS, classes): polygons as they are, points as discs."""
-        from ...core.projection.training_set import point_discs
+        from ...core.projection import point_discs
         kind = QgsWkbTypes.geometryType(source.wkbType())
         if kind == GeometryType.Polygon:
             rois, features = rois_from_source(source, id_field, self.tr("Labelled objects"),
@@ -165,7 +172,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
                 g.transform(tr)
                 for p in (g.asMultiPoint() if g.isMultipart() else [g.asPoint()]):
                     name = feat[id_field] if id_field else feat.id()
-                    names.append(str(feat.id()) if name is None or str(name) == "NULL" else str(name))
+                    names.append(str(feat.id()) if is_null(name) else str(name))
                     xy.append((p.x(), p.y()))
                     features.append(feat)
             rois = point_discs(names, xy, radius, crs=crs_string(crs))
@@ -175,7 +182,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
         classes = []
         for feat, roi in zip(features, rois):
             v = feat[class_field]
-            if v is None or str(v) in ("", "NULL"):
+            if is_null(v) or str(v) == "":
                 raise QgsProcessingException(self.tr(
                     "Labelled objects: object '{name}' has no class in the field '{f}'. Fill it "
                     "or filter the layer.").format(name=roi.name, f=class_field))

@@ -1,5 +1,5 @@
 """Processing tool: Fit plot grid to crop rows (easyidp:fitplotgrid)."""
-from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsPointXY,
+from qgis.core import (QgsFeature, QgsField, QgsFields,
                        QgsProcessingException, QgsProcessingParameterBand,
                        QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
@@ -9,9 +9,14 @@ from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsPointXY,
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from .. import presentation
-from ..outputs import close_sink
-from ..layers import crs_string, geotiff_source, optional_number, rois_from_source
-from .base import EasyIDPAlgorithm, translatable
+from ..crs import crs_string
+from ..geometries import multipolygon
+from ..parameters import optional_number
+from ..progress import feedback_progress
+from ..rasters import geotiff_source
+from ..rois import rois_from_source
+from ..sinks import close_sink
+from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 INDICES = [("auto", translatable("Automatic (ExG for an RGB orthomosaic)")),
            ("exg", translatable("ExG (2G − R − B)/(R + G + B), RGB")),
@@ -100,10 +105,9 @@ class FitPlotGrid(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("Fitted plot grid"), ProcessingSourceType.VectorPolygon))
 
-    def run_tool(self, parameters, context, feedback):
-        from ...core.plotgrid import fit_plot_grid
-        from ...core.plotgrid.layout import check_metric_crs
-        from ...core.raster.geotiff import open_geotiff
+    def core_step(self, parameters, context, feedback):
+        from ...core.plotgrid import check_metric_crs, fit_plot_grid
+        from ...core.raster import open_geotiff
 
         layer = self.parameterAsRasterLayer(parameters, self.ORTHOMOSAIC, context)
         tif = open_geotiff(geotiff_source(layer, self.tr("Orthomosaic")),
@@ -126,14 +130,19 @@ class FitPlotGrid(EasyIDPAlgorithm):
             bands = (band(self.RED), band(self.NIR))
         elif index == "exg" or parameters.get(self.RED) not in (None, ""):
             bands = (band(self.RED), band(self.GREEN), band(self.BLUE))
-        max_shift = self.parameterAsDouble(parameters, self.MAX_SHIFT, context)
-        threshold = self.parameterAsDouble(parameters, self.THRESHOLD, context)
-        result = fit_plot_grid(
-            [r.parts[0][0] for r in rois], tif, index=index, bands=bands, max_shift=max_shift,
+        return CoreStep(fit_plot_grid, dict(
+            rings=[r.parts[0][0] for r in rois], orthomosaic=tif, index=index, bands=bands,
+            max_shift=self.parameterAsDouble(parameters, self.MAX_SHIFT, context),
             search=optional_number(self, parameters, self.SEARCH, context),
             min_cover=self.parameterAsDouble(parameters, self.MIN_COVER, context),
             min_score=self.parameterAsDouble(parameters, self.MIN_SCORE, context),
-            progress=lambda p: feedback.setProgress(5 + 0.9 * p), is_cancelled=feedback.isCanceled)
+            progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled),
+            dict(layer=layer, source=source, features=features, rois=rois, name_field=name_field))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        layer, source, features, rois, name_field = (step.inputs[k] for k in (
+            "layer", "source", "features", "rois", "name_field"))
+        threshold = self.parameterAsDouble(parameters, self.THRESHOLD, context)
         for note in result.notes:
             feedback.pushInfo(note)
         feedback.pushInfo(result.summary(threshold))
@@ -164,9 +173,8 @@ class FitPlotGrid(EasyIDPAlgorithm):
                 attrs[fields.indexFromName(name)] = values[name]
             out = QgsFeature(fields)
             out.setAttributes(attrs)
-            polys = [[[QgsPointXY(float(x), float(y)) for x, y in
-                       _closed(result.move(i, ring))] for ring in part] for part in roi.parts]
-            out.setGeometry(QgsGeometry.fromMultiPolygonXY(polys))
+            out.setGeometry(multipolygon([[result.move(i, ring) for ring in part]
+                                          for part in roi.parts]))
             sink.addFeature(out, FeatureSinkFlag.FastInsert)
         close_sink(sink)
         label = f'"{name_field}"' if name_field else None
@@ -179,6 +187,3 @@ class FitPlotGrid(EasyIDPAlgorithm):
         feedback.setProgress(100)
         return {self.OUTPUT: dest_id}
 
-
-def _closed(xy):
-    return list(xy) + [xy[0]]

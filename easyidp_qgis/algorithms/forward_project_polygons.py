@@ -1,61 +1,24 @@
 """Processing tool: Forward-project photo polygons to the map (easyidp:forwardprojectpolygons)."""
 import os
 
-from qgis.core import (QgsFeature, QgsField, QgsFields, QgsGeometry, QgsLineString,
-                       QgsMultiPolygon, QgsPolygon, QgsProcessingException,
-                       QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
-                       QgsProcessingParameterFeatureSource, QgsProcessingParameterFile,
-                       QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
-                       QgsWkbTypes)
+from qgis.core import (QgsProcessingException, QgsProcessingParameterEnum,
+                       QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
+                       QgsProcessingParameterFile, QgsProcessingParameterNumber,
+                       QgsProcessingParameterRasterLayer)
 
 from .. import presentation
-from ..compat import (FeatureSinkFlag, FieldType, GeometryType, ProcessingFileParameterBehavior,
-                      ProcessingNumberParameterType, ProcessingParameterFlag,
-                      ProcessingSourceType, WkbType)
-from ..layers import add_project_parameters, crs_string, geotiff_source, open_project_parameter
-from ..outputs import close_sink
-from .base import EasyIDPAlgorithm
+from ..compat import (FieldType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
+                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
+from ..crs import crs_string
+from ..geometries import multipolygon
+from ..photo_layers import photo_layer_annotations
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import geotiff_source
+from ..sinks import fields_of, write_features
+from .base import CoreStep, EasyIDPAlgorithm
 
 MERGE_OPTIONS = ("none", "union", "best", "fuse")
-
-
-def photo_layer_annotations(source, feedback=None):
-    """PhotoAnnotations per photo from a photo-pixel layer (x = column, y = −row), e.g. the one
-    *Back-project ROIs* writes: fields ``photo`` (required), ``roi`` or ``label``, ``score``."""
-    from ...core.annotations.model import POLYGON, PhotoAnnotations, PhotoShape
-    import numpy as np
-    names = source.fields().names()
-    if "photo" not in names:
-        raise QgsProcessingException(
-            f"Photo-pixel layer '{source.sourceName()}': it has no 'photo' field naming the photo "
-            "of each polygon (as Back-project ROIs writes).")
-    if QgsWkbTypes.geometryType(source.wkbType()) != GeometryType.Polygon:
-        raise QgsProcessingException(
-            f"Photo-pixel layer '{source.sourceName()}': polygons are needed.")
-    label_field = "roi" if "roi" in names else ("label" if "label" in names else None)
-    by_photo = {}
-    for feat in source.getFeatures():
-        if feedback is not None and feedback.isCanceled():
-            break
-        g = feat.geometry()
-        if g is None or g.isEmpty():
-            continue
-        geom = g.constGet()
-        polys = [geom.geometryN(i) for i in range(geom.numGeometries())] if g.isMultipart() else [geom]
-        label = str(feat[label_field]) if label_field else str(feat.id())
-        score = feat["score"] if "score" in names else None
-        try:
-            score = None if score is None or str(score) == "NULL" else float(score)
-        except (TypeError, ValueError):
-            score = None
-        for p in polys:
-            rings = [p.exteriorRing()] + [p.interiorRing(k) for k in range(p.numInteriorRings())]
-            px = [np.array([(q.x(), -q.y()) for q in r.points()])[:-1] for r in rings]
-            photo = str(feat["photo"])
-            ann = by_photo.setdefault(photo, PhotoAnnotations(source.sourceName(), photo, None,
-                                                              None, []))
-            ann.shapes.append(PhotoShape(label, POLYGON, px, "layer", score, feat.id()))
-    return list(by_photo.values())
 
 
 class ForwardProjectPolygons(EasyIDPAlgorithm):
@@ -133,9 +96,9 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             self.OUTPUT, self.tr("Polygons on the map"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.annotations import PhotoIndex, read_annotations
-        from ...core.projection import forward_project, merge_views
+        from ...core.projection import forward_project_photos
         from ...core.raster import DSM
 
         path = self.parameterAsFile(parameters, self.INPUT, context)
@@ -156,74 +119,54 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         else:
             items = read_annotations(path or folder, recon,
                                      self.parameterAsFile(parameters, self.COCO_IMAGES, context) or None)
-        merge = MERGE_OPTIONS[self.parameterAsEnum(parameters, self.MERGE, context)]
-        densify = self.parameterAsDouble(parameters, self.DENSIFY, context)
-        shapes, skipped = [], 0
-        for k, (ann, cam) in enumerate(items):
-            if feedback.isCanceled():
-                break
-            polys = [s for s in ann.shapes if s.kind == "polygon"]
-            skipped += len(ann.shapes) - len(polys)
-            shapes += forward_project(polys, cam, recon, dsm, densify=densify or False,
-                                      is_cancelled=feedback.isCanceled)
-            feedback.setProgress(90.0 * (k + 1) / max(len(items), 1))
-        if skipped:
-            feedback.pushWarning(self.tr("{n} lines or points skipped: only polygons are "
-                                         "forward-projected by this tool.").format(n=skipped))
-        merged = merge_views(shapes, merge, recon=recon, dsm=dsm,
-                             photos=[cam.label for _, cam in items]) if merge == "fuse" \
-            else merge_views(shapes, merge)
-
-        fields = QgsFields()
-        for name, kind in (("photo", FieldType.QString), ("label", FieldType.QString),
-                           ("score", FieldType.Double), ("area_m2", FieldType.Double),
-                           ("perimeter_m", FieldType.Double), ("views", FieldType.Int),
-                           ("complete", FieldType.Bool), ("missing", FieldType.Int),
-                           ("expected_views", FieldType.Int), ("max_score", FieldType.Double),
-                           ("confidence", FieldType.Double)):
-            fields.append(QgsField(name, kind))
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          WkbType.MultiPolygonZ, dsm_layer.crs())
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
-        written = incomplete = 0
-        for m in merged:
-            geom = QgsMultiPolygon()
-            for part in m.parts:
-                rings = [r for r in part if len(r) >= 3]
-                if not rings:
-                    continue
-                poly = QgsPolygon()
-                for j, r in enumerate(rings):
-                    closed = [list(map(float, r[:, k])) + [float(r[0, k])] for k in range(3)]
-                    line = QgsLineString(*closed)
-                    poly.setExteriorRing(line) if j == 0 else poly.addInteriorRing(line)
-                geom.addGeometry(poly)
-            missing = sum(f.missing for f in m.members)
-            if not m.complete:
-                incomplete += 1
-                reasons = "; ".join(f"{f.photo}: {f.why_incomplete()}" for f in m.members
-                                    if not f.complete)
-                feedback.pushWarning(self.tr("'{label}' is incomplete ({why}).").format(
-                    label=m.label, why=reasons))
-            if geom.numGeometries() == 0:
-                continue
-            f = QgsFeature(fields)
-            f.setAttributes([";".join(m.photos), m.label, m.score, _num(m.area_m2),
-                             _num(m.perimeter_m), m.views, bool(m.complete), missing,
-                             getattr(m, "expected_views", None), getattr(m, "max_score", None),
-                             getattr(m, "confidence", None)])
-            f.setGeometry(QgsGeometry(geom))
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-            written += 1
-        close_sink(sink)
         what = layer.sourceName() if layer is not None else os.path.basename((path or folder).rstrip("/\\"))
+        return CoreStep(forward_project_photos, dict(
+            items=items, recon=recon, dsm=dsm,
+            merge=MERGE_OPTIONS[self.parameterAsEnum(parameters, self.MERGE, context)],
+            densify=self.parameterAsDouble(parameters, self.DENSIFY, context),
+            progress=feedback_progress(feedback, 0, 90)),
+            dict(dsm_layer=dsm_layer, what=what))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        dsm_layer = step.inputs["dsm_layer"]
+        if result.skipped:
+            feedback.pushWarning(self.tr("{n} lines or points skipped: only polygons are "
+                                         "forward-projected by this tool.").format(n=result.skipped))
+        fields = fields_of((("photo", FieldType.QString), ("label", FieldType.QString),
+                            ("score", FieldType.Double), ("area_m2", FieldType.Double),
+                            ("perimeter_m", FieldType.Double), ("views", FieldType.Int),
+                            ("complete", FieldType.Bool), ("missing", FieldType.Int),
+                            ("expected_views", FieldType.Int), ("max_score", FieldType.Double),
+                            ("confidence", FieldType.Double)))
+        counts = {"written": 0, "incomplete": 0}
+
+        def rows():
+            for m in result.polygons:
+                geom = multipolygon(m.parts, z=True, min_vertices=3)
+                missing = sum(f.missing for f in m.members)
+                if not m.complete:
+                    counts["incomplete"] += 1
+                    reasons = "; ".join(f"{f.photo}: {f.why_incomplete()}" for f in m.members
+                                        if not f.complete)
+                    feedback.pushWarning(self.tr("'{label}' is incomplete ({why}).").format(
+                        label=m.label, why=reasons))
+                if geom.isEmpty():
+                    continue
+                counts["written"] += 1
+                yield ([";".join(m.photos), m.label, m.score, _num(m.area_m2),
+                        _num(m.perimeter_m), m.views, bool(m.complete), missing,
+                        getattr(m, "expected_views", None), getattr(m, "max_score", None),
+                        getattr(m, "confidence", None)], geom)
+        dest = write_features(self, parameters, self.OUTPUT, context, fields,
+                              WkbType.MultiPolygonZ, dsm_layer.crs(), rows())
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
         presentation.present(self, context, dest, self.OUTPUT, detection_style(),
                              self.tr("{what} on the map (through {project} onto {dsm})").format(
-                                 what=what, project=project, dsm=dsm_layer.name()))
+                                 what=step.inputs["what"], project=project, dsm=dsm_layer.name()))
         feedback.pushInfo(self.tr("{n} polygons from {p} photos written to the map "
-                                  "({i} incomplete).").format(n=written, p=len(items), i=incomplete))
+                                  "({i} incomplete).").format(n=counts["written"],
+                                                              p=len(step.kwargs["items"]),
+                                                              i=counts["incomplete"]))
         return {self.OUTPUT: dest}
 
 

@@ -8,9 +8,13 @@ from qgis.core import (QgsProcessingOutputMultipleLayers, QgsProcessingOutputNum
 from .. import presentation
 from ..compat import (FieldType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
                       ProcessingParameterFlag)
-from ..layers import (add_index_parameter, add_project_parameters, add_roi_parameters, crs_string,
-                     geotiff_source, open_project_parameter, rois_parameter, write_index)
-from .base import EasyIDPAlgorithm
+from ..crs import crs_string
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import geotiff_source
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import add_index_parameter, write_index
+from .base import CoreStep, EasyIDPAlgorithm
 
 SELECTIONS = ("best", "all", "photo")
 
@@ -85,22 +89,26 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
                                                          self.tr("Orthorectified ROI images")))
         self.addOutput(QgsProcessingOutputNumber(self.WRITTEN, self.tr("Number of images written")))
 
-    def run_tool(self, parameters, context, feedback):
-        from ...core.projection.ortho import orthorectify_rois
+    def core_step(self, parameters, context, feedback):
+        from ...core.projection import orthorectify_rois
 
         source, rois, features = rois_parameter(self, parameters, context, feedback)
         recon = open_project_parameter(self, parameters, context, feedback)
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
-        dsm = geotiff_source(layer, self.tr("DSM"))
-        selection = SELECTIONS[self.parameterAsEnum(parameters, self.SELECTION, context)]
-        photo = self.parameterAsString(parameters, self.PHOTO, context) or None
-        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
-        gsd = self.parameterAsDouble(parameters, self.GSD, context) or None
-        folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
-        result = orthorectify_rois(rois, recon, dsm, folder, selection=selection, photo=photo,
-                                   photos_folder=photos, gsd=gsd, dsm_crs=crs_string(layer.crs()),
-                                   overwrite=self.overwrite(parameters, context),
-                                   progress=feedback.setProgress, is_cancelled=feedback.isCanceled)
+        return CoreStep(orthorectify_rois, dict(
+            rois=rois, recon=recon, dsm=geotiff_source(layer, self.tr("DSM")),
+            output_folder=self.parameterAsString(parameters, self.OUTPUT_FOLDER, context),
+            selection=SELECTIONS[self.parameterAsEnum(parameters, self.SELECTION, context)],
+            photo=self.parameterAsString(parameters, self.PHOTO, context) or None,
+            photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context) or None,
+            gsd=self.parameterAsDouble(parameters, self.GSD, context) or None,
+            dsm_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
+            progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled),
+            dict(source=source, features=features))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        source, features = step.inputs["source"], step.inputs["features"]
+        folder = step.kwargs["output_folder"]
         for what, why in result.skipped.items():
             feedback.pushWarning(self.tr("{what}: no image ({why}).").format(what=what, why=why))
         index = write_index(self, parameters, context, source, [

@@ -1,22 +1,24 @@
 """Processing tool: Plot statistics from raw photos (easyidp:photostatistics)."""
 import os
 
-from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
+from qgis.core import (QgsCoordinateReferenceSystem, QgsProcessingException,
                        QgsProcessingParameterBoolean, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
-                       QgsProcessingParameterString, QgsProcessingParameterVectorLayer,
-                       QgsProcessingUtils)
+                       QgsProcessingParameterString, QgsProcessingParameterVectorLayer)
 
 from .. import presentation
-from ..compat import (FeatureSinkFlag, FieldType, ProcessingFileParameterBehavior,
+from ..compat import (FieldType, ProcessingFileParameterBehavior,
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType, WkbType)
-from ..layers import (add_height_parameters, add_project_parameters, add_roi_parameters,
-                      backprojection_from_layer, dsm_parameter, height_source_parameter,
-                      open_project_parameter, optional_destination, optional_number,
-                      parse_percentiles, rois_parameter)
-from ..outputs import close_sink
+from ..parameters import optional_destination, optional_number, parse_percentiles
+from ..photo_layers import backprojection_from_layer
+from ..progress import feedback_progress
+from ..projects import add_project_parameters, open_project_parameter
+from ..rasters import dsm_parameter
+from ..rois import add_roi_parameters, rois_parameter
+from ..sinks import fields_of, write_features, write_roi_layer
+from ..vertex_heights import add_height_parameters, height_source_parameter
 from .base import EasyIDPAlgorithm
 
 STATISTIC_CHOICES = ("mean", "median", "std")
@@ -172,7 +174,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
                 n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
             result = back_project(rois, recon, heights=heights, distortion=distortion,
                                   occlusion_dsm=dsm, min_visible=0.0,
-                                  progress=lambda p: feedback.setProgress(5 + 25 * p / 100.0),
+                                  progress=feedback_progress(feedback, 5, 30),
                                   is_cancelled=feedback.isCanceled)
             for note in result.notes:
                 feedback.pushWarning(note)
@@ -194,7 +196,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             recon=recon, rois=rois, occlusion_dsm=dsm if occlusion else None,
             distortion=distortion, previews_folder=previews,
             overwrite=self.overwrite(parameters, context),
-            progress=lambda p: feedback.setProgress(30 + 65 * p / 100.0),
+            progress=feedback_progress(feedback, 30, 95),
             is_cancelled=feedback.isCanceled)
         for note in stats_result.notes:
             feedback.pushInfo(note)
@@ -226,41 +228,21 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         return outputs
 
     def _write_views(self, parameters, context, st):
-        fields = QgsFields()
         kinds = {"roi": FieldType.QString, "photo": FieldType.QString, "rank": FieldType.Int,
                  "polygon_pixels": FieldType.LongLong, "pixels": FieldType.LongLong,
                  "used": FieldType.Bool, "why": FieldType.QString}
         names = list(st.VIEW_FIELDS) + list(st.columns)
-        for name in names:
-            fields.append(QgsField(name, kinds.get(name, FieldType.Double)))
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT_VIEWS, context, fields,
-                                          WkbType.NoGeometry)
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_VIEWS))
-        for row in st.view_rows():
-            f = QgsFeature(fields)
-            f.setAttributes([row[n] for n in names])
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
-        return dest
+        return write_features(self, parameters, self.OUTPUT_VIEWS, context,
+                              fields_of((n, kinds.get(n, FieldType.Double)) for n in names),
+                              WkbType.NoGeometry, QgsCoordinateReferenceSystem(),
+                              (([row[n] for n in names], None) for row in st.view_rows()))
 
     def _write_rois(self, parameters, context, source, features, st):
-        extra = QgsFields()
-        for name in st.roi_fields():
-            extra.append(QgsField(name, FieldType.Int if name == "views" else FieldType.Double))
-        fields = QgsProcessingUtils.combineFields(source.fields(), extra)
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                          source.wkbType(), source.sourceCrs())
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
-        rows = st.roi_rows()
-        for feat, row in zip(features, rows):
-            f = QgsFeature(fields)
-            f.setGeometry(feat.geometry())
-            f.setAttributes(list(feat.attributes()) + [row[n] for n in st.roi_fields()])
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
-        return dest
+        names = st.roi_fields()
+        return write_roi_layer(
+            self, parameters, self.OUTPUT, context, source,
+            [(feat, [row[n] for n in names]) for feat, row in zip(features, st.roi_rows())],
+            [(n, FieldType.Int if n == "views" else FieldType.Double) for n in names])
 
 
 def shown_field(names):

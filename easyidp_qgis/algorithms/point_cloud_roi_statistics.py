@@ -2,19 +2,22 @@
 import math
 import os
 
-from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
+from qgis.core import (QgsProcessingException,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
                        QgsProcessingParameterString)
 
 from .. import presentation
-from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
+from ..compat import (FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
-from ..layers import (add_point_cloud_parameters, add_z_range_parameters, dsm_ground,
-                     optional_number, parse_percentiles, qgis_crs, read_point_cloud_parameter,
-                     rois_parameter, z_range)
-from ..outputs import close_sink
-from .base import EasyIDPAlgorithm
+from ..crs import qgis_crs
+from ..parameters import add_z_range_parameters, optional_number, parse_percentiles, z_range
+from ..point_clouds import add_point_cloud_parameters, read_point_cloud_parameter
+from ..progress import feedback_progress
+from ..rasters import dsm_ground
+from ..rois import rois_parameter
+from ..sinks import write_roi_layer
+from .base import CoreStep, EasyIDPAlgorithm
 
 FIXED_FIELDS = [("count", FieldType.LongLong), ("density", FieldType.Double),
                 ("z_min", FieldType.Double), ("z_mean", FieldType.Double), ("z_max", FieldType.Double),
@@ -84,7 +87,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.pointcloud import canopy_summary
 
         percentiles = parse_percentiles(self, self.parameterAsString(parameters, self.PERCENTILES,
@@ -112,37 +115,25 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
             feedback.pushInfo(self.tr("Ground: percentile {ground_pct:g} of each ROI's Z.").format(
                                   ground_pct=ground_pct))
 
-        summary = canopy_summary(
-            cloud, rois, ground=ground, percentiles=percentiles, ground_percentile=ground_pct,
-            z_min=z_min, z_max=z_max, progress=lambda p: feedback.setProgress(5 + 0.9 * p),
-            is_cancelled=feedback.isCanceled)
+        return CoreStep(canopy_summary, dict(
+            cloud=cloud, rois=rois, ground=ground, percentiles=percentiles,
+            ground_percentile=ground_pct, z_min=z_min, z_max=z_max,
+            progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled),
+            dict(layer=layer, source=source, features=features))
 
+    def write_outputs(self, parameters, context, feedback, step, summary):
+        layer, source, features = (step.inputs[k] for k in ("layer", "source", "features"))
+        cloud, rois, percentiles = (step.kwargs[k] for k in ("cloud", "rois", "percentiles"))
         stats = FIXED_FIELDS + [(percentile_field(q), FieldType.Double) for q in percentiles]
         keys = [name for name, _ in FIXED_FIELDS] + [f"h_p{q:g}" for q in percentiles]
         new = {name.lower() for name, _ in stats}
-        kept = [i for i, f in enumerate(source.fields()) if f.name().lower() not in new]
-        if len(kept) < source.fields().count():
+        if any(f.name().lower() in new for f in source.fields()):
             feedback.pushInfo(self.tr("The ROI layer's own fields with the names of the statistics "
                                       "are replaced by the new values."))
-        fields = QgsFields()
-        for i in kept:
-            fields.append(source.fields().at(i))
-        for name, kind in stats:
-            fields.append(QgsField(name, kind))
-        sink, dest_id = self.parameterAsSink(parameters, self.OUTPUT, context, fields,
-                                             source.wkbType(), source.sourceCrs())
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
-        empty = []
-        for roi, feat, row in zip(rois, features, summary):
-            if not row["count"]:
-                empty.append(roi.name)
-            attrs = feat.attributes()
-            out = QgsFeature(fields)
-            out.setAttributes([attrs[i] for i in kept] + [_num(row[k]) for k in keys])
-            out.setGeometry(feat.geometry())
-            sink.addFeature(out, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
+        dest_id = write_roi_layer(self, parameters, self.OUTPUT, context, source,
+                                  [(feat, [_num(row[k]) for k in keys])
+                                   for feat, row in zip(features, summary)], stats, replace=True)
+        empty = [roi.name for roi, row in zip(rois, summary) if not row["count"]]
         no_ground = sum(1 for row in summary if row["count"] and math.isnan(row["ground"]))
         if no_ground and layer is not None:
             feedback.pushWarning(self.tr(

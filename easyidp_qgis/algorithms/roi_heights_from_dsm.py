@@ -2,8 +2,7 @@
 import math
 
 import numpy as np
-from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsGeometry,
-                       QgsLineString, QgsMultiPolygon, QgsPointXY, QgsPolygon,
+from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsPointXY,
                        QgsProcessingException, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
@@ -12,9 +11,13 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, 
 from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType)
-from ..layers import crs_string, geotiff_source, rois_parameter
-from ..outputs import close_sink
-from .base import EasyIDPAlgorithm, translatable
+from ..crs import crs_string
+from ..geometries import multipolygon
+from ..progress import feedback_progress
+from ..rasters import geotiff_source
+from ..rois import rois_parameter
+from ..sinks import close_sink
+from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
          ("vertex", translatable("Per vertex: the DSM height at each vertex"))]
@@ -75,7 +78,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.OUTPUT, self.tr("ROIs with heights"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.raster import DSM, roi_heights, vertex_heights
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
@@ -85,32 +88,37 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         for note in dsm.notes:
             feedback.pushWarning(note)
         mode = MODES[self.parameterAsEnum(parameters, self.MODE, context)][0]
-        stat = STATS[self.parameterAsEnum(parameters, self.STATISTIC, context)]
-        pct = self.parameterAsDouble(parameters, self.PERCENTILE, context)
-        buffer = self.parameterAsDouble(parameters, self.BUFFER, context)
-        sampling = SAMPLING[self.parameterAsEnum(parameters, self.SAMPLING, context)]
+        stats = dict(statistic=STATS[self.parameterAsEnum(parameters, self.STATISTIC, context)],
+                     percentile=self.parameterAsDouble(parameters, self.PERCENTILE, context),
+                     buffer=self.parameterAsDouble(parameters, self.BUFFER, context),
+                     progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled)
         rois.validate()
-        progress = lambda p: feedback.setProgress(5 + 0.9 * p)  # noqa: E731
-
+        inputs = dict(layer=layer, source=source, features=features, rois=rois)
         if mode == "polygon":
-            result = roi_heights(dsm, rois, "polygon", stat, pct, buffer, progress=progress,
-                                 is_cancelled=feedback.isCanceled)
+            return CoreStep(roi_heights, dict(dsm=dsm, rois=rois, mode="polygon", **stats), inputs)
+        # sample at the layer's own vertices (closing vertices included), in the DSM CRS
+        rings = [_rings(f.geometry()) for f in features]
+        to_dsm = QgsCoordinateTransform(source.sourceCrs(), layer.crs(), context.transformContext())
+        xy = np.array([(q.x(), q.y()) for q in (to_dsm.transform(QgsPointXY(*pt)) for polys
+                       in rings for poly in polys for ring in poly for pt in ring)],
+                      dtype=float).reshape(-1, 2)
+        return CoreStep(vertex_heights, dict(
+            dsm=dsm, x=xy[:, 0], y=xy[:, 1],
+            sampling=SAMPLING[self.parameterAsEnum(parameters, self.SAMPLING, context)], **stats),
+            dict(inputs, rings=rings))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        layer, source, features, rois = (step.inputs[k] for k in ("layer", "source", "features",
+                                                                   "rois"))
+        stat, pct = step.kwargs["statistic"], step.kwargs["percentile"]
+        if "rings" not in step.inputs:
             per_feature = [(v, None) for v in result.values]
             missing = result.missing
         else:
-            # sample at the layer's own vertices (closing vertices included), in the DSM CRS
-            rings = [_rings(f.geometry()) for f in features]
-            to_dsm = QgsCoordinateTransform(source.sourceCrs(), layer.crs(),
-                                            context.transformContext())
-            xy = np.array([(q.x(), q.y()) for q in (to_dsm.transform(QgsPointXY(*pt)) for polys
-                           in rings for poly in polys for ring in poly for pt in ring)],
-                          dtype=float).reshape(-1, 2)
-            z = vertex_heights(dsm, xy[:, 0], xy[:, 1], sampling, buffer, stat, pct, progress,
-                               feedback.isCanceled)
             per_feature, k, missing = [], 0, {}
-            for i, (roi, polys) in enumerate(zip(rois, rings)):
+            for i, (roi, polys) in enumerate(zip(rois, step.inputs["rings"])):
                 n = sum(len(r) for poly in polys for r in poly)
-                zs = z[k:k + n]
+                zs = result[k:k + n]
                 k += n
                 if np.isnan(zs).any():
                     missing[i] = "some vertices fall outside the DSM or on nodata"
@@ -159,20 +167,14 @@ def _rings(geom):
 
 
 def _with_z(polys, height, zs):
-    """A MultiPolygonZ from rings, Z = ``zs`` per vertex (in order) or ``height`` everywhere."""
-    multi = QgsMultiPolygon()
-    k = 0
+    """A MultiPolygonZ from closed rings, Z = ``zs`` per vertex (in order) or ``height``
+    everywhere."""
+    out, k = [], 0
     for poly in polys:
-        polygon = QgsPolygon()
-        for j, ring in enumerate(poly):
-            x = [p[0] for p in ring]
-            y = [p[1] for p in ring]
-            z = list(zs[k:k + len(ring)]) if zs is not None else [height] * len(ring)
+        rings = []
+        for ring in poly:
+            z = zs[k:k + len(ring)] if zs is not None else np.full(len(ring), height)
             k += len(ring)
-            line = QgsLineString(x, y, [float(v) for v in z])
-            if j == 0:
-                polygon.setExteriorRing(line)
-            else:
-                polygon.addInteriorRing(line)
-        multi.addGeometry(polygon)
-    return QgsGeometry(multi)
+            rings.append(np.column_stack([np.asarray(ring, np.float64).reshape(-1, 2), z]))
+        out.append(rings)
+    return multipolygon(out, z=True, close=False)

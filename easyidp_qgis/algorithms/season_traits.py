@@ -1,21 +1,27 @@
 """Processing tool: Plot traits over a season (easyidp:seasontraits)."""
 import os
 
-from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
+from qgis.core import (QgsCoordinateReferenceSystem, QgsProcessingException,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
                        QgsProcessingParameterFeatureSource, QgsProcessingParameterField,
                        QgsProcessingParameterFileDestination,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsProcessingParameterString,
-                       QgsProcessingParameterVectorLayer, QgsProviderRegistry)
-from qgis.PyQt.QtCore import QDate, QDateTime
+                       QgsProcessingParameterVectorLayer)
 
 from .. import presentation
-from ..compat import (DateFormat, FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
-                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
-from ..layers import (crs_string, geotiff_source, parse_percentiles, rois_parameter)
-from ..outputs import close_sink
-from .base import EasyIDPAlgorithm
+from ..compat import (FieldType, ProcessingNumberParameterType, ProcessingParameterFlag,
+                      ProcessingSourceType, WkbType)
+from ..crs import crs_string
+from ..layer_files import layer_file, uri_file
+from ..outputs import scratch_context
+from ..parameters import optional_number, parse_percentiles
+from ..progress import feedback_progress
+from ..rasters import geotiff_source
+from ..rois import rois_parameter
+from ..sinks import fields_of, write_features, write_roi_layer
+from ..values import plain_value, value_text
+from .base import CoreStep, EasyIDPAlgorithm
 
 TRAITS = ["height", "cover", "bands", "index", "cloud"]
 
@@ -131,45 +137,47 @@ class SeasonTraits(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     # ---- run --------------------------------------------------------------------------------
-    def run_tool(self, parameters, context, feedback):
-        from ...core.season import plot_growth_curves, run_season
+    def core_step(self, parameters, context, feedback):
+        from ...core.season import check_season_outputs, run_season
 
         table_layer = self.parameterAsVectorLayer(parameters, self.SURVEYS, context)
         if table_layer is None:
             raise QgsProcessingException(self.tr("Survey table: no table given, or it could not "
                                                  "be loaded."))
         table = _survey_table(table_layer, context)
-        group_field = self.parameterAsString(parameters, self.GROUP_FIELD, context)
         source, rois, features = rois_parameter(self, parameters, context, feedback)
         traits = [TRAITS[i] for i in self.parameterAsEnums(parameters, self.TRAITS, context)]
         if not traits:
             raise QgsProcessingException(self.tr("Traits: choose at least one."))
         ground_layer = self.parameterAsRasterLayer(parameters, self.GROUND, context)
         ground = geotiff_source(ground_layer, self.tr("Ground")) if ground_layer else None
-        threshold = None
-        if parameters.get(self.COVER_THRESHOLD) not in (None, ""):
-            threshold = self.parameterAsDouble(parameters, self.COVER_THRESHOLD, context)
         scheduler = (self.parameterAsString(parameters, self.DASK_SCHEDULER, context) or "").strip()
-        crops = self.parameterAsString(parameters, self.CROPS, context) or None
-        workers = self.parameterAsInt(parameters, self.WORKERS, context)
         for problem in table.problems:
             feedback.pushWarning(self.tr("Survey {p}").format(p=problem))
-        self._check_outputs(parameters, context, table, ground)
+        check_season_outputs(table, self._output_files(parameters, context), ground,
+                             also=[layer_file(table_layer)])
         feedback.pushInfo(self.tr("{n} surveys, {r} ROIs, traits: {t}").format(
             n=len(table.surveys), r=len(rois), t=", ".join(traits)))
-
-        result = run_season(
-            table, rois, traits=traits,
+        return CoreStep(run_season, dict(
+            table=table, rois=rois, traits=traits,
             percentiles=parse_percentiles(self, self.parameterAsString(
                 parameters, self.PERCENTILES, context), default=(50.0, 95.0, 99.0)),
             ground=ground, ground_crs=crs_string(ground_layer.crs()) if ground_layer else None,
             ground_percentile=self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context),
-            cover_threshold=threshold, crops=crops, overwrite=self.overwrite(parameters, context),
-            workers=workers,
+            cover_threshold=optional_number(self, parameters, self.COVER_THRESHOLD, context),
+            crops=self.parameterAsString(parameters, self.CROPS, context) or None,
+            overwrite=self.overwrite(parameters, context),
+            workers=self.parameterAsInt(parameters, self.WORKERS, context),
             scheduler=scheduler if scheduler and scheduler.lower() != "local" else None,
             local_cluster=scheduler.lower() == "local",
-            progress=lambda p: feedback.setProgress(5 + 0.9 * p),
-            is_cancelled=feedback.isCanceled, log=feedback.pushInfo)
+            progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled,
+            log=feedback.pushInfo),
+            dict(source=source, features=features, table=table))
+
+    def write_outputs(self, parameters, context, feedback, step, result):
+        from ...core.season import plot_growth_curves
+        source, features, table = (step.inputs[k] for k in ("source", "features", "table"))
+        rois, crops = step.kwargs["rois"], step.kwargs["crops"]
         for problem in result.problems[len(table.problems):]:
             feedback.pushWarning(self.tr("Left out: {p}").format(p=problem))
         for note in result.notes:
@@ -179,13 +187,24 @@ class SeasonTraits(EasyIDPAlgorithm):
                 "No trait could be computed: every survey row was left out (see the messages "
                 "above)."))
 
-        out = {self.OUTPUT_TABLE: self._long_table(result, parameters, context),
-               self.OUTPUT_LAYER: self._wide_layer(result, source, features, parameters, context)}
+        out = {self.OUTPUT_TABLE: write_features(
+                   self, parameters, self.OUTPUT_TABLE, context,
+                   fields_of((("roi", FieldType.QString), ("date", FieldType.QString),
+                              ("trait", FieldType.QString), ("value", FieldType.Double))),
+                   WkbType.NoGeometry, QgsCoordinateReferenceSystem(),
+                   ((row, None) for row in result.rows)),
+               self.OUTPUT_LAYER: write_roi_layer(
+                   self, parameters, self.OUTPUT_LAYER, context, source,
+                   [(feat, [date] + [values.get(t) for t in result.traits])
+                    for feat, (date, values) in zip(features, result.latest())],
+                   [("date", FieldType.QString)] + [(t, FieldType.Double) for t in result.traits],
+                   replace=True)}
         curves = self.parameterAsFileOutput(parameters, self.OUTPUT_CURVES, context)
         if curves:
             groups = None
+            group_field = self.parameterAsString(parameters, self.GROUP_FIELD, context)
             if group_field:
-                groups = {r.name: _value_text(f[group_field]) for r, f in zip(rois, features)}
+                groups = {r.name: value_text(f[group_field]) for r, f in zip(rois, features)}
             plot_growth_curves(result, curves, groups=groups)
             out[self.OUTPUT_CURVES] = curves
         if crops:
@@ -198,68 +217,17 @@ class SeasonTraits(EasyIDPAlgorithm):
             s=result.seconds, e=result.executor, p=len(result.problems)))
         return out
 
-    def _check_outputs(self, parameters, context, table, ground):
-        """Refuse output files that are inputs (the table, a raster, a cloud, the ground)."""
-        from ...core.files import check_not_inputs
-        inputs = [p for p in [table.source, ground, _source_path_of(parameters, self.SURVEYS,
-                                                                      self, context)] if p]
-        inputs += [p for s in table.surveys for p in (*s.files().values(), s.project) if p]
-        from ..outputs import scratch_context
+    def _output_files(self, parameters, context):
+        """The files of the outputs (the two tables when written to files, and the curves)."""
         scratch = scratch_context(context)
-        for name in (self.OUTPUT_TABLE, self.OUTPUT_LAYER):
-            dest = self.parameterAsOutputLayer(parameters, name, scratch) or ""
-            path = dest.split("|")[0]
-            if path.startswith("ogr:"):
-                continue
-            if path and os.path.splitext(path)[1]:
-                check_not_inputs(path, inputs)
-        curves = self.parameterAsFileOutput(parameters, self.OUTPUT_CURVES, context)
-        if curves:
-            check_not_inputs(curves, inputs)
-
-    def _long_table(self, result, parameters, context):
-        fields = QgsFields()
-        for name, kind in (("roi", FieldType.QString), ("date", FieldType.QString),
-                           ("trait", FieldType.QString), ("value", FieldType.Double)):
-            fields.append(QgsField(name, kind))
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT_TABLE, context, fields,
-                                          WkbType.NoGeometry)
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_TABLE))
-        for row in result.rows:
-            f = QgsFeature(fields)
-            f.setAttributes(list(row))
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
-        return dest
-
-    def _wide_layer(self, result, source, features, parameters, context):
-        new = {"date", *result.traits}
-        kept = [i for i, f in enumerate(source.fields()) if f.name().lower() not in
-                {n.lower() for n in new}]
-        fields = QgsFields()
-        for i in kept:
-            fields.append(source.fields().at(i))
-        fields.append(QgsField("date", FieldType.QString))
-        for t in result.traits:
-            fields.append(QgsField(t, FieldType.Double))
-        sink, dest = self.parameterAsSink(parameters, self.OUTPUT_LAYER, context, fields,
-                                          source.wkbType(), source.sourceCrs())
-        if sink is None:
-            raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT_LAYER))
-        for feat, (date, values) in zip(features, result.latest()):
-            attrs = feat.attributes()
-            f = QgsFeature(fields)
-            f.setAttributes([attrs[i] for i in kept] + [date] +
-                            [values.get(t) for t in result.traits])
-            f.setGeometry(feat.geometry())
-            sink.addFeature(f, FeatureSinkFlag.FastInsert)
-        close_sink(sink)
-        return dest
+        files = [uri_file(self.parameterAsOutputLayer(parameters, name, scratch) or "")
+                 for name in (self.OUTPUT_TABLE, self.OUTPUT_LAYER)]
+        files = [f for f in files if os.path.splitext(f)[1]]
+        return files + [self.parameterAsFileOutput(parameters, self.OUTPUT_CURVES, context)]
 
     def _present(self, out, result, context, source):
         """Name the outputs that are loaded; colour the wide layer by height (graduated)."""
-        from ...core.season.curves import main_trait
+        from ...core.season import main_trait
         attr = main_trait([t for t in result.traits if "height" in t])
         presentation.present(
             self, context, out[self.OUTPUT_LAYER], self.OUTPUT_LAYER,
@@ -269,49 +237,21 @@ class SeasonTraits(EasyIDPAlgorithm):
                              self.tr("{rois}: traits per date").format(rois=source.sourceName()))
 
 
-def _value_text(v) -> str:
-    if isinstance(v, (QDate, QDateTime)):
-        return v.toString(DateFormat.ISODate)
-    return "" if v is None or str(v) == "NULL" else str(v)
-
-
 def _survey_table(layer, context):
     """The surveys of a table layer. A CSV file is read as text by the core (QGIS's type
     detection reads a path like '2024-06-01/dsm.tif' as a date); any other table through its
-    features, with relative paths taken from its file's folder or the project's."""
+    features (dates as ISO text, NULL as None), with relative paths taken from its file's
+    folder or the project's."""
     from ...core.season import read_survey_table, surveys_from_rows
-    path = _source_path(layer)
+    path = layer_file(layer)
+    path = os.path.abspath(path) if path and os.path.isfile(path) else ""
     if path and os.path.splitext(path)[1].lower() in (".csv", ".txt", ".tsv") and \
             not layer.subsetString():
         return read_survey_table(path)
-    return surveys_from_rows(_rows(layer), os.path.dirname(path) if path else
-                             _project_folder(context), label=layer.name())
-
-
-def _rows(layer):
-    """The table's features as {field name: value} dicts (dates as ISO text, NULL as None)."""
     names = layer.fields().names()
-    rows = []
-    for f in layer.getFeatures():
-        rows.append({n: (_value_text(v) if isinstance(v, (QDate, QDateTime)) else
-                         None if v is None or str(v) == "NULL" else v)
-                     for n, v in zip(names, f.attributes())})
-    return rows
-
-
-def _source_path(layer) -> str:
-    """The file behind a layer ('' when there is none)."""
-    parts = QgsProviderRegistry.instance().decodeUri(layer.providerType(), layer.source())
-    path = parts.get("path") or ""
-    if path.startswith("file://"):
-        from urllib.parse import unquote, urlparse
-        path = unquote(urlparse(path).path)
-    return os.path.abspath(path) if path and os.path.isfile(path) else ""
-
-
-def _source_path_of(parameters, name, alg, context) -> str:
-    layer = alg.parameterAsVectorLayer(parameters, name, context)
-    return _source_path(layer) if layer is not None else ""
+    rows = [dict(zip(names, map(plain_value, f.attributes()))) for f in layer.getFeatures()]
+    return surveys_from_rows(rows, os.path.dirname(path) if path else _project_folder(context),
+                             label=layer.name())
 
 
 def _project_folder(context) -> str:

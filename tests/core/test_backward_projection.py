@@ -331,7 +331,7 @@ def test_no_height_source(plots, metashape):
 def test_dsm_not_under_the_rois(tmp_path, plots, metashape):
     import sys
     sys.path.insert(0, str(Path(__file__).parent))
-    from synthetic import write_tif
+    from easyidp_toolbox.tests.support.synthetic import write_tif
     dsm = write_tif(str(tmp_path / "far.tif"), np.zeros((10, 10), np.float32),
                     origin=(100000.0, 100000.0))
     with pytest.raises(ROIError, match="DSM has no data under some vertices of 40 ROI"):

@@ -11,7 +11,7 @@ from easyidp_toolbox.core import ROI, ROISet, read_geojson
 from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
 from easyidp_toolbox.core.errors import Cancelled, InputError, ROIError
 from easyidp_toolbox.core.raster.geotiff import GeoTiff, open_geotiff
-from synthetic import rect, write_tif
+from easyidp_toolbox.tests.support.synthetic import rect, write_tif
 
 ORIGIN = (368000.0, 3956000.0)
 

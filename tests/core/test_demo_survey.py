@@ -399,7 +399,7 @@ def test_point_cloud_cropped_by_the_plots_matches_an_independent_count(survey, t
     import laspy
 
     from easyidp_toolbox.core import crop_point_cloud, read_geojson
-    from pc_helpers import winding_inside
+    from easyidp_toolbox.tests.support.pc_helpers import winding_inside
 
     plots = read_geojson(survey.plots_geojson, name_field="plot_id")
     res = crop_point_cloud(survey.point_cloud_laz, plots, str(tmp_path / "crops"), fmt="las")

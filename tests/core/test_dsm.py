@@ -6,7 +6,7 @@ from pyproj import CRS, Transformer
 
 from easyidp_toolbox.core.errors import InputError
 from easyidp_toolbox.core.raster import DSM, RaySurface, as_dsm, open_geotiff, valid_heights
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 O = (368000.0, 3956000.0)
 UTM54 = CRS.from_epsg(32654)

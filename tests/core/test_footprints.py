@@ -44,7 +44,7 @@ def test_footprints_on_a_dsm_with_nodata(pix4d, tmp_path):
     """A sloped DSM with a hole (nodata) under part of the scene: rings on the DSM where it
     has data (checked against the DSM's own bilinear heights), the plane under the camera
     elsewhere (``complete`` False)."""
-    from synthetic import write_tif
+    from easyidp_toolbox.tests.support.synthetic import write_tif
     from easyidp_toolbox.core.raster import DSM
     _, c = pix4d.camera_centres()
     x0, y1 = c[:, 0].min() - 150, c[:, 1].max() + 150

@@ -6,7 +6,7 @@ import pytest
 
 from easyidp_toolbox.core.errors import InputError
 from easyidp_toolbox.core.raster.geotiff import open_geotiff
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 
 @pytest.mark.gdal
@@ -132,7 +132,7 @@ def test_copy_keeps_metadata(tmp_path, realdata):
 
 def test_unreadable_crs_is_noted_never_silently_dropped(tmp_path):
     """GeoKeys naming a CRS that cannot be read leave a note; a given CRS needs none."""
-    from synthetic import geokeys
+    from easyidp_toolbox.tests.support.synthetic import geokeys
     import tifffile
     data = np.zeros((4, 4), np.float32)
     for code, words in ((32767, "user-defined"), (9999, "not a CRS PROJ knows")):

@@ -14,7 +14,7 @@ from easyidp_toolbox.core import ROI, ROISet
 from easyidp_toolbox.core.errors import Cancelled, InputError
 from easyidp_toolbox.core.files import LOCK_NAME, OutputFolder, check_output_folder
 from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
-from synthetic import rect, write_tif
+from easyidp_toolbox.tests.support.synthetic import rect, write_tif
 
 O = (368000.0, 3956000.0)
 

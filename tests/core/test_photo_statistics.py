@@ -38,7 +38,7 @@ from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
 from easyidp_toolbox.core.roi import ROI, ROISet
 
 sys.path.insert(0, str(Path(__file__).parent))
-from synthetic import write_tif  # noqa: E402
+from easyidp_toolbox.tests.support.synthetic import write_tif  # noqa: E402
 
 UTM = CRS.from_epsg(32654)
 OFFSET = np.array([368000.0, 3956000.0, 0.0])

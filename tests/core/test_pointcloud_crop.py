@@ -4,7 +4,7 @@ import shutil
 import laspy
 import numpy as np
 import pytest
-from pc_helpers import polygon, random_rois, winding_inside
+from easyidp_toolbox.tests.support.pc_helpers import polygon, random_rois, winding_inside
 
 from easyidp_toolbox.core import (ROI, Cancelled, InputError, PointCloud, ROISet,
                                   crop_point_cloud, read_point_cloud)

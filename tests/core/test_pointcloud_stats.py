@@ -1,7 +1,7 @@
 """ROI heights and canopy summaries from a point cloud."""
 import numpy as np
 import pytest
-from pc_helpers import winding_inside
+from easyidp_toolbox.tests.support.pc_helpers import winding_inside
 
 from easyidp_toolbox.core import (ROI, EasyIDPError, InputError, PointCloud, ROISet,
                                   canopy_summary, read_point_cloud)

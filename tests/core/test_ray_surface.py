@@ -14,7 +14,7 @@ from easyidp_toolbox.core.errors import EasyIDPError, InputError
 from easyidp_toolbox.core.raster import DSM, HIT, LEFT, MISS, NODATA, first_hits
 from easyidp_toolbox.core.reconstruction.geodesy import GeocentricFrame, OffsetFrame
 
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 ORIGIN = (368000.0, 3956000.0)
 PIXEL = 0.25

@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 from pyproj import Transformer
 
-import real_survey as rs
+from easyidp_toolbox.tests.support import real_survey as rs
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.errors import InputError
 from easyidp_toolbox.core.projection import (back_project, crop_photos, forward_project,

@@ -7,7 +7,7 @@ import pytest
 from easyidp_toolbox.core import ROI, ROISet, read_geojson
 from easyidp_toolbox.core.raster import DSM, roi_heights, vertex_heights
 from easyidp_toolbox.core.errors import InputError
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 O = (368000.0, 3956000.0)
 

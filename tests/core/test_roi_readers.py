@@ -12,7 +12,7 @@ from easyidp_toolbox.core.errors import EasyIDPError, InputError, ROIError
 from easyidp_toolbox.core.raster import open_geotiff
 from easyidp_toolbox.core.roi import open_rois, rois_from_geo_interface
 
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 
 # ---- real files ------------------------------------------------------------------------------

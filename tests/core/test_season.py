@@ -27,8 +27,8 @@ from easyidp_toolbox.core.season import executors
 from easyidp_toolbox.core.season.ground import fit_plane, low_plane
 from easyidp_toolbox.core.indices import INDEX_BINS, index_histogram, otsu_threshold
 
-from season_helpers import small_season
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.season_helpers import small_season
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 TIMEOUT = 600   # seconds: generous, for a loaded 2-core machine
 
@@ -422,3 +422,15 @@ def test_demo_season_is_deterministic(season, tmp_path):
                  (season.point_clouds[0], again.point_clouds[0])):
         with open(a, "rb") as fa, open(b, "rb") as fb:
             assert fa.read() == fb.read(), os.path.basename(a)
+
+
+def test_season_outputs_are_never_its_inputs(season, tmp_path):
+    from easyidp_toolbox.core.season import check_season_outputs, season_inputs
+    table = read_survey_table(season.surveys)
+    inputs = season_inputs(table, season.ground)
+    assert season.surveys in inputs and season.ground in inputs and season.dsms[0] in inputs
+    check_season_outputs(table, [str(tmp_path / "t.gpkg"), None], season.ground)
+    for target in (season.dsms[0], season.ground, season.surveys, str(tmp_path / "extra.csv")):
+        with pytest.raises(InputError, match="is the input file itself"):
+            check_season_outputs(table, [None, target], season.ground,
+                                 also=[str(tmp_path / "extra.csv")])

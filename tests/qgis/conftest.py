@@ -16,7 +16,6 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
-sys.path.insert(0, str(ROOT / "tests" / "core"))  # the synthetic raster writer
 
 
 @pytest.fixture(scope="session")

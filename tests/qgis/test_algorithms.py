@@ -9,7 +9,8 @@ from qgis.core import (QgsApplication, QgsFeature, QgsGeometry, QgsProcessingCon
                        QgsProcessingException, QgsProcessingFeedback, QgsProject, QgsRasterLayer,
                        QgsVectorLayer, QgsWkbTypes)
 
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.qgis_layers import memory_layer
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 ZONES = "data-to-science/zones_inside_test_tif.geojson"
 DSM = "data-to-science/test.tif"
@@ -19,18 +20,6 @@ def _run(alg, params, feedback=None, context=None):
     import processing  # QGIS's processing plugin: importable once pytest-qgis initialised it
     context = context or QgsProcessingContext()
     return processing.run(alg, params, context=context, feedback=feedback or QgsProcessingFeedback())
-
-
-def _memory_polygons(crs, wkts, name="rois"):
-    layer = QgsVectorLayer(f"Polygon?crs={crs}&field=name:string", name, "memory")
-    feats = []
-    for n, w in wkts:
-        f = QgsFeature(layer.fields())
-        f.setAttributes([n])
-        f.setGeometry(QgsGeometry.fromWkt(w))
-        feats.append(f)
-    layer.dataProvider().addFeatures(feats)
-    return layer
 
 
 def test_provider_and_algorithms_are_registered(provider):
@@ -68,7 +57,7 @@ def test_crop_real_dsm_loads_nothing_unless_asked(provider, realdata, tmp_path):
 def test_crop_rgb_gets_alpha_in_qgis(provider, tmp_path):
     img = np.random.default_rng(0).integers(0, 255, (200, 200, 3), dtype=np.uint8)
     src = write_tif(str(tmp_path / "dom.tif"), img, tile=64)
-    rois = _memory_polygons("EPSG:32654", [("p1", "POLYGON((368010 3955990, 368040 3955990, "
+    rois = memory_layer("EPSG:32654", [("p1", "POLYGON((368010 3955990, 368040 3955990, "
                                                    "368040 3955960, 368010 3955990))")])
     res = _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois, "NAME_FIELD": "name",
                                              "OUTPUT_FOLDER": str(tmp_path / "o")})
@@ -99,7 +88,7 @@ def test_heights_per_polygon_and_per_vertex(provider, realdata):
 def test_heights_missing_are_null_not_zero(provider, tmp_path):
     z = np.full((40, 40), -32767, np.float32)
     dsm = write_tif(str(tmp_path / "nd.tif"), z, nodata=-32767, pixel=1.0, origin=(368000, 3956000))
-    rois = _memory_polygons("EPSG:32654", [("a", "POLYGON((368002 3955998, 368010 3955998, "
+    rois = memory_layer("EPSG:32654", [("a", "POLYGON((368002 3955998, 368010 3955998, "
                                                   "368010 3955990, 368002 3955998))")])
     feedback = QgsProcessingFeedback()
     res = _run("easyidp:roiheightsfromdsm", {"ROIS": rois, "DSM": dsm, "OUTPUT": "memory:"}, feedback)
@@ -127,7 +116,22 @@ def test_truncated_tiff_names_the_file(provider, tmp_path, realdata):
     p.write_bytes(data[: len(data) // 2])
     with pytest.raises(QgsProcessingException, match="cut.tif is (truncated|corrupt|not)"):
         _crop(str(p), str(realdata / ZONES), str(tmp_path / "o"))
-    assert not [f for f in os.listdir(tmp_path / "o") if f.endswith(".part")] if (tmp_path / "o").exists() else True
+    assert not _leftovers(tmp_path / "o")
+
+
+def _leftovers(folder):
+    """The temporary files (``core.files.part_name``) left in ``folder`` (none if it is absent)."""
+    from easyidp_toolbox.core.files import is_part_name
+    return [f for f in os.listdir(folder) if is_part_name(f)] if os.path.isdir(folder) else []
+
+
+@pytest.mark.parametrize("target", ["A1.tif", "A1.part.tif", "notes", "plot.gpkg"])
+def test_the_leftover_check_finds_a_planted_temporary_file(tmp_path, target):
+    from easyidp_toolbox.core.files import part_name
+    (tmp_path / target).write_bytes(b"done")
+    assert _leftovers(tmp_path) == []
+    part_name(tmp_path / target).write_bytes(b"half")
+    assert _leftovers(tmp_path) == [part_name(tmp_path / target).name]
 
 
 def test_raster_without_georeferencing(provider, tmp_path, realdata):
@@ -157,14 +161,14 @@ def test_point_and_line_layers_are_refused(provider, tmp_path, realdata):
 
 
 def test_invalid_and_empty_polygons_are_named(provider, tmp_path, realdata):
-    bow = _memory_polygons("EPSG:32616", [("bowtie", "POLYGON((504640 4588050, 504642 4588052, "
+    bow = memory_layer("EPSG:32616", [("bowtie", "POLYGON((504640 4588050, 504642 4588052, "
                                                      "504642 4588050, 504640 4588053, 504640 4588050))")])
     context = QgsProcessingContext()
     context.setInvalidGeometryCheck(QgsFeatureRequest_no_check())
     with pytest.raises(QgsProcessingException, match="bowtie.*crosses itself"):
         _run("easyidp:croprasterbyrois", {"INPUT": str(realdata / DSM), "ROIS": bow, "NAME_FIELD": "name",
                                           "OUTPUT_FOLDER": str(tmp_path / "o")}, context=context)
-    empty = _memory_polygons("EPSG:32616", [("nothing", "POLYGON EMPTY")])
+    empty = memory_layer("EPSG:32616", [("nothing", "POLYGON EMPTY")])
     with pytest.raises(QgsProcessingException, match="nothing.*empty"):
         _run("easyidp:croprasterbyrois", {"INPUT": str(realdata / DSM), "ROIS": empty, "NAME_FIELD": "name",
                                           "OUTPUT_FOLDER": str(tmp_path / "o")}, context=context)
@@ -176,7 +180,7 @@ def QgsFeatureRequest_no_check():  # noqa: N802
 
 
 def test_invalid_polygon_with_default_settings_is_stopped(provider, tmp_path, realdata):
-    bow = _memory_polygons("EPSG:32616", [("bowtie", "POLYGON((504640 4588050, 504642 4588052, "
+    bow = memory_layer("EPSG:32616", [("bowtie", "POLYGON((504640 4588050, 504642 4588052, "
                                                      "504642 4588050, 504640 4588053, 504640 4588050))")])
     with pytest.raises(QgsProcessingException, match="(?i)invalid|crosses itself"):
         _crop(str(realdata / DSM), bow, str(tmp_path / "o"))
@@ -197,7 +201,7 @@ def test_duplicate_names_and_input_in_output_folder(provider, tmp_path, realdata
     src = folder / "test.tif"
     shutil.copy(realdata / DSM, src)
     digest = hashlib.sha256(src.read_bytes()).hexdigest()
-    layer = _memory_polygons("EPSG:4326", [("test", "POLYGON((-86.94452 41.44408, -86.94450 41.44408, "
+    layer = memory_layer("EPSG:4326", [("test", "POLYGON((-86.94452 41.44408, -86.94450 41.44408, "
                                                     "-86.94450 41.44406, -86.94452 41.44408))"),
                                            ("test", "POLYGON((-86.94446 41.44408, -86.94444 41.44408, "
                                                     "-86.94444 41.44406, -86.94446 41.44408))")])
@@ -224,7 +228,7 @@ def test_cancel_mid_run_leaves_no_partial_file(provider, tmp_path):
     src = write_tif(str(tmp_path / "dom.tif"), img, rowsperstrip=1)
     wkts = [(f"r{k}", f"POLYGON((368001 {3956000 - 40 * k - 1}, 368100 {3956000 - 40 * k - 1}, "
                      f"368100 {3956000 - 40 * k - 30}, 368001 {3956000 - 40 * k - 1}))") for k in range(25)]
-    rois = _memory_polygons("EPSG:32654", wkts)
+    rois = memory_layer("EPSG:32654", wkts)
     out = tmp_path / "o"
     with pytest.raises(QgsProcessingException, match="Cancelled"):
         _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois, "OUTPUT_FOLDER": str(out)},
@@ -259,7 +263,7 @@ def test_rois_are_reprojected_with_the_projects_transform_context(provider, tmp_
     from pyproj import Transformer
     lon, lat = Transformer.from_crs(32654, 4326, always_xy=True).transform(368040.0, 3956040.0)
     d = 0.0002
-    rois = _memory_polygons("EPSG:4326", [("p", f"POLYGON(({lon} {lat}, {lon + d} {lat}, "
+    rois = memory_layer("EPSG:4326", [("p", f"POLYGON(({lon} {lat}, {lon + d} {lat}, "
                                                 f"{lon + d} {lat + d}, {lon} {lat + d}, {lon} {lat}))")])
     plain = _run("easyidp:croprasterbyrois", {"INPUT": src, "ROIS": rois,
                                               "OUTPUT_FOLDER": str(tmp_path / "a")})

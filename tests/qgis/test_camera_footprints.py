@@ -4,7 +4,7 @@ import pytest
 from qgis.core import (QgsGeometry, QgsPointXY, QgsProcessingContext, QgsProcessingException,
                        QgsProcessingFeedback, QgsVectorLayer, QgsWkbTypes)
 
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 ALG = "easyidp:camerafootprints"
 

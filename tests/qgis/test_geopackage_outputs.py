@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 
 from easyidp_toolbox.scripts.qgis_process import run
-from season_helpers import small_season
+from easyidp_toolbox.tests.support.season_helpers import small_season
 
 PLOTS = 40          # the demo survey's plots
 CAMERAS = 36        # and its photos

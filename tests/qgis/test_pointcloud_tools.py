@@ -9,8 +9,8 @@ from qgis.core import (QgsFeature, QgsGeometry, QgsProcessingContext, QgsProcess
                        QgsProcessingFeedback, QgsProcessingOutputLayerDefinition,
                        QgsProcessingUtils, QgsProject, QgsVectorLayer)
 
-from pc_helpers import winding_inside
-from synthetic import write_tif
+from easyidp_toolbox.tests.support.pc_helpers import winding_inside
+from easyidp_toolbox.tests.support.synthetic import write_tif
 
 AUTZEN = "laspy/autzen_trim.laz"     # 110,000 points, CRS in the file (Oregon Lambert, ft)
 SIMPLE = "laspy/simple.las"          # 1,065 points, no CRS

@@ -4,7 +4,8 @@ stops with a message naming it, not a traceback; PROJECT_CRS then supplies it.""
 import numpy as np
 from osgeo import ogr
 
-from test_project_crs import CENTRE_LV95, LV95_METASHAPE, LV95_SHIFTED, chunk_xml
+from easyidp_toolbox.tests.support.project_crs import (CENTRE_LV95, LV95_METASHAPE, LV95_SHIFTED,
+                                                       chunk_xml)
 from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
 
 

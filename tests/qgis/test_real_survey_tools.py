@@ -9,7 +9,7 @@ import sqlite3
 
 import pytest
 
-import real_survey as rs
+from easyidp_toolbox.tests.support import real_survey as rs
 from easyidp_toolbox.scripts.qgis_process import run_algorithm
 
 

@@ -12,7 +12,7 @@ from qgis.core import (QgsFeature, QgsProcessingContext, QgsProcessingException,
 from qgis.PyQt.QtCore import QDate, Qt
 
 from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
-from season_helpers import small_season
+from easyidp_toolbox.tests.support.season_helpers import small_season
 
 ALG = "easyidp:seasontraits"
 

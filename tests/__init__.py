@@ -1,0 +1,1 @@
+"""The test suites of EasyIDP for QGIS (not shipped in the plugin)."""

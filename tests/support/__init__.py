@@ -1,0 +1,1 @@
+"""Helpers both test suites import by package path (easyidp_toolbox.tests.support)."""
