@@ -100,7 +100,9 @@ def _collect(mod: Module, node, lazy: bool, mods: Dict[str, Module]):
             if base is not None:
                 modules = {}
                 for alias in child.names:      # "from pkg import submodule" imports the submodule
-                    target = f"{base}.{alias.name}" if f"{base}.{alias.name}" in mods else base
+                    sub = f"{base}.{alias.name}"   # ... unless pkg's face binds that name itself
+                    target = sub if sub in mods and not (
+                        base in mods and alias.name in _bound_names(mods[base].tree)) else base
                     modules.setdefault(target, []).append(alias.name)
                 mod.imports += [Import(mod.name, t, n, child.lineno, lazy)
                                 for t, n in modules.items()]
@@ -110,6 +112,19 @@ def _collect(mod: Module, node, lazy: bool, mods: Dict[str, Module]):
                 if target is not None:
                     mod.imports.append(Import(mod.name, target, [], child.lineno, lazy))
         _collect(mod, child, inner, mods)
+
+
+def _bound_names(tree) -> set:
+    """Names a module binds at its top level (imports, definitions, assignments)."""
+    names = set()
+    for node in tree.body:
+        if isinstance(node, (ast.Import, ast.ImportFrom)):
+            names |= {(a.asname or a.name).split(".")[0] for a in node.names}
+        elif isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef, ast.ClassDef)):
+            names.add(node.name)
+        elif isinstance(node, ast.Assign):
+            names |= {t.id for t in node.targets if isinstance(t, ast.Name)}
+    return names
 
 
 def _strip(name: str):
