@@ -36,8 +36,9 @@ PACKAGE = "easyidp_toolbox"       # the repository root is the plugin package
 # top-level modules (every one of them: a new top-level module is a basic) and may import each
 # other, without a cycle. "core" is the face of the whole engine (core/__init__.py).
 LAYERS: Tuple[Tuple[str, ...], ...] = (
-    ("basics",),                     # errors, crs, progress, geometry, files, naming, gpkg,
-                                     # indices, photo_files, heights (the heights vocabulary)
+    ("basics",),                     # errors, crs, progress, geometry, ragged, rotations, wkb,
+                                     # files, naming, gpkg, indices, photo_files,
+                                     # height_statistics (the heights vocabulary)
     ("annotations",),                # shapes on raw photos (LabelMe, COCO, YOLO), pixel space
     ("roi",),                        # ROI, ROISet and their readers (LabelMe via annotations)
     ("raster", "pointcloud"),        # the raster engine; point clouds
