@@ -242,7 +242,8 @@ def clip_convex_rings_to_frames(xy: np.ndarray, offsets: np.ndarray, width: np.n
     # drop consecutive duplicates (corners met exactly)
     ring = run_of(offsets)
     keep = np.any(xy != xy[cyclic_next(offsets)], axis=1) if len(xy) else np.zeros(0, bool)
-    return xy[keep], ragged_offsets(np.bincount(ring[keep], minlength=len(offsets) - 1).astype(np.int64))
+    counts = np.bincount(ring[keep], minlength=len(offsets) - 1).astype(np.int64)
+    return xy[keep], ragged_offsets(counts)
 
 
 def convex_rings(xy: np.ndarray, offsets: np.ndarray) -> np.ndarray:

@@ -21,6 +21,7 @@ from ..annotations import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transformer
 from ..errors import EasyIDPError
 from ..progress import as_progress
+from ..ragged import cyclic_next, offsets
 from ..raster import HIT, STATUS_NAMES, as_dsm, first_hits
 
 DENSIFY_PX = 4.0     # default spacing of densified vertices along edges, photo pixels
@@ -137,7 +138,7 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     model = origin + np.where(hits.hit, hits.distance, np.nan)[:, None] * d
     # rings are consecutive runs of vertices: ring k is [start[k], start[k] + count[k])
     counts = np.array([len(p) for p in parts])
-    starts = np.concatenate([[0], np.cumsum(counts)[:-1]])
+    starts = offsets(counts)[:-1]
     ring_shape = np.array([i for i, _, _ in index])
     ring_first = np.array([j == 0 for _, j, _ in index])
     vert_ring = np.repeat(np.arange(len(parts)), counts)
@@ -165,17 +166,14 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     rel = model[hv] - centre[vert_shape[hv]]
     x = (rel * e1[vert_shape[hv]]).sum(axis=1)
     y = (rel * e2[vert_shape[hv]]).sum(axis=1)
-    # next hit vertex within the same ring (wrapping)
-    nxt = np.arange(len(hv)) + 1
-    if len(hv):
-        last = np.r_[hr[1:] != hr[:-1], True]
-        first_of = np.flatnonzero(np.r_[True, hr[1:] != hr[:-1]])
-        nxt[last] = first_of
+    # the hit vertices of each ring, in order, as ragged rings
     ring_hits = np.bincount(hr, minlength=len(parts))
-    twice = np.bincount(hr, x * y[nxt] - y * x[nxt], len(parts)) if len(hv) else np.zeros(len(parts))
+    hit_rings = offsets(ring_hits)
+    nxt = cyclic_next(hit_rings)
     edge = np.bincount(hr, np.hypot(x[nxt] - x, y[nxt] - y), len(parts)) if len(hv) else np.zeros(len(parts))
     ok_ring = ring_hits >= 3
-    ring_area = np.where(ok_ring, 0.5 * np.abs(twice), 0.0)
+    planar = np.abs(geometry.ring_moments(np.column_stack([x, y]), hit_rings)[0])
+    ring_area = np.where(ok_ring, planar, 0.0)
     signed = np.where(ring_first, ring_area, -ring_area)
     area = np.bincount(ring_shape, signed, len(shapes))
     perim = np.bincount(ring_shape, np.where(ok_ring, edge, 0.0), len(shapes))

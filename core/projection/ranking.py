@@ -19,8 +19,10 @@ def score(share, view_angle_deg, gsd, gsd_best, centre_distance):
             * (1.0 - 0.5 * np.minimum(np.asarray(centre_distance), 1.5) ** 2))
 
 
-def rank_records(rois, recon, cams, geo, g: ROIGeometry, recs, occluded, min_visible, max_images,
-            clip) -> BackProjection:
+def rank_records(rois, recon, cams, geo, g: ROIGeometry, recs, occluded, min_visible,
+                 max_images, clip) -> BackProjection:
+    """The :class:`BackProjection` of the clipped records ``recs``: scored, ranked per ROI,
+    those below ``min_visible`` or beyond ``max_images`` dropped (and counted)."""
     names = rois.names
     labels = [c.label for c in cams]
     sizes = np.array([[geo[c.sensor_id].sensor.width, geo[c.sensor_id].sensor.height] for c in cams])

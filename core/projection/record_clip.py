@@ -16,7 +16,7 @@ from .visibility import visible_fractions
 
 
 def project_and_clip(rois, rings: ROIRings, X, g: ROIGeometry, cand, recon, cams, geo,
-                      distortion, clip, prog) -> dict:
+                     distortion, clip, prog) -> dict:
     """Records (ROI, camera) with their pixel polygons, visible fraction and clipped flag."""
     n, m = len(rois), len(cams)
     xyz = np.column_stack([rings.xy, rings.z])

@@ -44,7 +44,7 @@ def roi_geometry(rings: ROIRings, X: np.ndarray, n: int, recon) -> ROIGeometry:
     radius = np.zeros(n)
     np.maximum.at(radius, roi_of_v, np.linalg.norm(X - centre[roi_of_v], axis=1))
     return ROIGeometry(centre, radius, np.column_stack([a, b, c]), np.abs(area),
-                        recon.frame.up(centre))
+                       recon.frame.up(centre))
 
 
 def candidate_pairs(g: ROIGeometry, cams, geo) -> np.ndarray:

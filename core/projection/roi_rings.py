@@ -70,9 +70,9 @@ def ring_arrays(rois: ROISet) -> ROIRings:
         per_roi.append(n)
     xy = np.concatenate(xy).astype(np.float64)
     return ROIRings(xy, np.zeros(len(xy)), offsets(np.array(lens, np.int64)),
-                  np.array(ring_roi, np.int64), np.array(ring_part, np.int32),
-                  np.array(ring_hole, bool), offsets(np.array(per_roi, np.int64)),
-                  np.ones(len(xy), bool))
+                    np.array(ring_roi, np.int64), np.array(ring_part, np.int32),
+                    np.array(ring_hole, bool), offsets(np.array(per_roi, np.int64)),
+                    np.ones(len(xy), bool))
 
 
 def vertex_heights(source, rois, rings: ROIRings, xy: np.ndarray, crs, ring_index) -> np.ndarray:

@@ -10,7 +10,7 @@ from .sensor_geometry import MAX_SUBDIVISIONS
 
 
 def visible_fractions(flat: FlatPolygons, roi_i, cam_i, rings: ROIRings, X, g: ROIGeometry,
-                       cams, geo, recon, distortion) -> np.ndarray:
+                      cams, geo, recon, distortion) -> np.ndarray:
     """Per clipped record: the ground area of its pixel polygons (densified, cast as rays onto
     the ROI's best-fit plane) over the ROI's area on that plane (its vertices cast from the
     camera centre onto the plane). Vectorised over records; one ray call per photo."""
