@@ -33,6 +33,7 @@ from .training_set import TrainingSet, export_training_set, point_discs
 from .ortho import OrthoResult, orthorectify_rois
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
+from .roi_photo_stats import roi_photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
 from .forward_photos import PhotosToMap, forward_project_photos
 from ..geometry import FlatPolygons
@@ -43,6 +44,7 @@ __all__ = ["camera_footprints", "Footprint", "FootprintStatus",
            "read_easyidp_json", "GeometryZ", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
+           "roi_photo_statistics",
            "ForwardShape", "forward_project", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
            "TrainingSet", "point_discs", "orthorectify_rois", "OrthoResult", "PhotosToMap",

@@ -61,6 +61,7 @@ class PhotoStatistics:
     skipped_photos: Dict[str, str] = field(default_factory=dict)
     previews: List[str] = field(default_factory=list)
     notes: List[str] = field(default_factory=list)
+    warnings: List[str] = field(default_factory=list)
     photos_decoded: int = 0
     rays: int = 0
 

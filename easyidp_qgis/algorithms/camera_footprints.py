@@ -16,7 +16,7 @@ from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
 from ..rasters import geotiff_source
 from ..sinks import close_sink
-from .base import EasyIDPAlgorithm
+from .base import CoreStep, EasyIDPAlgorithm
 
 
 class CameraFootprints(EasyIDPAlgorithm):
@@ -79,27 +79,28 @@ class CameraFootprints(EasyIDPAlgorithm):
             self.OUTPUT_FOOTPRINTS, self.tr("Camera footprints"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
-    def run_tool(self, parameters, context, feedback):
+    def core_step(self, parameters, context, feedback):
         from ...core.projection import camera_footprints
+        from ...core.raster import DSM
 
         recon = open_project_parameter(self, parameters, context, feedback)
-
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         if layer is not None:
-            from ...core.raster import DSM
             ground = DSM(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
         elif parameters.get(self.GROUND_HEIGHT) not in (None, ""):
             ground = self.parameterAsDouble(parameters, self.GROUND_HEIGHT, context)
         else:
             raise QgsProcessingException(self.tr(
                 "Give a DSM or a ground height: the footprints are where the photos meet the ground."))
-
         qcrs, target = self._output_crs(parameters, context, feedback, recon, layer)
-        cams = [c for c in recon.cameras if c.aligned]
-        prints = camera_footprints(recon, ground, crs=target, cameras=cams,
-                                   progress=feedback_progress(feedback, 0, 95),
-                                   is_cancelled=feedback.isCanceled)
+        return CoreStep(camera_footprints, dict(
+            recon=recon, ground=ground, crs=target,
+            cameras=[c for c in recon.cameras if c.aligned],
+            progress=feedback_progress(feedback, 0, 95), is_cancelled=feedback.isCanceled),
+            dict(qcrs=qcrs))
 
+    def write_outputs(self, parameters, context, feedback, step, prints):
+        qcrs = step.inputs["qcrs"]
         fields = QgsFields()
         for name, kind in (("label", FieldType.QString), ("photo_path", FieldType.QString),
                            ("enabled", FieldType.Bool), ("height_above_ground", FieldType.Double),

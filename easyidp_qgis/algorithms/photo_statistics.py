@@ -1,7 +1,7 @@
 """Processing tool: Plot statistics from raw photos (easyidp:photostatistics)."""
 import os
 
-from qgis.core import (QgsCoordinateReferenceSystem, QgsProcessingException,
+from qgis.core import (QgsCoordinateReferenceSystem,
                        QgsProcessingParameterBoolean, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
@@ -19,7 +19,7 @@ from ..rasters import dsm_parameter
 from ..rois import add_roi_parameters, rois_parameter
 from ..sinks import fields_of, write_features, write_roi_layer
 from ..vertex_heights import add_height_parameters, height_source_parameter
-from .base import EasyIDPAlgorithm
+from .base import CoreStep, EasyIDPAlgorithm
 
 STATISTIC_CHOICES = ("mean", "median", "std")
 INDEX_CHOICES = ("exg", "exgr", "vari", "gli", "ndvi", "ndre")
@@ -142,8 +142,8 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     # --- running ----------------------------------------------------------------------------
-    def run_tool(self, parameters, context, feedback):
-        from ...core.projection import back_project, photo_statistics
+    def core_step(self, parameters, context, feedback):
+        from ...core.projection import roi_photo_statistics
 
         recon = open_project_parameter(self, parameters, context, feedback)
         source, rois, features = rois_parameter(self, parameters, context, feedback)
@@ -162,42 +162,34 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         previews = optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
 
         layer = self.parameterAsVectorLayer(parameters, self.BACKPROJECTION, context)
+        backprojection = heights = None
         if layer is not None:
-            result = backprojection_from_layer(layer, self.tr("Back-projection"), rois.names,
-                                               recon, feedback)
-            result.settings["distortion"] = distortion
+            backprojection = backprojection_from_layer(layer, self.tr("Back-projection"),
+                                                       rois.names, recon, feedback)
+            backprojection.settings["distortion"] = distortion
             feedback.pushInfo(self.tr("Back-projection from the layer '{name}': {k} ROI × photo "
-                                      "pairs.").format(name=layer.name(), k=len(result)))
+                                      "pairs.").format(name=layer.name(), k=len(backprojection)))
         else:
             heights = height_source_parameter(self, parameters, context, features, dsm)
             feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
                 n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
-            result = back_project(rois, recon, heights=heights, distortion=distortion,
-                                  occlusion_dsm=dsm, min_visible=0.0,
-                                  progress=feedback_progress(feedback, 5, 30),
-                                  is_cancelled=feedback.isCanceled)
-            for note in result.notes:
-                feedback.pushWarning(note)
-        if not len(result):
-            raise QgsProcessingException(self.tr(
-                "No ROI is seen by any photo: check that the ROIs lie in the surveyed area and "
-                "in the right CRS."))
-
-        feedback.pushInfo(self.tr("Measuring {k} ROI × photo pairs in {m} photos…").format(
-            k=len(result), m=len(set(result.photo_index.tolist()))))
-        photos = self.parameterAsFile(parameters, self.PHOTOS, context) or None
-        stats_result = photo_statistics(
-            result, photos, bands=bands, statistics=stats, percentiles=percentiles,
-            indices=indices, cover_threshold=optional_number(self, parameters,
-                                                             self.COVER_THRESHOLD, context),
+        return CoreStep(roi_photo_statistics, dict(
+            rois=rois, recon=recon, photos=self.parameterAsFile(parameters, self.PHOTOS, context)
+            or None, backprojection=backprojection, heights=heights, distortion=distortion,
+            occlusion_dsm=dsm, occlusion=occlusion, bands=bands, statistics=stats,
+            percentiles=percentiles, indices=indices,
+            cover_threshold=optional_number(self, parameters, self.COVER_THRESHOLD, context),
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
             max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
             weighted=self.parameterAsBool(parameters, self.WEIGHTED, context),
-            recon=recon, rois=rois, occlusion_dsm=dsm if occlusion else None,
-            distortion=distortion, previews_folder=previews,
-            overwrite=self.overwrite(parameters, context),
-            progress=feedback_progress(feedback, 30, 95),
-            is_cancelled=feedback.isCanceled)
+            previews_folder=previews, overwrite=self.overwrite(parameters, context),
+            progress=feedback_progress(feedback, 0, 100), is_cancelled=feedback.isCanceled),
+            dict(source=source, features=features, previews=previews))
+
+    def write_outputs(self, parameters, context, feedback, step, stats_result):
+        source, features, previews = (step.inputs[k] for k in ("source", "features", "previews"))
+        for note in stats_result.warnings:
+            feedback.pushWarning(note)
         for note in stats_result.notes:
             feedback.pushInfo(note)
         for label, why in list(stats_result.skipped_photos.items())[:50]:

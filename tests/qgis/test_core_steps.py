@@ -205,8 +205,47 @@ def test_create_demo_survey_step(provider, tmp_path, size, seed):
     assert not (tmp_path / "demo").exists()
 
 
-def test_every_tool_but_two_has_a_core_step(provider):
-    """Camera footprints and Plot statistics from raw photos still run the core in run_tool."""
+@pytest.mark.parametrize("ground", ["dsm", "height"])
+def test_camera_footprints_step(provider, survey, ground):
+    from easyidp_toolbox.core.projection import camera_footprints
+    from easyidp_toolbox.core.raster import DSM
+    params = {"PROJECT": survey.metashape_project, "OUTPUT_CAMERAS": "memory:",
+              "OUTPUT_FOOTPRINTS": "memory:"}
+    params.update({"DSM": survey.dsm} if ground == "dsm" else {"GROUND_HEIGHT": 12.5})
+    step = _step("easyidp:camerafootprints", params)
+    assert step.function is camera_footprints
+    kw = step.kwargs
+    assert set(kw) == {"recon", "ground", "crs", "cameras", "progress", "is_cancelled"}
+    assert isinstance(kw["ground"], DSM) if ground == "dsm" else kw["ground"] == 12.5
+    assert kw["cameras"] and all(c.aligned for c in kw["cameras"])
+    assert step.inputs["qcrs"].isValid()
+
+
+def test_camera_footprints_step_needs_a_ground(provider, survey):
+    with pytest.raises(QgsProcessingException, match="Give a DSM or a ground height"):
+        _step("easyidp:camerafootprints", {"PROJECT": survey.metashape_project,
+                                           "OUTPUT_CAMERAS": "memory:",
+                                           "OUTPUT_FOOTPRINTS": "memory:"})
+
+
+@pytest.mark.parametrize("occlusion", [False, True])
+def test_photo_statistics_step(provider, survey, tmp_path, occlusion):
+    from easyidp_toolbox.core.projection import roi_photo_statistics
+    from easyidp_toolbox.core.raster import DSM
+    step = _step("easyidp:photostatistics", {
+        "ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+        "HEIGHT_SOURCE": 1, "DSM": survey.dsm, "OCCLUSION": occlusion, "MAX_IMAGES": 3,
+        "OUTPUT": str(tmp_path / "stats.gpkg"), "OUTPUT_VIEWS": str(tmp_path / "views.gpkg")})
+    assert step.function is roi_photo_statistics
+    kw = step.kwargs
+    assert kw["backprojection"] is None and kw["max_images"] == 3
+    assert kw["occlusion"] is occlusion and isinstance(kw["occlusion_dsm"], DSM)
+    assert len(kw["rois"]) == 40 and kw["heights"].describe().startswith("DSM")
+    assert not (tmp_path / "stats.gpkg").exists()           # the step ran nothing
+
+
+def test_every_tool_has_a_core_step(provider):
+    """Every tool is parameters → one core call (core_step) → outputs (write_outputs)."""
     from easyidp_toolbox.easyidp_qgis.algorithms import ALGORITHMS
     without = sorted(a.NAME for a in ALGORITHMS if "core_step" not in vars(a))
-    assert without == ["camerafootprints", "photostatistics"]
+    assert without == []
