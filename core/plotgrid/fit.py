@@ -40,7 +40,9 @@ from typing import List, Optional, Sequence, Tuple
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..geometry import ring_moments
 from ..progress import as_progress
+from ..ragged import offsets
 from ..raster import GeoTiff, open_geotiff
 
 MAX_WORK_PIXELS = 16_000_000
@@ -385,14 +387,15 @@ def _rows_spectrum(work: _Work, centre, max_period: float):
 
 # ---- plot geometry ----------------------------------------------------------------------------
 
-def _centroid(ring: np.ndarray) -> np.ndarray:
-    x, y = ring[:, 0] - ring[0, 0], ring[:, 1] - ring[0, 1]
-    x1, y1 = np.roll(x, -1), np.roll(y, -1)
-    cr = x * y1 - x1 * y
-    a = cr.sum() / 2
-    if abs(a) < 1e-12:
-        return ring.mean(axis=0)
-    return ring[0] + np.array([((x + x1) * cr).sum(), ((y + y1) * cr).sum()]) / (6 * a)
+def _centroids(rings: Sequence[np.ndarray]) -> np.ndarray:
+    """Area centroids (R, 2) of the plot rings; a ring without area gives its vertex mean."""
+    area, moment = ring_moments(np.concatenate(rings), offsets([len(r) for r in rings]))
+    flat = np.abs(area) < 1e-12
+    with np.errstate(invalid="ignore", divide="ignore"):
+        centres = moment / area[:, None]
+    for i in np.flatnonzero(flat):
+        centres[i] = rings[i].mean(axis=0)
+    return centres
 
 
 def _grid_axis(rings: Sequence[np.ndarray]) -> float:
@@ -617,7 +620,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     ux = np.array([math.cos(alpha), math.sin(alpha)])
     uy = np.array([ux[1], -ux[0]])
     axes = np.array([ux, uy])
-    centres = np.array([_centroid(r) for r in rings])
+    centres = _centroids(rings)
     half = np.array([[np.abs((r - c) @ ux).max(), np.abs((r - c) @ uy).max()]
                      for r, c in zip(rings, centres)])
     size = 2 * np.median(half, axis=0)
