@@ -5,6 +5,7 @@ index arithmetic against plain Python loops, densification against a per-edge lo
 """
 import numpy as np
 import pytest
+import shapely
 
 from easyidp_toolbox.core import geometry, ragged
 from easyidp_toolbox.core.geometry import FlatPolygons
@@ -76,7 +77,6 @@ def test_ring_moments_match_the_one_ring_area(seed):
 
 @pytest.mark.parametrize("seed", range(8))
 def test_area_centroid_orientation_against_shapely(seed):
-    shapely = pytest.importorskip("shapely")
     polys = _polygons(seed, offset=(300_000.0, 5_000_000.0))
     ref = shapely.MultiPolygon([(p[0], p[1:]) for p in polys])
     area, cen = geometry.area_centroid(polys)

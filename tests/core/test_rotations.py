@@ -2,10 +2,9 @@
 over angles from 0 through π and above."""
 import numpy as np
 import pytest
+from scipy.spatial.transform import Rotation   # a requirement of both test environments
 
 from easyidp_toolbox.core.rotations import rotation_matrix, rotation_vector
-
-Rotation = pytest.importorskip("scipy.spatial.transform").Rotation
 
 ANGLES = [0.0, 1e-12, 1e-6, 0.3, 1.5, np.pi / 2, 3.0, np.pi - 1e-6, np.pi - 1e-9, np.pi,
           np.pi + 1e-6, 4.0, 2 * np.pi - 0.1, 7.0]
