@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import REF_PYTHON, ratio, reference_env, run_json_child, table, target
+from .common import REF_PYTHON, print_targets, ratio, reference_env, run_json_child, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -296,9 +296,7 @@ def main(argv=None) -> int:
                 targets.append(target(f"crops, {name}: speed-up", ratio(rr["seconds"], r["seconds"]), 5.0))
             print(f"\n2. raw-photo crops, {name}")
             print(table(["tool", "seconds", "CPU s (process)", "crops", "crops/s", "peak MiB"], rows))
-    if targets:
-        print("\nTargets")
-        print(table(["target", "value", "goal", "verdict"], targets))
+    print_targets(targets)
     return 0
 
 

@@ -37,7 +37,7 @@ import numpy as np
 from .bench_backward import OUT as BACKWARD_OUT
 from .bench_backward import (_LOAD_ROIS, REF_PROJECT, REF_PYTHON, WHEAT, _grid_plots, demo_inputs,
                              wheat_inputs)
-from .common import Run, ratio, reference_env, run_child, run_json_child, table, target
+from .common import Run, print_targets, ratio, reference_env, run_child, run_json_child, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -484,9 +484,7 @@ def main(argv=None) -> int:
                             ratio(script, tool), 2.0))
         goals.append(target("back2raw call / engine (the same work, in process)",
                             ratio(back2raw, figures["backproject"]["engine"]), 2.0))
-    if goals:
-        print("\nTargets")
-        print(table(["target", "value", "goal", "verdict"], goals))
+    print_targets(goals)
     return 0
 
 

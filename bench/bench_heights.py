@@ -33,7 +33,7 @@ import tifffile
 
 from .bench_backward import _grid_plots
 from .bench_end_to_end import ENGINE, _errors, _fresh, _write_gpkg, startup_run
-from .common import ratio, run_child, run_json_child, table, target
+from .common import print_targets, ratio, run_child, run_json_child, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -179,9 +179,7 @@ def main(argv=None) -> int:
     print(f"\nROI heights (mean), {d['n']:,} plots on a {d['size']} × {d['size']} float32 DSM, "
           f"median of {repeat} (s); {locks} lock messages, {len(errors)} ERROR lines in the tool's log")
     print(table(["run", "seconds", ""], [r[:2] + [""] for r in rows]))
-    if goals:
-        print("\nTargets")
-        print(table(["target", "value", "goal", "verdict"], goals))
+    print_targets(goals)
     return 0
 
 

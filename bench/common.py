@@ -143,3 +143,10 @@ def target(label: str, value: Optional[float], goal: float, at_least: bool = Tru
     else:
         verdict = "PASS" if (value >= goal if at_least else value <= goal) else "MISS"
     return [label, value, ("≥ " if at_least else "≤ ") + f"{goal:g}", verdict]
+
+
+def print_targets(goals: Sequence[list]) -> None:
+    """The benchmark's closing table of targets (rows from :func:`target`), when it has any."""
+    if goals:
+        print("\nTargets")
+        print(table(["target", "value", "goal", "verdict"], goals))
