@@ -130,22 +130,23 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
         if any(f.name().lower() in new for f in source.fields()):
             feedback.pushInfo(self.tr("The ROI layer's own fields with the names of the statistics "
                                       "are replaced by the new values."))
-        dest_id = write_roi_layer(self, parameters, self.OUTPUT, context, source,
-                                  [(feat, [_num(row[k]) for k in keys])
-                                   for feat, row in zip(features, summary)], stats, replace=True)
         empty = [roi.name for roi, row in zip(rois, summary) if not row["count"]]
-        no_ground = sum(1 for row in summary if row["count"] and math.isnan(row["ground"]))
-        if no_ground and layer is not None:
-            feedback.pushWarning(self.tr(
-                "The ground raster {name} has no data under the points of {n} of the {total} ROIs "
-                "(outside it or nodata): their heights above ground are empty. Check that it "
-                "covers the ROIs.").format(name=layer.name(), n=no_ground, total=len(rois)))
+        # before the sink exists: a run that fails leaves no output file behind
         if rois and len(empty) == len(rois):
             raise QgsProcessingException(self.tr("None of the {n_rois} ROIs contains a point of "
                                                  "the cloud: check that the ROIs and the cloud "
                                                  "are in the right CRS (set 'Point cloud CRS' if "
                                                  "the file has none or a wrong one) and the Z "
                                                  "range.").format(n_rois=len(rois)))
+        dest_id = write_roi_layer(self, parameters, self.OUTPUT, context, source,
+                                  [(feat, [_num(row[k]) for k in keys])
+                                   for feat, row in zip(features, summary)], stats, replace=True)
+        no_ground = sum(1 for row in summary if row["count"] and math.isnan(row["ground"]))
+        if no_ground and layer is not None:
+            feedback.pushWarning(self.tr(
+                "The ground raster {name} has no data under the points of {n} of the {total} ROIs "
+                "(outside it or nodata): their heights above ground are empty. Check that it "
+                "covers the ROIs.").format(name=layer.name(), n=no_ground, total=len(rois)))
         if empty:
             feedback.pushWarning(self.tr(
                 "{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z "

@@ -338,8 +338,10 @@ def test_statistics_bad_input(provider, realdata, tmp_path):
         _stats(realdata, _rois(PLOTS), PERCENTILES="5,abc")
     with pytest.raises(QgsProcessingException, match="Percentiles: '150'"):
         _stats(realdata, _rois(PLOTS), PERCENTILES="150")
+    out = tmp_path / "far.gpkg"     # a failed run leaves no output file behind
     with pytest.raises(QgsProcessingException, match="None of the 1 ROIs contains a point"):
-        _stats(realdata, _rois([("far", OUTSIDE)]))
+        _stats(realdata, _rois([("far", OUTSIDE)]), OUTPUT=str(out))
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
     with pytest.raises(QgsProcessingException, match="Cancelled"):
         _run(STATS, {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS), "OUTPUT": "memory:"},
              _Log(cancel_after=4))
