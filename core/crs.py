@@ -31,12 +31,21 @@ def transformer(src: CRS, dst: CRS) -> Transformer:
     return _transformer(src.to_wkt(), dst.to_wkt())
 
 
+def transform_columns(t: Transformer, *columns) -> Tuple[np.ndarray, ...]:
+    """``t.transform`` of equal-length 1-d coordinate arrays, as float64 arrays. pyproj 3.7
+    takes one-element arrays for a point and warns under numpy ≥ 1.25, so those go as floats."""
+    cols = [np.asarray(c, np.float64).reshape(-1) for c in columns]
+    if cols[0].size == 1:
+        return tuple(np.array([v], np.float64) for v in t.transform(*(float(c[0]) for c in cols)))
+    return tuple(np.asarray(v, np.float64) for v in t.transform(*cols))
+
+
 def transform_xy(src: CRS, dst: CRS, xy: np.ndarray) -> np.ndarray:
     """Transform an (n, 2) array of map coordinates; returns a new (n, 2) array."""
     xy = np.asarray(xy, dtype=np.float64)
     if src == dst:
         return xy.copy()
-    x, y = transformer(src, dst).transform(xy[:, 0], xy[:, 1])
+    x, y = transform_columns(transformer(src, dst), xy[:, 0], xy[:, 1])
     out = np.column_stack([x, y])
     if not np.all(np.isfinite(out)):
         raise EasyIDPError(f"Coordinates could not be transformed from {src.name} to {dst.name}: "

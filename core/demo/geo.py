@@ -9,7 +9,7 @@ from functools import lru_cache
 import numpy as np
 from pyproj import CRS
 
-from ..crs import transformer
+from ..crs import transform_columns, transformer
 from ..reconstruction import enu_rotation
 
 MAP_EPSG = 32654
@@ -37,13 +37,13 @@ def _t(src: int, dst: int):
 
 def map_to_ecef(xyz: np.ndarray) -> np.ndarray:
     """(n, 3) EPSG:32654 + ellipsoidal height → (n, 3) WGS 84 geocentric (m)."""
-    x, y, z = _t(MAP_EPSG, 4978).transform(xyz[:, 0], xyz[:, 1], xyz[:, 2])
+    x, y, z = transform_columns(_t(MAP_EPSG, 4978), xyz[:, 0], xyz[:, 1], xyz[:, 2])
     return np.column_stack([x, y, z])
 
 
 def map_to_lonlat(xyz: np.ndarray) -> np.ndarray:
     """(n, 3) EPSG:32654 → (n, 3) longitude, latitude (degrees), ellipsoidal height."""
-    x, y, z = _t(MAP_EPSG, 4326).transform(xyz[:, 0], xyz[:, 1], xyz[:, 2])
+    x, y, z = transform_columns(_t(MAP_EPSG, 4326), xyz[:, 0], xyz[:, 1], xyz[:, 2])
     return np.column_stack([x, y, z])
 
 

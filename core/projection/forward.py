@@ -18,7 +18,7 @@ import numpy as np
 
 from .. import geometry
 from ..annotations import LINE, POINT, POLYGON, PhotoShape
-from ..crs import as_crs, same_crs, transformer
+from ..crs import as_crs, same_crs, transform_columns, transformer
 from ..errors import EasyIDPError
 from ..progress import as_progress
 from ..ragged import cyclic_next, offsets
@@ -132,7 +132,7 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     if out_crs is not None and surface.crs is not None and not same_crs(out_crs, surface.crs):
         ok = hits.hit
         if ok.any():
-            x, y, z = transformer(surface.crs, out_crs).transform(*xyz[ok].T)
+            x, y, z = transform_columns(transformer(surface.crs, out_crs), *xyz[ok].T)
             xyz = xyz.copy()
             xyz[ok] = np.column_stack([x, y, z])
     model = origin + np.where(hits.hit, hits.distance, np.nan)[:, None] * d

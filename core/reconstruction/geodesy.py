@@ -18,7 +18,7 @@ import numpy as np
 from pyproj import CRS
 from pyproj.transformer import TransformerGroup
 
-from ..crs import as_crs, same_crs, transformer, unbound
+from ..crs import as_crs, same_crs, transform_columns, transformer, unbound
 from ..errors import EasyIDPError
 
 _ECEF_CS = {"subtype": "Cartesian", "axis": [
@@ -73,7 +73,7 @@ def _transform3(src: CRS, dst: CRS, xyz: np.ndarray) -> np.ndarray:
     if same_crs(src, dst):
         return np.array(xyz, dtype=np.float64, copy=True)
     _check_vertical(src, dst)
-    x, y, z = transformer(src, dst).transform(xyz[:, 0], xyz[:, 1], xyz[:, 2])
+    x, y, z = transform_columns(transformer(src, dst), xyz[:, 0], xyz[:, 1], xyz[:, 2])
     out = np.column_stack([x, y, z])
     bad = ~np.all(np.isfinite(out), axis=1) & np.all(np.isfinite(xyz), axis=1)
     if bad.any():

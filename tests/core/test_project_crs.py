@@ -4,12 +4,15 @@ typos and dialects, resolved by core.crs.project_crs in one place for Metashape 
 Checks: the EPSG code a WKT resolves to is compared with the code it must be (by construction
 of the WKT); the CH1903+ chunk is checked end to end against pyproj's own geodesy (a truth by
 construction, independent of our frame code)."""
+import warnings
+
 import numpy as np
 import pytest
 from pyproj import CRS, Transformer
 
 from easyidp_toolbox.core import open_reconstruction
-from easyidp_toolbox.core.crs import project_crs, same_definition, wkt_top_authority
+from easyidp_toolbox.core.crs import (project_crs, same_definition, transform_columns, transformer,
+                                      wkt_top_authority)
 from easyidp_toolbox.core.errors import InputError
 from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.roi.model import ROISet, roi_from_coordinates
@@ -140,3 +143,16 @@ def test_pix4d_wkt_prj_resolved_the_same_way(tmp_path, realdata):
     recon = open_reconstruction(dst)
     assert recon.crs.to_epsg() == 2056
     assert any("EPSG:2056" in n for n in recon.notes)
+
+
+def test_transform_columns_takes_one_point_without_numpy_warnings():
+    """pyproj 3.7 (Debian 13) takes one-element arrays for a point and numpy ≥ 1.25 warns on the
+    conversion; one point must give what the same point does in a longer array."""
+    t = transformer(CRS.from_epsg(32654), CRS.from_epsg(4326))
+    x, y = np.array([368000.0, 369000.0]), np.array([3955000.0, 3956000.0])
+    both = transform_columns(t, x, y)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        one = transform_columns(t, x[:1], y[:1])
+    assert [a.shape for a in one] == [(1,), (1,)]
+    assert [a[0] for a in one] == [a[0] for a in both]
