@@ -46,6 +46,7 @@ class Dependency:
     # (pyopf asks for Pillow >= 10); where QGIS's copy does not, the row is left out of the checks
     # and installs (the code that needs it says so when run)
     needs_shipped: Tuple[str, str] = ()
+    python: str = ""                     # the Pythons it has releases for (e.g. ">=3.10"), if not all
 
     @property
     def distribution(self) -> str:
@@ -56,7 +57,11 @@ class Dependency:
         return _split_requirement(self.requirement)[1]
 
     def fits_here(self) -> bool:
-        """Whether QGIS's own packages allow installing it (see ``needs_shipped``)."""
+        """Whether this Python (``python``) and QGIS's own packages (``needs_shipped``) allow
+        installing it."""
+        here = "%d.%d" % sys.version_info[:2]
+        if self.python and not version_satisfies(here, self.python):
+            return False
         if not self.needs_shipped:
             return True
         name, spec = self.needs_shipped
@@ -88,7 +93,7 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("PIL", "pillow>=9.4", ("photostatistics",)),             # preview captions
     Dependency("matplotlib", "matplotlib>=3.6", ("seasontraits",)),      # growth curves
     Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)
-    Dependency("pyopf", "pyopf>=1.4.1", (), ("pillow", ">=10")),        # OPF projects (PIX4Dmatic)
+    Dependency("pyopf", "pyopf>=1.4.1", (), ("pillow", ">=10"), ">=3.10"),  # OPF projects
 )
 
 # QGIS's own packages: checked, never installed (a plugin must not replace QGIS's numpy or GDAL).

@@ -109,14 +109,17 @@ def test_a_row_that_does_not_fit_this_qgis_is_left_out(monkeypatch):
     installing it beside QGIS would fail the whole install, so the row is not offered there."""
     import PIL
     row = next(d for d in deps.DEPENDENCIES if d.module == "pyopf")
-    assert row.needs_shipped == ("pillow", ">=10") and row.tools == ()
-    assert row.fits_here() == deps.version_satisfies(PIL.__version__, ">=10")
+    assert row.needs_shipped == ("pillow", ">=10") and row.tools == () and row.python == ">=3.10"
+    assert row.fits_here() == (deps.version_satisfies(PIL.__version__, ">=10")
+                               and sys.version_info >= (3, 10))
     rows = (deps.Dependency("easyidp_no_such_module", "easyidp-no-such-package>=1", (),
                             ("pillow", ">=9999")),
             deps.Dependency("easyidp_no_such_other", "easyidp-no-such-other>=1", (),
                             ("pillow", ">=1")),
             deps.Dependency("easyidp_no_such_third", "easyidp-no-such-third>=1", (),
-                            ("easyidp-not-shipped", ">=1")))
+                            ("easyidp-not-shipped", ">=1")),
+            deps.Dependency("easyidp_no_such_fourth", "easyidp-no-such-fourth>=1", (), (),
+                            ">=99.0"))
     monkeypatch.setattr(deps, "DEPENDENCIES", rows)
     assert [m.dependency.module for m in deps.missing(include_extras=True)] == \
         ["easyidp_no_such_other", "easyidp_no_such_third"]
