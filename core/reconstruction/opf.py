@@ -185,6 +185,9 @@ def open_opf(path, crs=None) -> Reconstruction:
     crs_, how = project_crs(definition, f"{opf} (scene reference frame)", crs)
     if how:
         notes.append(how)
+    if crs_ is not None and crs_.is_geographic:
+        raise InputError(f"{opf}: the scene reference frame's CRS {crs_.name!r} is geographic; OPF "
+                         "requires a projected (or engineering) one. Export the project again.")
     b2c = srf.base_to_canonical
     scale = _vector(b2c.scale, 3, "base_to_canonical.scale", opf)
     shift = _vector(b2c.shift, 3, "base_to_canonical.shift", opf)

@@ -278,6 +278,18 @@ def test_folder_and_photos_found_by_stem(demo, tmp_path):
     assert Path(found["DJI_0003.JPG"]).name == "dji_0003.jpg" and not missing
 
 
+def test_image_uris_of_the_camera_list(tmp_path):
+    """Relative references (percent-encoded), page fragments, file: URIs and Windows paths."""
+    photos = {11: "../photos/IMG%200011.tif#page=1", 12: "file:///c:/data/images/DJI_0012.JPG",
+              13: "C:\\flights\\DJI_0013.JPG"}
+    opf = write_opf(tmp_path / "p", {5: (4000, 3000, PERSPECTIVE)}, CAMERAS, photos=photos)
+    paths = [c.photo_path for c in open_reconstruction(opf).cameras]
+    assert paths == [str(tmp_path / "photos" / "IMG 0011.tif"), "c:/data/images/DJI_0012.JPG",
+                     "C:\\flights\\DJI_0013.JPG"]
+    assert [c.label for c in open_reconstruction(opf).cameras] == \
+        ["IMG 0011.tif", "DJI_0012.JPG", "DJI_0013.JPG"]
+
+
 # --- bad input ------------------------------------------------------------------------------------
 @pytest.fixture
 def good(tmp_path):
@@ -315,6 +327,13 @@ def test_not_an_opf_project(tmp_path):
         open_reconstruction(bad)
     with pytest.raises(InputError, match=r"nothere\.opf: file not found"):
         open_reconstruction(tmp_path / "nothere.opf")
+
+
+def test_geographic_scene_reference_frame_refused(tmp_path):
+    opf = write_opf(tmp_path / "p", {5: (4000, 3000, PERSPECTIVE)}, CAMERAS, crs="EPSG:4326")
+    with pytest.raises(InputError, match=r"project\.opf: the scene reference frame's CRS 'WGS 84' "
+                                         r"is geographic"):
+        open_reconstruction(opf)
 
 
 def test_spherical_sensor_refused(tmp_path):
