@@ -47,6 +47,8 @@ from .model import Camera, Reconstruction, Sensor
 
 PYOPF_HINT = "pip install pyopf"
 PROJECT_SUFFIX = ".opf"
+AUTHORITY_CODES = re.compile(r"[A-Za-z]+:\d+(\+([A-Za-z]+:)?\d+)?")
+"""OPF's CRS definitions by code: ``EPSG:32654``, ``EPSG:32654+5773``, ``EPSG:6677+EPSG:6695``."""
 
 
 def find_project_opf(path: Path) -> Optional[Path]:
@@ -183,8 +185,8 @@ def open_opf(path, crs=None) -> Reconstruction:
 
     definition = srf.crs.definition
     crs_, how = project_crs(definition, f"{opf} (scene reference frame)", crs)
-    if how:
-        notes.append(how)
+    if how and not (AUTHORITY_CODES.fullmatch(definition.strip()) and "kept as written" in how):
+        notes.append(how)            # a compound of two codes (EPSG:6677+6695) has no code of its own
     if crs_ is not None and crs_.is_geographic:
         raise InputError(f"{opf}: the scene reference frame's CRS {crs_.name!r} is geographic; OPF "
                          "requires a projected (or engineering) one. Export the project again.")

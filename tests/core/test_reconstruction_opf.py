@@ -175,6 +175,25 @@ def test_scale_and_swapped_axes_of_the_scene_reference_frame(tmp_path):
         open_reconstruction(bad)
 
 
+@pytest.mark.parametrize("definition", ["wkt2", "EPSG:6677+6695", "EPSG:6677+EPSG:6695"])
+def test_crs_definitions(tmp_path, definition):
+    """OPF's CRS definitions: a WKT 2 string, a compound of codes (JGD2011 plane IX: northing
+    first, so swap_xy); 2D map points are placed in the compound CRS as they are."""
+    from pyproj import CRS
+    wkt = CRS.from_epsg(6677).to_wkt(version="WKT2_2019") if definition == "wkt2" else definition
+    opf = write_opf(tmp_path / "p", {5: (4000, 3000, PERSPECTIVE)}, CAMERAS, crs=wkt, swap_xy=True)
+    recon = open_reconstruction(opf)
+    assert recon.crs.equals(CRS.from_epsg(6677)) if definition == "wkt2" else \
+        recon.crs.sub_crs_list[0].to_epsg() == 6677
+    assert recon.notes == []
+    canonical = _ground()
+    # canonical = swap(base), base = (N, E, h) in the CRS's order: canonical is (E, N, h), ours
+    p = recon.project_points(canonical, "EPSG:6677")
+    cv = _opencv_pixels(canonical, CAMERAS[0][2], CAMERAS[0][3], PERSPECTIVE)
+    inside = p.status[0] == INSIDE
+    assert inside.sum() > 20 and np.abs(p.pixels[0][inside] - cv[inside]).max() < 1e-6
+
+
 def test_fisheye_against_pix4d_formula(tmp_path):
     """Brute force: Pix4D's fisheye formula evaluated in the test (θ = 2/π·atan(r), polynomial,
     affine) for an equidistant fisheye (p0 = p2 = 0); a fisheye outside that form is refused."""
