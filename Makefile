@@ -59,6 +59,10 @@ $(VENV)/.done: requirements/qgis.txt requirements/system_pins.py | apt $(PLUGINS
 	$(PY_SYS) requirements/system_pins.py requirements/qgis.txt > $(VENV)/system-pins.txt
 	$(VENV)/bin/pip install -q --disable-pip-version-check --prefer-binary \
 	    -c $(VENV)/system-pins.txt -r requirements/qgis.txt
+	@# pyopf on Debian 12 (Python 3.11): without its Pillow >= 10 metadata pin (requirements/qgis.txt)
+	if $(VENV)/bin/python -c 'import sys; sys.exit(sys.version_info >= (3, 12))'; then \
+	    $(VENV)/bin/pip install -q --disable-pip-version-check --no-deps \
+	        "$$(grep -o '^pyopf==[0-9.]*' requirements/qgis.txt)"; fi
 	echo $(PLUGINS) > $$($(VENV)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
 	touch $@
 

@@ -42,6 +42,11 @@ class Dependency:
     module: str                          # the name imported
     requirement: str                     # pip requirement: distribution name, extras, specifier
     tools: Union[str, Tuple[str, ...]]   # ALL, algorithm NAMEs, or () for script-only extras
+    # (distribution, specifier) a package QGIS ships must meet for this one to install beside it
+    # (pyopf asks for Pillow >= 10); where QGIS's copy does not, the row is left out of the checks
+    # and installs (the code that needs it says so when run)
+    needs_shipped: Tuple[str, str] = ()
+    python: str = ""                     # the Pythons it has releases for (e.g. ">=3.10"), if not all
 
     @property
     def distribution(self) -> str:
@@ -50,6 +55,20 @@ class Dependency:
     @property
     def specifier(self) -> str:
         return _split_requirement(self.requirement)[1]
+
+    def fits_here(self) -> bool:
+        """Whether this Python (``python``) and QGIS's own packages (``needs_shipped``) allow
+        installing it."""
+        here = "%d.%d" % sys.version_info[:2]
+        if self.python and not version_satisfies(here, self.python):
+            return False
+        if not self.needs_shipped:
+            return True
+        name, spec = self.needs_shipped
+        try:
+            return version_satisfies(importlib.metadata.version(name), spec)
+        except importlib.metadata.PackageNotFoundError:
+            return True          # not shipped: pip installs a version that fits
 
     def needed_by(self, tool: Optional[str]) -> bool:
         """Whether ``tool`` needs it (``tool=None``: whether any tool does)."""
@@ -74,6 +93,7 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("PIL", "pillow>=9.4", ("photostatistics",)),             # preview captions
     Dependency("matplotlib", "matplotlib>=3.6", ("seasontraits",)),      # growth curves
     Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)
+    Dependency("pyopf", "pyopf>=1.4.1", (), ("pillow", ">=10"), ">=3.10"),  # OPF projects
 )
 
 # QGIS's own packages: checked, never installed (a plugin must not replace QGIS's numpy or GDAL).
@@ -125,13 +145,13 @@ def missing(tool: Optional[str] = None, include_extras: bool = False) -> List[Mi
     """The packages ``tool`` needs (``None``: any tool) that are absent or too old, table order.
 
     ``include_extras`` adds the script-only extras (``tools=()``), which the installer installs
-    along with the rest. Importability is checked without importing (``find_spec``); the version
+    along with the rest. Rows that do not fit this QGIS (``needs_shipped``) are left out. Importability is checked without importing (``find_spec``); the version
     comes from the distribution metadata found first on ``sys.path``, as the import would.
     """
     importlib.invalidate_caches()
     found = []
     for dep in DEPENDENCIES:
-        if not (dep.needed_by(tool) or (include_extras and not dep.tools)):
+        if not (dep.needed_by(tool) or (include_extras and not dep.tools)) or not dep.fits_here():
             continue
         state = _state(dep)
         if state is not True:

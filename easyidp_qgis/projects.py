@@ -7,7 +7,7 @@ from .crs import crs_string
 
 PROJECT_HELP = ("Metashape .psx/.psz or cameras .xml; Pix4D .p4d, project folder or any file of "
                 "its 1_initial/params folder; OpenDroneMap project folder or its "
-                "opensfm/reconstruction.json")
+                "opensfm/reconstruction.json; OPF project.opf (PIX4Dmatic)")
 
 
 def add_project_parameters(alg):

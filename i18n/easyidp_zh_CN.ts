@@ -312,6 +312,10 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
       <translation>OpenDroneMap 工程</translation>
     </message>
     <message>
+      <source>OPF project (project.opf, PIX4Dmatic)</source>
+      <translation>OPF 工程（project.opf，PIX4Dmatic）</translation>
+    </message>
+    <message>
       <source>Truth file</source>
       <translation>真值文件</translation>
     </message>

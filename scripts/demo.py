@@ -61,7 +61,7 @@ def main(out: str) -> int:
     _fresh_folder(out)
     print(f"EasyIDP demo: every tool on a generated survey, through qgis_process → {out}", flush=True)
     steps = Steps()
-    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 3 projects, cloud; "
+    s = steps.run("create demo survey (ortho, DSM, 40 plots, 36 photos, 4 projects, cloud; "
                   f"a {SEASON_DATES}-date growth season)", "easyidp:createdemosurvey",
                   {"OUTPUT_FOLDER": os.path.join(out, "survey"), "SEASON_DATES": SEASON_DATES})
     truth = json.load(open(s["TRUTH"]))
@@ -91,6 +91,10 @@ def main(out: str) -> int:
               {"PROJECT": os.path.join(s["ODM_PROJECT"], "opensfm", "reconstruction.json"),
                "DSM": dsm, "OUTPUT_CAMERAS": os.path.join(out, "odm_cameras.gpkg"),
                "OUTPUT_FOOTPRINTS": os.path.join(out, "odm_footprints.gpkg")})
+    opf = steps.run("camera footprints on the DSM, OPF project (PIX4Dmatic)", "easyidp:camerafootprints",
+                    {"PROJECT": s["OPF_PROJECT"], "DSM": dsm,
+                     "OUTPUT_CAMERAS": os.path.join(out, "opf_cameras.gpkg"),
+                     "OUTPUT_FOOTPRINTS": os.path.join(out, "opf_footprints.gpkg")})
     pc = steps.run("crop point cloud by plots (LAZ)", "easyidp:croppointcloudbyrois",
                    {"INPUT": s["POINT_CLOUD"], "ROIS": plots, "NAME_FIELD": "plot_id",
                     "OUTPUT_FOLDER": os.path.join(out, "crops_pointcloud")})
@@ -112,6 +116,7 @@ def main(out: str) -> int:
     proj = _projection_errors(s, truth)
     plots_apart = _plots_apart(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
+    inside_opf = _footprint_coverage(opf["OUTPUT_FOOTPRINTS"], truth)
     season = run_season_demo(steps, s["SEASON_SURVEYS"], out)
     plot_grid = run_plot_grid_demo(steps, out)
 
@@ -123,7 +128,7 @@ def main(out: str) -> int:
     print(f"  crops:       {dom['CROPPED']} orthomosaic + DSM GeoTIFFs, {pc['CROPPED']} LAZ "
           f"in {out}/crops_*")
     print("  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
-          "metashape_/pix4d_/odm_ cameras and footprints (.gpkg)")
+          "metashape_/pix4d_/odm_/opf_ cameras and footprints (.gpkg)")
     print(f"  picture:     {png}")
     print("  raw photos:  plots_in_photos.gpkg (photo pixels: x = column, y = -row), "
           "plots_best_photo.gpkg, back2raw.json, crops_photos/, previews/")
@@ -139,7 +144,8 @@ def main(out: str) -> int:
               f"{len(truth['observations']['point'])} observations")
     print(f"  plot corners back-projected through Metashape, Pix4D and ODM: at most "
           f"{plots_apart:.2f} px apart")
-    print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} %")
+    print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} % "
+          f"(Metashape), {100 * inside_opf:.1f} % (OPF)")
     print(f"  season, {SEASON_DATES} dates × 40 plots: height max {100 * season['height']:.1f} cm "
           f"(DSM), {100 * season['cloud']:.1f} cm (cloud); cover max {100 * season['cover']:.1f} %")
     for line in _backward_errors(back, s, truth):
@@ -181,7 +187,14 @@ def _backward_projection(steps, s, out):
                          "HEIGHT_SOURCE": 1, "DSM": s["DSM"], "MIN_VISIBLE": 0, "OCCLUSION": False,
                          "OUTPUT": os.path.join(out, "plots_in_photos_clipped.gpkg"),
                          "OUTPUT_SUMMARY": "TEMPORARY_OUTPUT"})
-    return {"best": best, "whole": whole, "clipped": clipped}
+    whole_opf = steps.run("back-project plots, whole plots only, OPF project (PIX4Dmatic)",
+                          "easyidp:backprojectrois",
+                          {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["OPF_PROJECT"],
+                           "HEIGHT_SOURCE": 1, "DSM": s["DSM"], "CLIP": 1, "MIN_VISIBLE": 0,
+                           "OCCLUSION": False,
+                           "OUTPUT": os.path.join(out, "plots_in_photos_whole_opf.gpkg"),
+                           "OUTPUT_SUMMARY": "TEMPORARY_OUTPUT"})
+    return {"best": best, "whole": whole, "clipped": clipped, "whole_opf": whole_opf}
 
 
 def _backward_errors(back, s, truth):
@@ -189,21 +202,15 @@ def _backward_errors(back, s, truth):
     fractions of clipped plots (dense ground sampling), occlusion of the kept pairs."""
     from ..core import open_reconstruction
     from ..core.reconstruction import INSIDE
-    whole = _features(back["whole"]["OUTPUT"])
-    sets = {}
-    for f in whole:
-        sets.setdefault(f["roi"], set()).add(os.path.splitext(f["photo"])[0])
-    same = sum(sets.get(k, set()) == set(v["photos_whole"]) for k, v in truth["plots"].items())
     ids = truth["points"]["id"]
     obs = truth["observations"]
     pix = {(ids[p], ph): uv for p, ph, uv in zip(obs["point"], obs["photo"], obs["pixel"])}
-    worst = 0.0
-    for f in whole:
-        ring = np.array(f["_geom"].GetGeometryRef(0).GetGeometryRef(0).GetPoints())[:, :2] * [1, -1]
-        for k in range(4):
-            uv = pix.get((f"{f['roi']}_c{k + 1}", os.path.splitext(f["photo"])[0]))
-            if uv is not None:
-                worst = max(worst, float(np.min(np.linalg.norm(ring - uv, axis=1))))
+    same, worst = _whole_against_truth(back["whole"], truth, pix)
+    # OPF has one focal length: the demo camera's affinity b1 is mapped out of the truth exactly
+    cal, b1 = _opf_calibration(s, truth)
+    same_opf, raw_opf = _whole_against_truth(back["whole_opf"], truth, pix)
+    no_b1 = {k: (cal.cx + (uv[0] - cal.cx) * cal.f / (cal.f + b1), uv[1]) for k, uv in pix.items()}
+    _, worst_opf = _whole_against_truth(back["whole_opf"], truth, no_b1)
     recon = open_reconstruction(s["METASHAPE_PROJECT"])
     g = (np.arange(120) + 0.5) / 120
     u, v = [a.ravel()[:, None] for a in np.meshgrid(g, g)]
@@ -223,11 +230,42 @@ def _backward_errors(back, s, truth):
     crops = sum(len(files) for _, _, files in os.walk(back["best"]["CROPS_FOLDER"]))
     return [f"plots → photos, whole plots only (Pix4D): photo sets equal the truth for {same} of "
             f"{len(truth['plots'])} plots; corners within {worst:.1e} px",
+            f"plots → photos, whole plots only (OPF): photo sets equal the truth for {same_opf} of "
+            f"{len(truth['plots'])} plots; corners within {worst_opf:.1e} px of the truth without "
+            f"the affinity b1 = {b1:g} px OPF cannot hold ({raw_opf:.2f} px of the truth itself)",
             f"plots → photos, clipped (Metashape): visible fraction within "
             f"{max(vis_err):.4f} of a dense ground count over {len(vis_err)} clipped plot × photo pairs",
             f"best 4 photos per plot: {len(best)} pairs, occluded share of the plot surface median "
             f"{np.median(occ):.2f}, max {occ.max():.2f} (soil between crop rows); "
             f"{crops // 2} crops and their JSON written"]
+
+def _opf_calibration(s, truth):
+    """(the OPF project's calibration, the demo camera's affinity b1 in px): OPF has one focal
+    length, so its pixels are the truth's with u → cx + (u − cx)·f/(f + b1)."""
+    from ..core import open_reconstruction
+    from ..core.demo.flight import SIZES, make_camera
+    size = next(k for k, v in SIZES.items() if list(v) == list(truth["image_size"]))
+    recon = open_reconstruction(s["OPF_PROJECT"])
+    return next(iter(recon.sensors.values())).calibration, make_camera(size).calibration.b1
+
+
+def _whole_against_truth(run, truth, pix):
+    """(plots whose photo set is the truth's, worst corner distance in px) of a whole-plots-only
+    back-projection layer against the truth pixels ``pix`` {(point id, photo stem): (u, v)}."""
+    whole = _features(run["OUTPUT"])
+    sets = {}
+    for f in whole:
+        sets.setdefault(f["roi"], set()).add(os.path.splitext(f["photo"])[0])
+    same = sum(sets.get(k, set()) == set(v["photos_whole"]) for k, v in truth["plots"].items())
+    worst = 0.0
+    for f in whole:
+        ring = np.array(f["_geom"].GetGeometryRef(0).GetGeometryRef(0).GetPoints())[:, :2] * [1, -1]
+        for k in range(4):
+            uv = pix.get((f"{f['roi']}_c{k + 1}", os.path.splitext(f["photo"])[0]))
+            if uv is not None:
+                worst = max(worst, float(np.min(np.linalg.norm(ring - np.asarray(uv), axis=1))))
+    return same, worst
+
 
 def _forward_projection(steps, s, truth, out) -> list:
     """Forward projection of the survey's LabelMe polygons through both projects (vertices
@@ -319,7 +357,7 @@ def _overview(png: str, raster: str, vectors) -> str:
 
 
 def _projection_errors(s, truth) -> dict:
-    """Max pixel error of the truth observations projected through the three projects (core)."""
+    """Max pixel error of the truth observations projected through the four projects (core)."""
     from ..core import open_reconstruction
     xyz = np.array(truth["points"]["xyz"])
     obs = truth["observations"]
@@ -332,6 +370,13 @@ def _projection_errors(s, truth) -> dict:
         cam = np.array([index[lab + suffix] for lab in obs["photo"]])
         uv = p.pixels[cam, np.array(obs["point"])]
         out[name] = float(np.abs(uv - np.array(obs["pixel"])).max())
+    cal, b1 = _opf_calibration(s, truth)
+    p = open_reconstruction(s["OPF_PROJECT"]).project_points(xyz, truth["crs"])
+    index = {lab: i for i, lab in enumerate(p.camera_labels)}
+    uv = p.pixels[np.array([index[lab + ".JPG"] for lab in obs["photo"]]), np.array(obs["point"])]
+    want = np.array(obs["pixel"], dtype=np.float64)
+    want[:, 0] = cal.cx + (want[:, 0] - cal.cx) * cal.f / (cal.f + b1)
+    out["OPF (the truth without b1)"] = float(np.abs(uv - want).max())
     return out
 
 

@@ -12,6 +12,7 @@
     metashape/demo_survey.psx + demo_survey.files/        the flight as a Metashape 1.x project
     pix4d/demo_survey.p4d + demo_survey/1_initial/params/ the flight as a Pix4D project
     odm/                  the flight as an OpenDroneMap project (``odm_writer.py``)
+    opf/project.opf …     the flight as an Open Photogrammetry Format project (``opf_writer.py``)
     labelme/DJI_xxxx.json LabelMe polygons around plots on four photos
     truth.json            truth points and their pixels in every photo that sees them, the
                           photos that see each plot whole, the map coordinates of the LabelMe
@@ -49,6 +50,7 @@ from . import readout_motion
 from .labelme_writer import write_labelme
 from .metashape_writer import write_metashape
 from .odm_writer import write_odm
+from .opf_writer import write_opf
 from .pix4d_writer import write_pix4d
 from .plot_colour import BLUR_SIGMA, GHOST_OFFSET, add_ortho_defects, plot_colour_truth
 from .render import level_for, packed_level, pixel_rays, render_photo
@@ -70,9 +72,9 @@ class DemoSurvey:
 
     ``crs``: map CRS of the rasters, plots, point clouds and truth (heights ellipsoidal);
     ``metashape_project``: the .psx; ``pix4d_project``: the .p4d; ``pix4d_params``: its
-    ``1_initial/params`` folder; ``odm_project``: the ODM project folder (the three None for a
-    rolling-shutter survey: only the Metashape project models the motion); ``seconds``:
-    generation time.
+    ``1_initial/params`` folder; ``odm_project``: the ODM project folder; ``opf_project``: the
+    ``project.opf`` (the four None for a rolling-shutter survey: only the Metashape project
+    models the motion); ``seconds``: generation time.
     """
     folder: str
     seed: int
@@ -95,10 +97,12 @@ class DemoSurvey:
     seconds: float = 0.0
     odm_project: Optional[str] = ""
     rolling_shutter: bool = False
+    opf_project: Optional[str] = ""
 
 
 SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "pointcloud.laz",
-                  "pointcloud.ply", "photos", "metashape", "pix4d", "odm", "labelme", "truth.json")
+                  "pointcloud.ply", "photos", "metashape", "pix4d", "odm", "opf", "labelme",
+                  "truth.json")
 """What :func:`make_demo_survey` writes into its folder (files and folders)."""
 
 
@@ -181,6 +185,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     odm = None if rolling_shutter else \
         write_odm(os.path.join(folder, "odm"), scene, camera, shots, photos, truth.points,
                   os.path.join(folder, "dsm.tif"), os.path.join(folder, "orthomosaic.tif"))
+    opf = None if rolling_shutter else \
+        write_opf(os.path.join(folder, "opf"), camera, shots, scene.offset, photos, lay.epsg)
     # last, so that a truth file means a complete survey
     meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"]}
     if rolling_shutter:
@@ -199,7 +205,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
         pix4d_project=p4d and p4d["p4d"], pix4d_params=p4d and p4d["params"],
         labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
         plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0,
-        odm_project=odm and odm["project"], rolling_shutter=rolling_shutter)
+        odm_project=odm and odm["project"], rolling_shutter=rolling_shutter,
+        opf_project=opf and opf["project"])
 
 
 def _write_plots(folder: str, scene):

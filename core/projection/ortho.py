@@ -178,29 +178,32 @@ def line_of_sight(recon, cam, surface: RaySurface, p: np.ndarray, tol: float) ->
     return ((hits.status == HIT) & (hits.distance >= dist - tol)) | (hits.status == MISS)
 
 
-def line_of_sight_coarse_first(recon, cam, surface, p, tol, job, row, col, step: int) -> np.ndarray:
+def line_of_sight_coarse_first(recon, cam, surface, p, tol, job, row, col, step) -> np.ndarray:
     """:func:`line_of_sight` for output pixels (job, row, col), coarse grid first: rays are
     cast to every ``step``-th row and column; a pixel whose four surrounding coarse nodes were
     all cast and agree takes their answer, every other pixel (near an edge of the hidden
-    ground, of the frame or of the ROI) gets its own ray. ``step`` is at most half a DSM cell
-    in output pixels, so hidden ground narrower than that between agreeing nodes is the only
-    thing that can be missed (measured on the real survey: see ARCHITECTURE.md)."""
+    ground, of the frame or of the ROI) gets its own ray. ``step`` (one number, or one per
+    pixel, the same for all the pixels of a job) is at most half a DSM cell in output pixels,
+    so hidden ground narrower than that between agreeing nodes is the only thing that can be
+    missed (measured on the real survey: see ARCHITECTURE.md); pixels with step 1 get a ray each."""
     n = len(p)
-    if step <= 1 or n < 64:
+    step = np.broadcast_to(np.asarray(step, np.int64), (n,))
+    if n < 64 or not (step > 1).any():
         return line_of_sight(recon, cam, surface, p, tol)
     seen = np.zeros(n, bool)
-    coarse = np.flatnonzero((row % step == 0) & (col % step == 0))
+    coarse = np.flatnonzero((step > 1) & (row % step == 0) & (col % step == 0))
     seen[coarse] = line_of_sight(recon, cam, surface, p[coarse], tol)
     key = lambda j, r, c: (j.astype(np.int64) << 42) | (r.astype(np.int64) << 21) | c
     nodes = key(job[coarse], row[coarse], col[coarse])
     order = np.argsort(nodes)
     nodes, status = nodes[order], seen[coarse][order]
     rest = np.setdiff1d(np.arange(n), coarse, assume_unique=True)
-    r0, c0 = (row[rest] // step) * step, (col[rest] // step) * step
+    st = step[rest]
+    r0, c0 = (row[rest] // st) * st, (col[rest] // st) * st
     votes = np.zeros(len(rest), np.int64)
-    known = np.ones(len(rest), bool)
-    for dr, dc in ((0, 0), (0, step), (step, 0), (step, step)):
-        k = key(job[rest], r0 + dr, c0 + dc)
+    known = st > 1
+    for dr, dc in ((0, 0), (0, 1), (1, 0), (1, 1)):
+        k = key(job[rest], r0 + dr * st, c0 + dc * st)
         at = np.minimum(np.searchsorted(nodes, k), len(nodes) - 1)
         hit = nodes[at] == k
         known &= hit
@@ -266,10 +269,11 @@ def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, r
         p = recon.to_model(xyz, crs)
         ncols = np.array([gr[3] if gr is not None else 1 for gr in grids], np.int64)
         own = owner[keep]
-        step = max(1, int(0.5 * abs(tif.geotransform[1]) / max(
-            gr[2] for gr in grids if gr is not None)))
+        half_cell = 0.5 * abs(tif.geotransform[1])     # each ROI's step: its own pixel size
+        steps = np.array([max(1, int(half_cell / gr[2])) if gr is not None else 1 for gr in grids],
+                         np.int64)
         seen = line_of_sight_coarse_first(recon, cam, surface, p, tol, own, cell[keep] // ncols[own],
-                                  cell[keep] % ncols[own], step)
+                                          cell[keep] % ncols[own], steps[own])
         n_in = np.bincount(owner[keep], minlength=len(jobs))
         n_hidden = np.bincount(owner[keep][~seen], minlength=len(jobs))
         occluded = n_hidden / np.maximum(n_in, 1)

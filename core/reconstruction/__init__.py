@@ -1,8 +1,9 @@
-"""Solved photogrammetry projects (Metashape, Pix4D, OpenDroneMap/OpenSfM) and one camera model.
+"""Solved photogrammetry projects (Metashape, Pix4D, OpenDroneMap/OpenSfM, OPF) and one camera model.
 
 ``open_reconstruction(path, chunk=None)`` recognises a Metashape ``.psx``/``.psz``/cameras
 ``.xml``, a Pix4D ``.p4d``, project folder or ``1_initial/params`` folder, an ODM project
-folder, an OpenSfM dataset folder or ``reconstruction.json``, and returns a
+folder, an OpenSfM dataset folder or ``reconstruction.json``, an Open Photogrammetry Format
+``project.opf`` (PIX4Dmatic) or its folder, and returns a
 :class:`Reconstruction`. Pixels: top-left corner origin, centre of the top-left pixel at
 (0.5, 0.5). Map coordinates always (x, y) = (easting, northing) / (lon, lat).
 """
@@ -15,12 +16,13 @@ from .metashape import list_chunks, open_metashape
 from .odm import is_opensfm_input, list_reconstructions, open_opensfm
 from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints,
                     fit_sensors_to_photos)
+from .opf import find_project_opf, open_opf
 from .pix4d import open_pix4d
 
 __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker", "Calibration",
            "Projection", "VisiblePoints", "INSIDE", "BEHIND", "OUTSIDE", "border_pixels",
            "project_block", "enu_rotation", "list_chunks", "open_metashape", "open_pix4d",
-           "open_opensfm", "list_reconstructions"]
+           "open_opensfm", "list_reconstructions", "open_opf"]
 
 
 PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_parameters.txt",
@@ -28,14 +30,16 @@ PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_paramete
 
 
 def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
-    """Open a Metashape, Pix4D or OpenDroneMap/OpenSfM project.
+    """Open a Metashape, Pix4D, OpenDroneMap/OpenSfM or OPF project.
 
     Pix4D: a .p4d, the project or params folder, or any file of the params folder such as
     ``*_pmatrix.txt``. ODM/OpenSfM: the ODM project folder, the OpenSfM dataset folder or a
-    ``reconstruction.json``. ``chunk``: Metashape chunk id or label (required when the project
+    ``reconstruction.json``. OPF: the ``.opf`` file or the folder that holds it (needs pyopf).
+    ``chunk``: Metashape chunk id or label (required when the project
     has several); OpenSfM reconstruction index (default the largest). ``crs``: Pix4D, the
     output CRS when the project has no ``*_wkt.prj`` (or one PROJ cannot use); OpenSfM, the map
-    CRS when ODM did not georeference the project; Metashape, the chunk CRS when its
+    CRS when ODM did not georeference the project; OPF, the CRS when the scene reference frame's
+    is not usable; Metashape, the chunk CRS when its
     ``<reference>`` is neither usable nor an EPSG CRS. A CRS that contradicts the project's is
     refused.
     """
@@ -46,6 +50,8 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
         recon = open_metashape(p, chunk, crs)
     elif is_opensfm_input(p):
         recon = open_opensfm(p, chunk, crs)
+    elif suffix == ".opf" or (p.is_dir() and find_project_opf(p) is not None):
+        recon = open_opf(p, crs)
     elif suffix == ".p4d" or p.is_dir():
         recon = open_pix4d(p, crs)
     elif p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
@@ -55,5 +61,6 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
     if not p.exists():
         raise InputError(f"{p}: file not found.")
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "
-                     ".psz or cameras .xml, a Pix4D .p4d, project folder or params folder, or an "
-                     "OpenDroneMap project folder or OpenSfM reconstruction.json.")
+                     ".psz or cameras .xml, a Pix4D .p4d, project folder or params folder, an "
+                     "OpenDroneMap project folder or OpenSfM reconstruction.json, or an OPF "
+                     "project.opf (PIX4Dmatic).")

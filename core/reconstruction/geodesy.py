@@ -138,11 +138,14 @@ class GeocentricFrame(ModelFrame):
 
 
 class OffsetFrame(ModelFrame):
-    """Project CRS coordinates minus an offset (Pix4D ``offset.xyz``)."""
+    """Project CRS coordinates minus an offset (Pix4D ``offset.xyz``): model = scale·xyz − offset,
+    per axis in (x, y, z) = (east, north, up) order; ``scale`` 1 but for OPF projects whose CRS
+    axes have different units (OPF's base → canonical scale)."""
 
-    def __init__(self, crs: Optional[CRS], offset):
+    def __init__(self, crs: Optional[CRS], offset, scale=(1.0, 1.0, 1.0)):
         self.crs = crs
         self.offset = np.asarray(offset, dtype=np.float64)
+        self.scale = np.asarray(scale, dtype=np.float64)
 
     def to_model(self, xyz, crs=None) -> np.ndarray:
         xyz = _as_points(xyz)
@@ -153,10 +156,10 @@ class OffsetFrame(ModelFrame):
                                "open_reconstruction, or give points in the project CRS with crs=None.")
         if src is not None and not same_crs(src, self.crs):
             xyz = _transform3(src, self.crs, xyz)
-        return xyz - self.offset
+        return xyz * self.scale - self.offset
 
     def from_model(self, xyz, crs=None) -> np.ndarray:
-        out = _as_points(xyz) + self.offset
+        out = (_as_points(xyz) + self.offset) / self.scale
         dst = as_crs(crs)
         if dst is not None and self.crs is not None and not same_crs(dst, self.crs):
             out = _transform3(self.crs, dst, out)

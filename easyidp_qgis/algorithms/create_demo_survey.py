@@ -25,6 +25,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
     METASHAPE_PROJECT = "METASHAPE_PROJECT"
     PIX4D_PROJECT = "PIX4D_PROJECT"
     ODM_PROJECT = "ODM_PROJECT"
+    OPF_PROJECT = "OPF_PROJECT"
     TRUTH = "TRUTH"
     SEASON_DATES = "SEASON_DATES"
     SEASON_SURVEYS = "SEASON_SURVEYS"
@@ -78,6 +79,8 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputFile(self.METASHAPE_PROJECT, self.tr("Metashape project")))
         self.addOutput(QgsProcessingOutputFile(self.PIX4D_PROJECT, self.tr("Pix4D project")))
         self.addOutput(QgsProcessingOutputFolder(self.ODM_PROJECT, self.tr("OpenDroneMap project")))
+        self.addOutput(QgsProcessingOutputFile(self.OPF_PROJECT,
+                                               self.tr("OPF project (project.opf, PIX4Dmatic)")))
         self.addOutput(QgsProcessingOutputFile(self.TRUTH, self.tr("Truth file")))
 
     def core_step(self, parameters, context, feedback):
@@ -120,7 +123,8 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         return {**out, self.OUTPUT_FOLDER: folder, self.ORTHOMOSAIC: s.orthomosaic, self.DSM: s.dsm,
                 self.PLOTS: s.plots_gpkg, self.POINT_CLOUD: s.point_cloud_laz,
                 self.METASHAPE_PROJECT: s.metashape_project, self.PIX4D_PROJECT: s.pix4d_project,
-                self.ODM_PROJECT: s.odm_project, self.TRUTH: s.truth}
+                self.ODM_PROJECT: s.odm_project, self.OPF_PROJECT: s.opf_project,
+                self.TRUTH: s.truth}
 
 
 def plots_style():

@@ -129,13 +129,13 @@ def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, t
     assert err < 0.01
 
 
-@pytest.mark.parametrize("project", ["metashape", "pix4d", "odm"])
+@pytest.mark.parametrize("project", ["metashape", "pix4d", "odm", "opf"])
 def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, project):
     from easyidp_toolbox.core.geometry import points_in_rings
     from easyidp_toolbox.core.raster import DSM
     from easyidp_toolbox.core.projection import camera_footprints
     recon = open_reconstruction({"metashape": survey.metashape_project, "pix4d": survey.pix4d_project,
-                                 "odm": survey.odm_project}[project])
+                                 "odm": survey.odm_project, "opf": survey.opf_project}[project])
     dsm = DSM(survey.dsm)
     fps = camera_footprints(recon, dsm, crs="EPSG:32654", per_edge=24)
     (west, east), (north, south) = dsm.tif.pixel_to_map(np.array([40.0, dsm.tif.width]),

@@ -15,7 +15,8 @@ def test_create_demo_survey(provider, tmp_path):
     assert dsm.isValid() and dsm.crs().authid() == "EPSG:32654"
     plots = QgsVectorLayer(res["PLOTS"], "p", "ogr")
     assert plots.featureCount() == 40 and plots.fields().indexFromName("plot_id") >= 0
-    for key in ("POINT_CLOUD", "METASHAPE_PROJECT", "PIX4D_PROJECT", "ODM_PROJECT", "TRUTH"):
+    for key in ("POINT_CLOUD", "METASHAPE_PROJECT", "PIX4D_PROJECT", "ODM_PROJECT", "OPF_PROJECT",
+                "TRUTH"):
         assert (tmp_path / "survey").as_posix() in res[key]
     assert (tmp_path / "survey" / "season" / "surveys.csv").read_text().count("\n") == 2
     assert res["SEASON_SURVEYS"] == str(tmp_path / "survey" / "season" / "surveys.csv")
@@ -26,18 +27,22 @@ def test_create_demo_survey(provider, tmp_path):
 
 def _odm_footprints_match_metashape(res):
     """Camera footprints of the demo's OpenDroneMap project (its opensfm/reconstruction.json)
-    on the DSM: the same cameras, places and areas as through the Metashape project."""
+    and OPF project on the DSM: the same cameras, places and areas as through the Metashape
+    project (OPF: areas to 1 %, as it has no affinity term b1)."""
     import processing
     out = {}
     for name, project in (("odm", res["ODM_PROJECT"] + "/opensfm/reconstruction.json"),
-                          ("metashape", res["METASHAPE_PROJECT"])):
+                          ("opf", res["OPF_PROJECT"]), ("metashape", res["METASHAPE_PROJECT"])):
         r = processing.run("easyidp:camerafootprints", {
             "PROJECT": project, "DSM": res["DSM"], "OUTPUT_CRS": "EPSG:32654",
             "OUTPUT_CAMERAS": "memory:", "OUTPUT_FOOTPRINTS": "memory:"},
             context=QgsProcessingContext(), feedback=QgsProcessingFeedback())
         out[name] = {f["label"].split(".")[0]: f for f in r["OUTPUT_FOOTPRINTS"].getFeatures()}
         assert r["OUTPUT_FOOTPRINTS"].crs().authid() == "EPSG:32654"
-    assert sorted(out["odm"]) == sorted(out["metashape"]) and len(out["odm"]) == 36
+    assert sorted(out["odm"]) == sorted(out["metashape"]) == sorted(out["opf"]) and len(out["odm"]) == 36
+    for label, f in out["opf"].items():
+        g = out["metashape"][label]
+        assert f["complete"] == g["complete"] and abs(f["area"] - g["area"]) < 1e-2 * g["area"]
     for label, f in out["odm"].items():
         g = out["metashape"][label]
         assert f["complete"] == g["complete"] and abs(f["area"] - g["area"]) < 1e-3 * g["area"]

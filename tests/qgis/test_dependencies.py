@@ -104,6 +104,27 @@ def test_missing_and_too_old_are_reported(monkeypatch):
     assert deps.format_command(argv) in text
 
 
+def test_a_row_that_does_not_fit_this_qgis_is_left_out(monkeypatch):
+    """pyopf asks for Pillow >= 10 (metadata only); where QGIS ships an older Pillow (Debian 12)
+    installing it beside QGIS would fail the whole install, so the row is not offered there."""
+    import PIL
+    row = next(d for d in deps.DEPENDENCIES if d.module == "pyopf")
+    assert row.needs_shipped == ("pillow", ">=10") and row.tools == () and row.python == ">=3.10"
+    assert row.fits_here() == (deps.version_satisfies(PIL.__version__, ">=10")
+                               and sys.version_info >= (3, 10))
+    rows = (deps.Dependency("easyidp_no_such_module", "easyidp-no-such-package>=1", (),
+                            ("pillow", ">=9999")),
+            deps.Dependency("easyidp_no_such_other", "easyidp-no-such-other>=1", (),
+                            ("pillow", ">=1")),
+            deps.Dependency("easyidp_no_such_third", "easyidp-no-such-third>=1", (),
+                            ("easyidp-not-shipped", ">=1")),
+            deps.Dependency("easyidp_no_such_fourth", "easyidp-no-such-fourth>=1", (), (),
+                            ">=99.0"))
+    monkeypatch.setattr(deps, "DEPENDENCIES", rows)
+    assert [m.dependency.module for m in deps.missing(include_extras=True)] == \
+        ["easyidp_no_such_other", "easyidp_no_such_third"]
+
+
 def test_a_tool_refuses_to_run_and_names_the_package(plugin, realdata, tmp_path, monkeypatch):
     rows = tuple(deps.Dependency(d.module, "tifffile>=9999", d.tools) if d.module == "tifffile"
                  else d for d in deps.DEPENDENCIES)

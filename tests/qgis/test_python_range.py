@@ -51,7 +51,10 @@ def test_a_line_only_newer_pythons_parse_is_caught():
 
 @pytest.mark.parametrize("version", sorted(NUMPY), ids=lambda v: "python%d.%d" % v)
 def test_the_dependency_table_resolves_to_wheels_for(version, tmp_path):
-    reqs = [d.requirement for d in DEPENDENCIES if canonical(d.distribution) not in PROTECTED]
+    # rows with releases for newer Pythons only (pyopf: 3.10) are left out of older ones
+    rows = [d for d in DEPENDENCIES if not d.python or SpecifierSet(d.python).contains(
+        "%d.%d" % version)]
+    reqs = [d.requirement for d in rows if canonical(d.distribution) not in PROTECTED]
     (tmp_path / "pins.txt").write_text(f"numpy=={NUMPY[version]}\n")
     report = tmp_path / "report.json"
     proc = subprocess.run(
@@ -70,7 +73,7 @@ def test_the_dependency_table_resolves_to_wheels_for(version, tmp_path):
                not SpecifierSet(i["metadata"]["requires_python"]).contains("%d.%d" % version)]
     assert refused == []
     assert got["numpy"] == NUMPY[version]
-    for dep in DEPENDENCIES:
+    for dep in rows:
         assert canonical(dep.distribution) in got, (dep.requirement, version)
     print(f"\nPython {version[0]}.{version[1]}: " +
           ", ".join(f"{k} {v}" for k, v in sorted(got.items()) if k in

@@ -151,3 +151,53 @@ def test_numbers_and_choices_out_of_range_name_the_range(qp_env, realdata, tmp_p
         "PROJECT": params, "PROJECT_CRS": "EPSG:32654", "GROUND_HEIGHT": 96,
         "OUTPUT_CAMERAS": tmp_path / "c.gpkg", "OUTPUT_FOOTPRINTS": tmp_path / "f.gpkg"}, qp_env)
     assert os.path.exists(res["OUTPUT_FOOTPRINTS"])
+
+
+def _opf_project(folder):
+    """An OPF project of three nadir photos 50 m over flat ground at 30 m (EPSG:32654), written
+    by the demo's OPF writer (per the specification); the photos themselves are not needed."""
+    import numpy as np
+    from easyidp_toolbox.core.demo.flight import Shot, make_camera, nadir_rotation
+    from easyidp_toolbox.core.demo.opf_writer import write_opf
+    offset = np.array([380000.0, 3950000.0, 30.0])
+    shots = [Shot(label=f"DJI_{i:04d}", filename=f"DJI_{i:04d}.JPG", R=nadir_rotation(0.3 * i),
+                  C=np.array([10.0 * i, 5.0, 50.0]), line=1, yaw_deg=0.0, gps=np.zeros(3),
+                  time="2024:06:01 10:00:0" + str(i)) for i in range(1, 4)]
+    photos = [str(folder / "photos" / s.filename) for s in shots]
+    return write_opf(folder / "opf", make_camera("small"), shots, offset, photos, 32654)["project"], \
+        [s.C + offset for s in shots]
+
+
+def test_camera_footprints_of_an_opf_project_headless(qp_env, tmp_path):
+    """An OPF project.opf (PIX4Dmatic) through qgis_process: cameras at their positions, and
+    each footprint on the ground around the camera's nadir (truth by construction)."""
+    import numpy as np
+    opf, centres = _opf_project(tmp_path)
+    res = run_algorithm("easyidp:camerafootprints", {
+        "PROJECT": opf, "GROUND_HEIGHT": 30, "OUTPUT_CAMERAS": tmp_path / "cams.gpkg",
+        "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"}, qp_env)
+    from osgeo import ogr
+    ds = ogr.Open(res["OUTPUT_CAMERAS"])
+    got = {f.GetField("label"): f.GetGeometryRef().GetPoint() for f in ds.GetLayer(0)}
+    assert set(got) == {"DJI_0001.JPG", "DJI_0002.JPG", "DJI_0003.JPG"}
+    for i, c in enumerate(centres, 1):
+        assert np.allclose(got[f"DJI_{i:04d}.JPG"][:2], c[:2], atol=1e-6)
+    fp = ogr.Open(res["OUTPUT_FOOTPRINTS"])
+    for f in fp.GetLayer(0):
+        geom = f.GetGeometryRef()
+        c = centres[int(f.GetField("label")[4:8]) - 1]
+        nadir = ogr.Geometry(ogr.wkbPoint)
+        nadir.AddPoint_2D(float(c[0]), float(c[1]))
+        assert geom.Contains(nadir)
+        # 800 × 600 px, f = 680 px, 50 m above the ground: about 58.8 m × 44.1 m
+        assert 0.9 < geom.GetArea() / (800 * 50 / 680 * 600 * 50 / 680) < 1.2
+
+
+def test_a_damaged_opf_project_exits_1_naming_the_file(qp_env, tmp_path):
+    opf, _ = _opf_project(tmp_path)
+    Path(opf).write_text(Path(opf).read_text()[:150])
+    proc = run(["run", "easyidp:camerafootprints", "--", f"PROJECT={opf}", "GROUND_HEIGHT=30",
+                f"OUTPUT_CAMERAS={tmp_path / 'c.gpkg'}", f"OUTPUT_FOOTPRINTS={tmp_path / 'f.gpkg'}"],
+               qp_env)
+    assert proc.returncode == 1
+    assert f"{opf}: not a readable OPF project" in proc.stderr + proc.stdout
