@@ -170,7 +170,8 @@ class PointCloud:
         for start in range(0, len(self), chunk_size):
             a, b = np.searchsorted(index, [start, start + chunk_size])
             if b > a:
-                parts.append(self._rows(start, min(start + chunk_size, len(self)))[index[a:b] - start])
+                rows = self._rows(start, min(start + chunk_size, len(self)))
+                parts.append(gather_records(rows, index[a:b] - start))
         rec = np.concatenate(parts) if parts else self.records[:0].copy()
         sub = PointCloud(np.asarray(rec), self.fmt, self.header, self.crs, self.path)
         sub.file_crs, sub.notes = self.file_crs, list(self.notes)
@@ -184,3 +185,14 @@ class PointCloud:
         crs = self.crs.name if self.crs is not None else "no CRS"
         src = f" from {self.path.name}" if self.path else ""
         return f"<PointCloud {len(self)} points, {self.fmt}{src}, {crs}>"
+
+
+def gather_records(records: np.ndarray, index) -> np.ndarray:
+    """``records[index]``, gathered as opaque items when the records are in memory and
+    contiguous: a structured dtype's fancy indexing copies field by field, 6× slower on LAS
+    records."""
+    index = np.asarray(index)
+    if isinstance(records, np.memmap) or not records.flags.c_contiguous or records.ndim != 1 \
+            or index.dtype == bool:
+        return records[index]
+    return np.take(records.view(f"V{records.dtype.itemsize}"), index).view(records.dtype)
