@@ -95,14 +95,16 @@ def one_pass(cloud: PointCloud, boxes: np.ndarray, test: Callable[[int, np.ndarr
     n = len(cloud)
     grid = BoxGrid(boxes) if k else None
     zmin, zmax = z_range
-    for start, xyz in cloud.iter_xyz(chunk_size):
+    with_z = zmin is not None or zmax is not None
+    for start, xyz in cloud.iter_xyz(chunk_size, 3 if with_z else 2):
         progress.check()
-        x, y, z = xyz[:, 0], xyz[:, 1], xyz[:, 2]
+        x, y = xyz[:, 0], xyz[:, 1]
+        z = xyz[:, 2] if with_z else None
         if len(x):
             lo = np.minimum(lo, [x.min(), y.min()])
             hi = np.maximum(hi, [x.max(), y.max()])
         if grid is not None and len(x):
-            if zmin is not None or zmax is not None:
+            if with_z:
                 zok = np.ones(len(z), bool)
                 if zmin is not None:
                     zok &= z >= zmin
