@@ -263,7 +263,8 @@ def plot_grid_inputs(quick: bool) -> dict:
     GeoPackage."""
     import math
     from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
-    from .bench_plot_grid import BEARING, EPSG as GRID_EPSG, ensure_raster, grid_kwargs, layout, truth
+    from .bench_plot_grid import BEARING, ensure_raster, grid_kwargs, layout, truth
+    from .bench_plot_grid import EPSG as GRID_EPSG
     size = 6000 if quick else 20000
     raster = ensure_raster(size)
     gpkg = OUT / f"plotgrid_start_{size}.gpkg"
@@ -309,9 +310,13 @@ def startup_input() -> Path:
 
 
 # --- the cases ------------------------------------------------------------------------------------
-def cases(quick: bool):
+def cases(quick: bool, only=None):
     """(name, tool, workload, tool parameters with outputs relative to the run folder, engine
-    arguments with the folder as '{out}')."""
+    arguments with the folder as '{out}'). The plot-grid and training-set inputs are made only
+    for the cases in ``only`` (default all): the fit's orthomosaic takes minutes to generate."""
+    def want(name):
+        return not only or name in only
+
     w = wheat_case_inputs(quick)
     d = demo_case_inputs(quick)
     n_w = 400 if quick else 1600
@@ -389,22 +394,25 @@ def cases(quick: bool):
                 {"crs": f"EPSG:{EPSG}", "rows": n_grid, "cols": n_grid,
                  "origin": [500000.0, 4000000.0], "bearing": 80.0,
                  "pattern": "{block}-{row:03d}-{col:03d}"}))
-    pg = plot_grid_inputs(quick)
-    out.append(("fitplotgrid", "fitplotgrid",
-                f"{pg['n']:,} plots on a {pg['size']}² RGB orthomosaic (1 cm), from a grid turned "
-                "by 1°, shifted 0.25 m, spacing 1 % off",
-                {"GRID": pg["grid"], "NAME_FIELD": "plot_id", "ORTHOMOSAIC": pg["raster"],
-                 "OUTPUT": "fitted.gpkg"},
-                {"rois": pg["grid"], "name_field": "plot_id", "raster": pg["raster"],
-                 "crs": pg["crs"]}))
-    objects = training_objects(quick, demo)
-    out.append(("exporttrainingset", "exporttrainingset",
-                f"{objects['n']:,} labelled discs × {PHOTOS} photos (demo), whole photos, COCO + "
-                "YOLO + LabelMe",
-                {"OBJECTS": objects["rois"], "CLASS_FIELD": "class", "INSTANCE_FIELD": "name",
-                 "PROJECT": project, "DSM": demo / "dsm.tif", "OUTPUT_FOLDER": "training_set"},
-                {"rois": objects["rois"], "name_field": "name", "project": project,
-                 "dsm": demo / "dsm.tif", "crs": f"EPSG:{EPSG}", "folder": "{out}/training_set"}))
+    pg = plot_grid_inputs(quick) if want("fitplotgrid") else None
+    if pg is not None:
+        out.append(("fitplotgrid", "fitplotgrid",
+                    f"{pg['n']:,} plots on a {pg['size']}² RGB orthomosaic (1 cm), from a grid "
+                    "turned by 1°, shifted 0.25 m, spacing 1 % off",
+                    {"GRID": pg["grid"], "NAME_FIELD": "plot_id", "ORTHOMOSAIC": pg["raster"],
+                     "OUTPUT": "fitted.gpkg"},
+                    {"rois": pg["grid"], "name_field": "plot_id", "raster": pg["raster"],
+                     "crs": pg["crs"]}))
+    if want("exporttrainingset"):
+        objects = training_objects(quick, demo)
+        out.append(("exporttrainingset", "exporttrainingset",
+                    f"{objects['n']:,} labelled discs × {PHOTOS} photos (demo), whole photos, "
+                    "COCO + YOLO + LabelMe",
+                    {"OBJECTS": objects["rois"], "CLASS_FIELD": "class", "INSTANCE_FIELD": "name",
+                     "PROJECT": project, "DSM": demo / "dsm.tif", "OUTPUT_FOLDER": "training_set"},
+                    {"rois": objects["rois"], "name_field": "name", "project": project,
+                     "dsm": demo / "dsm.tif", "crs": f"EPSG:{EPSG}",
+                     "folder": "{out}/training_set"}))
     season = season_inputs(quick)
     out.append(("seasontraits", "seasontraits",
                 f"{season['dates']} dates × {PLOTS} plots (demo season), all traits, 1 worker",
@@ -502,7 +510,7 @@ def main(argv=None) -> int:
     ref_env.update(HOME=str(OUT), XDG_DATA_HOME=str(OUT))
     ref_runs = []
     rows, goals, shares, figures = [], [], {}, {}
-    for name, alg, workload, params, eargs in cases(a.quick):
+    for name, alg, workload, params, eargs in cases(a.quick, a.only):
         if a.only and name not in a.only:
             continue
         tool_walls, cpu, locks, errors, eng, scripts, starts = [], [], 0, [], [], [], []

@@ -27,7 +27,7 @@ class BoxGrid:
     def __init__(self, boxes: np.ndarray):
         boxes = np.asarray(boxes, dtype=np.float64).reshape(-1, 4)
         self.boxes = boxes
-        self.bx0, self.by0, self.bx1, self.by1 = (np.ascontiguousarray(boxes[:, i]) for i in range(4))
+        self.bx0, self.by0, self.bx1, self.by1 = (np.ascontiguousarray(c) for c in boxes.T)
         self.x0, self.y0 = boxes[:, 0].min(), boxes[:, 1].min()
         w = boxes[:, 2] - boxes[:, 0]
         h = boxes[:, 3] - boxes[:, 1]
