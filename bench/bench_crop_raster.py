@@ -6,7 +6,8 @@ Side by side in one run, each tool in its own child process (clean peak memory),
 deflate GeoTIFF per ROI: ours (core.crop_raster), easyidp 2.0.4 (.venv-ref), the gdalwarp command
 per ROI (what QGIS's "Clip raster by mask layer" runs; a labelled subset, extrapolated), GDAL's
 Warp called per ROI in one process (stricter: no process start-up) and the floor (decode each
-touched tile or strip once, encode the outputs; see crop_workers.py). On a tiled and a stripped copy of the raster, and
+touched tile or strip once, encode the outputs, on all cores: threads in one process, and
+one process per core; see crop_workers.py). On a tiled and a stripped copy of the raster, and
 ours also on a raster of half the side, to show that its memory does not grow with the raster.
 
 The inputs are generated once, deterministically, into bench_output/ and reused while valid.
@@ -26,7 +27,7 @@ import imagecodecs
 import numpy as np
 import tifffile
 
-from .common import REF_PYTHON, ratio, run_json_child, spread, table, target
+from .common import REF_PYTHON, print_targets, ratio, run_json_child, spread, table, target
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
@@ -197,7 +198,8 @@ def measure(tool, raster, rois, tag, every=1):
                           timeout=CHILD_TIMEOUT, label=tool)
 
 
-TITLES = {"ours": "ours", "floor": "floor (decode + encode)", "easyidp": "easyidp 2.0.4",
+TITLES = {"ours": "ours", "floor": "floor (decode + encode), threads",
+          "floor_procs": "floor (decode + encode), a process per core", "easyidp": "easyidp 2.0.4",
           "gdalwarp": "gdalwarp per ROI (QGIS clip)", "gdal": "GDAL Warp, one process"}
 
 
@@ -243,8 +245,8 @@ def main(argv=None) -> int:
     ap.add_argument("--gdalwarp-every", type=int, default=10,
                     help="the gdalwarp command (one process per ROI, as QGIS's Clip raster by "
                          "mask layer) crops every K-th ROI only and is extrapolated (default 10)")
-    ap.add_argument("--tools", default="ours,floor,easyidp,gdalwarp,gdal",
-                    help="comma-separated subset of ours,floor,easyidp,gdalwarp,gdal")
+    ap.add_argument("--tools", default="ours,floor,floor_procs,easyidp,gdalwarp,gdal",
+                    help="comma-separated subset of ours,floor,floor_procs,easyidp,gdalwarp,gdal")
     args = ap.parse_args(argv)
     size = args.size or (4000 if args.quick else 20000)
     grid = args.grid or (10 if args.quick else 40)
@@ -277,7 +279,7 @@ def main(argv=None) -> int:
     t, s, h = f"tiled {size}", f"stripped {size}", f"tiled {size // 2}"
     for label, raster, roi_files in ((t, tiled, rois), (s, stripped, rois), (h, small, small_rois)):
         print(f"  {label}:", flush=True)
-        fast = ["ours"] if label == h else ["ours", "floor"]
+        fast = ["ours"] if label == h else ["ours", "floor", "floor_procs"]
         for _ in range(repeat):  # interleaved, so a drift in machine speed hits both alike
             for tool in fast:
                 if tool in tools:
@@ -299,9 +301,9 @@ def main(argv=None) -> int:
         a, b = rows.get((tool_a, label_a)), rows.get((tool_b, label_b or label_a))
         return ratio(getattr(a, attr), getattr(b, attr)) if a and b else None
 
-    def paired(label):
+    def paired(label, floor="floor"):
         """Median over the interleaved runs of ours/floor, pair by pair (robust to drift)."""
-        pairs = zip(results.get(("ours", label), []), results.get(("floor", label), []))
+        pairs = zip(results.get(("ours", label), []), results.get((floor, label), []))
         ratios = [a.wall / b.wall for (a, ia), (b, ib) in pairs if ia and ib]
         return statistics.median(ratios) if ratios else None
 
@@ -318,9 +320,12 @@ def main(argv=None) -> int:
                FLAT_TOLERANCE, False),
         target("ours time / floor, tiled (paired runs)", paired(t), 1.5, False),
         target("ours time / floor, stripped (paired runs)", paired(s), 1.5, False),
+        target("ours time / all-core floor (a process per core), tiled (issue's row)",
+               paired(t, "floor_procs"), 1.1, False),
+        target("ours time / all-core floor (a process per core), stripped (issue's row)",
+               paired(s, "floor_procs"), 1.1, False),
     ]
-    print()
-    print(table(["target", "value", "goal", "verdict"], checks))
+    print_targets(checks)
     print(f"\nwall: the whole child process (start-up and imports included), median of {repeat} "
           "for ours and the floor, one run for easyidp and GDAL; crop s: inside the crop call; "
           "cpu s: user + system; peak: largest resident set over the runs. Crops in",

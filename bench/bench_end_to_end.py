@@ -21,7 +21,9 @@ Workloads: back-projection on the real wheat_tanashi project (138 photos) with 1
 no occlusion (the issue's user case, against easyidp 2.0.4 ``back2raw`` in the same run) and
 once with DSM heights, clipping and occlusion (with the engine's share per step); camera
 footprints of the same project; DSM heights, raster and point cloud crops and point cloud
-statistics of 1,600 small plots over the demo survey (medium: 1 cm orthomosaic, 2 cm DSM).
+statistics of 1,600 small plots over the demo survey (medium: 1 cm orthomosaic, 2 cm DSM);
+plot grids: 10,000 plots created, and bench_plot_grid's 20000² orthomosaic fitted with its
+start grid (1,600 plots); a training set of 1,000 labelled discs on the demo survey's photos.
 """
 import argparse
 import json
@@ -57,6 +59,9 @@ from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.projection import camera_footprints, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.season import read_survey_table, run_season
+from easyidp_toolbox.core.plotgrid import create_plot_grid, fit_plot_grid
+from easyidp_toolbox.core.raster import open_geotiff
+from easyidp_toolbox.core.projection import export_training_set
 """
 IMPORT_TIME = "import json, time\nt0 = time.perf_counter()\n" + _IMPORTS + \
     "print(json.dumps({'seconds': time.perf_counter() - t0}))\n"
@@ -150,6 +155,22 @@ elif case == "seasontraits":
                      percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_crs=a["crs"],
                      ground_percentile=2.0, cover_threshold=None, crops=None, workers=1)
     out["kept"] = len(res.rows)
+elif case == "createplotgrid":
+    grid, _ = create_plot_grid(a["crs"], a["rows"], a["cols"], origin=tuple(a["origin"]),
+                               bearing=a["bearing"], size_x=3.0, size_y=1.5, gap_x=0.5,
+                               gap_y=1.0, blocks_x=2, block_gap_x=1.0, order="serpentine",
+                               pattern=a["pattern"])
+    out["kept"] = len(grid)
+elif case == "fitplotgrid":
+    tif = open_geotiff(a["raster"], crs=a["crs"])
+    res = fit_plot_grid([r.parts[0][0] for r in rois], tif, index="exg", bands=(1, 2, 3),
+                        max_shift=0.25, search=None, min_cover=0.3, min_score=0.6)
+    out["kept"] = int(sum(res.moved))
+elif case == "exporttrainingset":
+    recon = open_reconstruction(a["project"])
+    classes = [str(r.attributes["class"]) for r in rois]
+    res = export_training_set(rois, classes, recon, a["dsm"], a["folder"], dsm_crs=a["crs"])
+    out["kept"] = int(sum(res.annotations.values()))
 else:
     raise SystemExit(f"unknown case {case}")
 out["seconds"] = time.perf_counter() - t0
@@ -158,9 +179,9 @@ print(json.dumps(out))
 
 
 # --- inputs ---------------------------------------------------------------------------------------
-def _write_gpkg(path: Path, rois: dict, crs: str, z: bool) -> Path:
-    """{name: closed ring [[x, y(, z)], ...]} → a GeoPackage polygon layer (field 'name'),
-    atomically (written beside, then renamed)."""
+def _write_gpkg(path: Path, rois: dict, crs: str, z: bool, classes=None) -> Path:
+    """{name: closed ring [[x, y(, z)], ...]} → a GeoPackage polygon layer (field 'name', and
+    'class' from ``classes``, one per ROI), atomically (written beside, then renamed)."""
     from osgeo import ogr, osr
     tmp = path.with_suffix(".tmp.gpkg")
     if tmp.exists():
@@ -170,8 +191,10 @@ def _write_gpkg(path: Path, rois: dict, crs: str, z: bool) -> Path:
     ds = ogr.GetDriverByName("GPKG").CreateDataSource(str(tmp))
     layer = ds.CreateLayer(path.stem, srs, ogr.wkbPolygon25D if z else ogr.wkbPolygon)
     layer.CreateField(ogr.FieldDefn("name", ogr.OFTString))
+    if classes is not None:
+        layer.CreateField(ogr.FieldDefn("class", ogr.OFTString))
     layer.StartTransaction()
-    for name, ring in rois.items():
+    for k, (name, ring) in enumerate(rois.items()):
         r = ogr.Geometry(ogr.wkbLinearRing)
         for p in ring:
             if z:
@@ -182,6 +205,8 @@ def _write_gpkg(path: Path, rois: dict, crs: str, z: bool) -> Path:
         g.AddGeometry(r)
         f = ogr.Feature(layer.GetLayerDefn())
         f.SetField("name", name)
+        if classes is not None:
+            f.SetField("class", classes[k])
         f.SetGeometry(g)
         layer.CreateFeature(f)
     layer.CommitTransaction()
@@ -232,6 +257,49 @@ def season_inputs(quick: bool) -> dict:
             "ground": folder / "bare_soil_dsm.tif", "dates": dates}
 
 
+def plot_grid_inputs(quick: bool) -> dict:
+    """bench_plot_grid's orthomosaic (6000² quick, else 20000²; generated once) and the start
+    grid its fit starts from (the layout turned by 1°, shifted by 0.25 m, spacing 1 % off) as a
+    GeoPackage."""
+    import math
+    from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
+    from .bench_plot_grid import BEARING, ensure_raster, grid_kwargs, layout, truth
+    from .bench_plot_grid import EPSG as GRID_EPSG
+    size = 6000 if quick else 20000
+    raster = ensure_raster(size)
+    gpkg = OUT / f"plotgrid_start_{size}.gpkg"
+    if not gpkg.exists():
+        grid, _, _ = truth(size)
+        start, _ = create_plot_grid(f"EPSG:{GRID_EPSG}", origin=grid.frame.origin,
+                                    bearing=BEARING, **grid_kwargs(int(grid.row.max()), 1.01))
+        c = start.corners.reshape(-1, 2).mean(axis=0)
+        t = math.radians(1.0)
+        rot = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
+        start.corners = np.array([(q - c) @ rot.T + c + (0.25, 0.0) for q in start.corners])
+        write_plot_grid(str(gpkg), start)
+    return {"raster": raster, "grid": gpkg, "size": size, "crs": f"EPSG:{GRID_EPSG}",
+            "n": layout(size)[0] ** 2}
+
+
+def training_objects(quick: bool, demo: Path) -> dict:
+    """Labelled discs (radius 0.1–0.3 m, 32 vertices, classes a and b) at random over the demo
+    survey's field, as bench_training_set makes them, in a GeoPackage (fields name, class)."""
+    from easyidp_toolbox.core.demo.scene import SURVEY_FIELD
+    n = 200 if quick else 1000
+    gpkg = OUT / f"training_objects_{demo.name}_{n}.gpkg"
+    if not gpkg.exists():
+        rng = np.random.default_rng(0)
+        t = np.linspace(0, 2 * np.pi, 32, endpoint=False)
+        x0, y1 = SURVEY_FIELD.origin
+        c = np.column_stack([rng.uniform(x0 + 2, x0 + SURVEY_FIELD.size[0] - 2, n),
+                             rng.uniform(y1 - SURVEY_FIELD.size[1] + 2, y1 - 2, n)])
+        r = rng.uniform(0.1, 0.3, n)
+        rings = c[:, None, :] + r[:, None, None] * np.stack([np.cos(t), np.sin(t)], -1)[None]
+        _write_gpkg(gpkg, {f"o{k}": np.vstack([q, q[:1]]) for k, q in enumerate(rings)},
+                    f"EPSG:{EPSG}", z=False, classes=["a" if k % 2 else "b" for k in range(n)])
+    return {"rois": gpkg, "n": n}
+
+
 def startup_input() -> Path:
     path = OUT / "one_point.geojson"
     if not path.exists():
@@ -242,9 +310,13 @@ def startup_input() -> Path:
 
 
 # --- the cases ------------------------------------------------------------------------------------
-def cases(quick: bool):
+def cases(quick: bool, only=None):
     """(name, tool, workload, tool parameters with outputs relative to the run folder, engine
-    arguments with the folder as '{out}')."""
+    arguments with the folder as '{out}'). The plot-grid and training-set inputs are made only
+    for the cases in ``only`` (default all): the fit's orthomosaic takes minutes to generate."""
+    def want(name):
+        return not only or name in only
+
     w = wheat_case_inputs(quick)
     d = demo_case_inputs(quick)
     n_w = 400 if quick else 1600
@@ -311,6 +383,36 @@ def cases(quick: bool):
                  "OUTPUT": "on_map.gpkg"},
                 {"project": project, "dsm": demo / "dsm.tif", "crs": f"EPSG:{EPSG}",
                  "folder_in": demo / "labelme"}))
+    n_grid = 100
+    out.append(("createplotgrid", "createplotgrid",
+                f"{n_grid * n_grid:,} plots ({n_grid} × {n_grid}, two blocks, serpentine, a name "
+                "pattern)",
+                {"ANCHOR": 2, "ORIGIN": f"500000,4000000 [EPSG:{EPSG}]", "BEARING": 80,
+                 "ROWS": n_grid, "COLS": n_grid, "SIZE_X": 3, "SIZE_Y": 1.5, "GAP_X": 0.5,
+                 "GAP_Y": 1.0, "BLOCKS_X": 2, "BLOCK_GAP_X": 1.0, "ORDER": 1,
+                 "PATTERN": "{block}-{row:03d}-{col:03d}", "OUTPUT": "grid.gpkg"},
+                {"crs": f"EPSG:{EPSG}", "rows": n_grid, "cols": n_grid,
+                 "origin": [500000.0, 4000000.0], "bearing": 80.0,
+                 "pattern": "{block}-{row:03d}-{col:03d}"}))
+    pg = plot_grid_inputs(quick) if want("fitplotgrid") else None
+    if pg is not None:
+        out.append(("fitplotgrid", "fitplotgrid",
+                    f"{pg['n']:,} plots on a {pg['size']}² RGB orthomosaic (1 cm), from a grid "
+                    "turned by 1°, shifted 0.25 m, spacing 1 % off",
+                    {"GRID": pg["grid"], "NAME_FIELD": "plot_id", "ORTHOMOSAIC": pg["raster"],
+                     "OUTPUT": "fitted.gpkg"},
+                    {"rois": pg["grid"], "name_field": "plot_id", "raster": pg["raster"],
+                     "crs": pg["crs"]}))
+    if want("exporttrainingset"):
+        objects = training_objects(quick, demo)
+        out.append(("exporttrainingset", "exporttrainingset",
+                    f"{objects['n']:,} labelled discs × {PHOTOS} photos (demo), whole photos, "
+                    "COCO + YOLO + LabelMe",
+                    {"OBJECTS": objects["rois"], "CLASS_FIELD": "class", "INSTANCE_FIELD": "name",
+                     "PROJECT": project, "DSM": demo / "dsm.tif", "OUTPUT_FOLDER": "training_set"},
+                    {"rois": objects["rois"], "name_field": "name", "project": project,
+                     "dsm": demo / "dsm.tif", "crs": f"EPSG:{EPSG}",
+                     "folder": "{out}/training_set"}))
     season = season_inputs(quick)
     out.append(("seasontraits", "seasontraits",
                 f"{season['dates']} dates × {PLOTS} plots (demo season), all traits, 1 worker",
@@ -408,7 +510,7 @@ def main(argv=None) -> int:
     ref_env.update(HOME=str(OUT), XDG_DATA_HOME=str(OUT))
     ref_runs = []
     rows, goals, shares, figures = [], [], {}, {}
-    for name, alg, workload, params, eargs in cases(a.quick):
+    for name, alg, workload, params, eargs in cases(a.quick, a.only):
         if a.only and name not in a.only:
             continue
         tool_walls, cpu, locks, errors, eng, scripts, starts = [], [], 0, [], [], [], []

@@ -37,7 +37,7 @@ import tifffile
 
 from .common import REF_PYTHON
 from .bench_crop_raster import OUT, TILE, geotiff_tags, write_rois
-from .common import ratio, reference_env, run_json_child, table
+from .common import print_targets, ratio, reference_env, run_json_child, table, target
 
 HERE = Path(__file__).resolve().parent
 WORKERS = HERE / "season_workers.py"
@@ -247,6 +247,16 @@ def run_season_bench(size, grid, dates, reference):
           "peak MiB/worker: the largest peak resident set of a worker process; peak (any): the "
           "largest of the child and its workers (wait4).")
 
+    def wall(label):
+        run, info = infos[label]
+        return run.wall if info else None
+    t2 = wall("2 local workers")
+    speed = ratio(t1, t2)
+    return [target("season: Dask LocalCluster (2) / 2 local processes (issue's row)",
+                   ratio(wall("Dask LocalCluster, 2 workers"), t2), 1.15, at_least=False),
+            target(f"season: efficiency of 2 local workers on {os.cpu_count()} cores, "
+                   "t1 / (2 t2) (issue's row)", speed / 2 if speed else None, 0.85)]
+
 
 def run_headline(size, grid, reference, every):
     print(f"\nHeadline: {grid * grid} plots from a {size:,}² RGB GeoTIFF (tiled {TILE}, deflate)",
@@ -332,9 +342,10 @@ def main(argv=None) -> int:
     load = os.getloadavg()[0]
     print(f"load average {load:.2f}; disk: {shutil.disk_usage(OUT).free / 1e9:.0f} GB free in "
           f"{OUT}", flush=True)
+    goals = []
     try:
         if not args.skip_season:
-            run_season_bench(args.size or (6000 if q else 20000), args.grid or (15 if q else 40),
+            goals = run_season_bench(args.size or (6000 if q else 20000), args.grid or (15 if q else 40),
                              args.dates or (4 if q else 10), reference)
         if not args.skip_headline:
             run_headline(args.headline_size or (20000 if q else 100000),
@@ -343,6 +354,7 @@ def main(argv=None) -> int:
     finally:
         if not args.keep:
             shutil.rmtree(SEASON, ignore_errors=True)
+    print_targets(goals)
     return 0
 
 

@@ -2,9 +2,9 @@
 
     python crop_workers.py TOOL RASTER ROIS OUT_DIR [--every K]
 
-TOOL is ``ours``, ``easyidp``, ``gdal`` or ``floor``. Each runs under its own interpreter
-(easyidp in .venv-ref, which cannot import easyidp_toolbox), so this module imports nothing but
-the standard library at the top. Each crops every ROI of ROIS into OUT_DIR (GDAL: every K-th
+TOOL is ``ours``, ``easyidp``, ``gdal``, ``gdalwarp``, ``floor`` or ``floor_procs``. Each runs
+under its own interpreter (easyidp in .venv-ref, which cannot import easyidp_toolbox), so this
+module imports nothing but the standard library at the top. Each crops every ROI of ROIS into OUT_DIR (GDAL: every K-th
 with ``--every K``, a labelled subset when all would take too long) and prints one JSON line:
 ``{"files": written, "rois": attempted, "loop_s": seconds spent cropping}``.
 """
@@ -83,18 +83,45 @@ def gdalwarp(raster, shp, out_dir, every=1):
 def floor(raster, geojson, out_dir):
     """The least work any tool must do: decode every tile or strip touched by an ROI exactly
     once and deflate-encode (tifffile.imwrite) one RGBA array the size of each ROI's bounding
-    window (its real pixels, alpha constant), on all cores. No mask, no georeferencing, no
+    window (its real pixels, alpha constant), on all cores (one process, a thread per core:
+    the codecs release the GIL, the copies do not). No mask, no georeferencing, no
     reprojection: a lower bound, not a tool."""
+    with open(geojson, encoding="utf-8") as fh:
+        feats = json.load(fh)["features"]
+    t0 = time.perf_counter()
+    jobs, segments = _floor_share(raster, feats, out_dir, 0, 1, os.cpu_count())
+    emit(len(os.listdir(out_dir)), jobs, time.perf_counter() - t0, segments=segments)
+
+
+def floor_procs(raster, geojson, out_dir):
+    """The floor on all cores without the GIL: one process per core, each decoding and
+    encoding, on one thread, a contiguous share of the ROIs (ordered by their last tile or
+    strip) and the segments they touch. A segment shared by two shares is decoded by both
+    (``segments`` counts the decodes, ``touched`` the distinct segments): a little more work
+    than the floor, never less."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    with open(geojson, encoding="utf-8") as fh:
+        feats = json.load(fh)["features"]
+    n = os.cpu_count()
+    t0 = time.perf_counter()
+    with ProcessPoolExecutor(n) as pool:
+        parts = list(pool.map(_floor_share, [raster] * n, [feats] * n, [out_dir] * n,
+                              range(n), [n] * n, [1] * n))
+    emit(len(os.listdir(out_dir)), sum(p[0] for p in parts), time.perf_counter() - t0,
+         segments=sum(p[1] for p in parts), processes=n)
+
+
+def _floor_share(raster, feats, out_dir, share, shares, threads):
+    """Share ``share`` of ``shares`` of the floor's work on ``threads`` threads; returns (ROIs
+    cropped, segments decoded)."""
     from easyidp_toolbox.core.raster.geotiff_write import DEFLATE_LEVEL  # encode as ours does
     from concurrent.futures import ThreadPoolExecutor
 
     import numpy as np
     import tifffile
 
-    with open(geojson, encoding="utf-8") as fh:
-        feats = json.load(fh)["features"]
-    t0 = time.perf_counter()
-    with tifffile.TiffFile(raster) as tif, ThreadPoolExecutor(os.cpu_count()) as pool:
+    with tifffile.TiffFile(raster) as tif, ThreadPoolExecutor(threads) as pool:
         page = tif.pages.first
         height, width = page.shape[:2]
         scale = page.tags["ModelPixelScaleTag"].value
@@ -117,6 +144,7 @@ def floor(raster, geojson, out_dir):
                     for tx in range(c0 // seg_w, (c1 - 1) // seg_w + 1)]
             jobs.append((max(segs), feat["properties"]["name"], (r0, r1, c0, c1), segs))
         jobs.sort(key=lambda j: j[0])
+        jobs = jobs[share * len(jobs) // shares:(share + 1) * len(jobs) // shares]
         pending = {}
         for job in jobs:
             for s in job[3]:
@@ -160,10 +188,11 @@ def floor(raster, geojson, out_dir):
                 next_job += 1
         for fut in encodes:
             fut.result()
-    emit(len(os.listdir(out_dir)), len(jobs), time.perf_counter() - t0, segments=len(touched))
+    return len(jobs), len(touched)
 
 
-TOOLS = {"ours": ours, "easyidp": easyidp, "gdal": gdal, "gdalwarp": gdalwarp, "floor": floor}
+TOOLS = {"ours": ours, "easyidp": easyidp, "gdal": gdal, "gdalwarp": gdalwarp, "floor": floor,
+         "floor_procs": floor_procs}
 
 if __name__ == "__main__":
     tool, raster, rois, out_dir = sys.argv[1:5]

@@ -92,8 +92,11 @@ def same_file(a: PathLike, b: Optional[PathLike]) -> bool:
         return False
     a, b = Path(a), Path(b)
     try:
-        if a.exists() and b.exists():
+        a_exists, b_exists = a.exists(), b.exists()
+        if a_exists and b_exists:
             return os.path.samefile(a, b)
+        if a_exists != b_exists:    # one exists, the other not: not one file (no resolve)
+            return False
     except OSError:
         pass
     return a.resolve() == b.resolve()

@@ -31,6 +31,11 @@ def fields_of(spec) -> QgsFields:
     return fields
 
 
+BATCH = 10000
+"""Features handed to a sink per ``addFeatures`` call (one call per feature cost more Python
+overhead; the file writer already holds one transaction for the whole layer)."""
+
+
 def write_features(alg, parameters, name: str, context, fields: QgsFields, wkb_type, crs, rows,
                    optional: bool = False):
     """Write the sink output ``name``: one feature per ``(attributes, geometry or None)`` of
@@ -41,12 +46,18 @@ def write_features(alg, parameters, name: str, context, fields: QgsFields, wkb_t
         if optional:
             return None
         raise QgsProcessingException(alg.invalidSinkError(parameters, name))
+    batch = []
     for attributes, geometry in rows:
         f = QgsFeature(fields)
-        f.setAttributes(list(attributes))
+        f.setAttributes(attributes if type(attributes) is list else list(attributes))
         if geometry is not None:
             f.setGeometry(geometry)
-        sink.addFeature(f, FeatureSinkFlag.FastInsert)
+        batch.append(f)
+        if len(batch) == BATCH:
+            sink.addFeatures(batch, FeatureSinkFlag.FastInsert)
+            batch = []
+    if batch:
+        sink.addFeatures(batch, FeatureSinkFlag.FastInsert)
     close_sink(sink)
     return dest
 

@@ -86,18 +86,20 @@ class PointCloud:
     def is_las(self) -> bool:
         return self.fmt in LAS_FORMATS
 
-    def xyz_slice(self, start: int, stop: int) -> np.ndarray:
-        """Coordinates of points ``start:stop`` as a new (m, 3) float64 array."""
+    def xyz_slice(self, start: int, stop: int, dims: int = 3) -> np.ndarray:
+        """Coordinates of points ``start:stop`` as a new (m, dims) float64 array: x, y, z, or
+        x, y with ``dims=2``."""
         if self._xyz is not None:
-            return self._xyz[start:stop]
+            return self._xyz[start:stop, :dims]
         rec = self._rows(start, stop)
-        out = np.empty((len(rec), 3), dtype=np.float64)
+        out = np.empty((len(rec), dims), dtype=np.float64)
         if self.is_las:
-            for i, (n, s, o) in enumerate(zip("XYZ", self.header.scales, self.header.offsets)):
+            for i, (n, s, o) in enumerate(zip("XYZ"[:dims], self.header.scales,
+                                              self.header.offsets)):
                 np.multiply(rec[n], s, out=out[:, i], casting="unsafe")
                 out[:, i] += o
         else:
-            for i, n in enumerate(XYZ_PLY):
+            for i, n in enumerate(XYZ_PLY[:dims]):
                 out[:, i] = rec[n]
         return out
 
@@ -114,10 +116,12 @@ class PointCloud:
                 return out
         return rec[start:stop]
 
-    def iter_xyz(self, chunk_size: int = 2_000_000) -> Iterator[Tuple[int, np.ndarray]]:
-        """(start, xyz of points start:start+chunk) for the whole cloud, without caching it all."""
+    def iter_xyz(self, chunk_size: int = 2_000_000, dims: int = 3
+                 ) -> Iterator[Tuple[int, np.ndarray]]:
+        """(start, xyz of points start:start+chunk) for the whole cloud, without caching it all
+        (``dims=2``: x and y only)."""
         for start in range(0, len(self), chunk_size):
-            yield start, self.xyz_slice(start, min(start + chunk_size, len(self)))
+            yield start, self.xyz_slice(start, min(start + chunk_size, len(self)), dims)
 
     @property
     def xyz(self) -> np.ndarray:
@@ -170,7 +174,8 @@ class PointCloud:
         for start in range(0, len(self), chunk_size):
             a, b = np.searchsorted(index, [start, start + chunk_size])
             if b > a:
-                parts.append(self._rows(start, min(start + chunk_size, len(self)))[index[a:b] - start])
+                rows = self._rows(start, min(start + chunk_size, len(self)))
+                parts.append(gather_records(rows, index[a:b] - start))
         rec = np.concatenate(parts) if parts else self.records[:0].copy()
         sub = PointCloud(np.asarray(rec), self.fmt, self.header, self.crs, self.path)
         sub.file_crs, sub.notes = self.file_crs, list(self.notes)
@@ -184,3 +189,14 @@ class PointCloud:
         crs = self.crs.name if self.crs is not None else "no CRS"
         src = f" from {self.path.name}" if self.path else ""
         return f"<PointCloud {len(self)} points, {self.fmt}{src}, {crs}>"
+
+
+def gather_records(records: np.ndarray, index) -> np.ndarray:
+    """``records[index]``, gathered as opaque items when the records are in memory and
+    contiguous: a structured dtype's fancy indexing copies field by field, 6× slower on LAS
+    records."""
+    index = np.asarray(index)
+    if isinstance(records, np.memmap) or not records.flags.c_contiguous or records.ndim != 1 \
+            or index.dtype == bool:
+        return records[index]
+    return np.take(records.view(f"V{records.dtype.itemsize}"), index).view(records.dtype)

@@ -160,11 +160,19 @@ def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
 def _write(cloud: PointCloud, todo, result: CropResult, prog) -> None:
     """Write each (item, target, point indices); on cancel remove what was written."""
     if todo and len(cloud.records) and any(len(ii) for _, _, ii in todo):
-        # gather every kept record once, in file order, then serve each ROI from that copy
-        kept = np.unique(np.concatenate([ii for _, _, ii in todo]))
-        compact = cloud.take_sorted(kept)
-        todo = [(item, t, np.searchsorted(kept, ii)) for item, t, ii in todo]
-        cloud = compact
+        # gather every kept record once, in file order, then serve each ROI from that copy:
+        # a point's place in the copy is the count of kept points before it (a mark per point
+        # and its running count, 5 bytes a point; one searchsorted per ROI cost 4× more)
+        marked = np.zeros(len(cloud.records), bool)
+        for _, _, ii in todo:
+            marked[ii] = True
+        kept = np.flatnonzero(marked)
+        place = np.cumsum(marked, dtype=np.int64 if len(marked) >= 2**31 else np.int32)
+        del marked
+        place -= 1
+        todo = [(item, t, place[ii]) for item, t, ii in todo]
+        del place
+        cloud = cloud.take_sorted(kept)
     try:
         for i, (item, target, ii) in enumerate(todo):
             prog.check()

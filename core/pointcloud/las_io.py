@@ -18,7 +18,7 @@ from pyproj import CRS
 
 from ..crs import as_crs, same_crs
 from ..errors import InputError, reads_file
-from .cloud import PointCloud
+from .cloud import PointCloud, gather_records
 from ..files import atomic_output, check_not_inputs
 
 _COLOUR = ("red", "green", "blue")
@@ -325,7 +325,7 @@ def write_las(cloud: PointCloud, path, compress: Optional[bool] = None,
     if cloud.is_las and not compress:
         template = _template(cloud)
         if template is not None:
-            records = cloud.records[np.asarray(index)] if index is not None else cloud.records
+            records = cloud.records if index is None else gather_records(cloud.records, index)
             _fast_write_las(cloud, records, path, template)
             return path
     if index is not None:

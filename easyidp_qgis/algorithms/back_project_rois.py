@@ -2,6 +2,8 @@
 import math
 import os
 
+import numpy as np
+
 from qgis.core import (QgsCoordinateReferenceSystem, QgsProcessingParameterBoolean,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
@@ -12,7 +14,7 @@ from ..compat import (FieldType, ProcessingFileParameterBehavior,
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType, WkbType)
 from ..crs import pixel_crs
-from ..geometries import pixel_geometry
+from ..geometries import pixel_geometries
 from ..parameters import optional_destination
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
@@ -208,18 +210,21 @@ class BackProjectROIs(EasyIDPAlgorithm):
                             ("centre_distance", FieldType.Double), ("clipped", FieldType.Bool),
                             ("photo_width", FieldType.Int), ("photo_height", FieldType.Int)))
 
-        def rows():
-            for i in range(len(result)):
-                j = int(result.photo_index[i])
-                yield ([result.roi_names[int(result.roi[i])], str(result.photo[i]), paths[j] or "",
-                        int(result.rank[i]), _num(result.score[i]), _num(result.view_angle[i]),
-                        _num(result.gsd[i]), _num(result.visible_fraction[i]),
-                        _num(result.occluded_fraction[i]), _num(result.centre_distance[i]),
-                        bool(result.clipped[i]), int(result.image_sizes[j][0]),
-                        int(result.image_sizes[j][1])],
-                       pixel_geometry(result.polygons_of(i)))
+        # column by column: numpy → Python values once per column, geometries in one pass
+        sizes = np.asarray(result.image_sizes, np.int64).reshape(-1, 2)[result.photo_index]
+        paths = [p or "" for p in paths]
+        columns = [[result.roi_names[k] for k in result.roi.tolist()],
+                   [str(p) for p in result.photo.tolist()],
+                   [paths[j] for j in result.photo_index.tolist()],
+                   np.asarray(result.rank).astype(int).tolist(),
+                   *(_numbers(c) for c in (result.score, result.view_angle, result.gsd,
+                                           result.visible_fraction, result.occluded_fraction,
+                                           result.centre_distance)),
+                   np.asarray(result.clipped, bool).tolist(),
+                   sizes[:, 0].tolist(), sizes[:, 1].tolist()]
+        rows = zip(map(list, zip(*columns)), pixel_geometries(result.polygons))
         dest = write_features(self, parameters, self.OUTPUT, context, fields, WkbType.MultiPolygon,
-                              pixel_crs(), rows())
+                              pixel_crs(), rows)
         # a file gets the undefined Cartesian CRS (GeoPackage srs_id -1). A photo opened without
         # georeference has no CRS; QGIS gives memory layers EPSG:4326 by default, which would
         # reproject the pixels: make the memory layer (held by the context) CRS-less like the
@@ -252,6 +257,15 @@ def pixel_style():
 def summary_style():
     """ROIs on the map coloured by how many photos see them (the legend gives the counts)."""
     return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu", label=False)
+
+
+def _numbers(values) -> list:
+    """Floats as a list, NaN and infinities as None (NULL), as :func:`_num` of each."""
+    a = np.asarray(values, np.float64)
+    out = a.tolist()
+    for k in np.flatnonzero(~np.isfinite(a)).tolist():
+        out[k] = None
+    return out
 
 
 def _num(v):

@@ -153,3 +153,39 @@ def test_duplicate_names_and_overlaps(tmp_path):
     assert len(read_point_cloud(tmp_path / "a_b_2.las")) == 1
     assert res.counts == {"a_b": 2, "a_b_2": 1}
     assert [i.name for i in res.items] == ["a/b", "a/b"]
+
+
+def test_box_grid_pairs_are_every_point_in_every_box_extent():
+    """Brute force written here: every (point, box) with the point inside the box's extent,
+    edges included, ordered by point then box; points on box edges and corners, boxes of
+    mixed sizes that overlap, any cell size."""
+    from easyidp_toolbox.core.pointcloud import index
+    rng = np.random.default_rng(3)
+    lo = rng.uniform(0, 50, (60, 2))
+    boxes = np.hstack([lo, lo + rng.uniform(0.5, 6, (60, 2))])
+    pts = np.vstack([rng.uniform(-2, 58, (5000, 2)), boxes[:, :2], boxes[:, 2:],
+                     boxes[:, [0, 3]], boxes[:, [2, 1]]])
+    x, y = pts[:, 0], pts[:, 1]
+    inside = (x[:, None] >= boxes[:, 0]) & (x[:, None] <= boxes[:, 2]) & \
+        (y[:, None] >= boxes[:, 1]) & (y[:, None] <= boxes[:, 3])
+    want = np.nonzero(inside)                       # row-major: by point, then box
+    for cells in (1, 3, 6, 13):
+        old, index.CELLS_PER_BOX = index.CELLS_PER_BOX, cells
+        try:
+            pt, box = index.BoxGrid(boxes).pairs(x, y)
+        finally:
+            index.CELLS_PER_BOX = old
+        assert np.array_equal(pt, want[0]) and np.array_equal(box, want[1]), cells
+
+
+def test_gather_records_is_fancy_indexing():
+    from easyidp_toolbox.core.pointcloud.cloud import gather_records
+    dt = np.dtype([("X", "<i4"), ("Y", "<i4"), ("Z", "<i4"), ("i", "<u2"), ("b", "u1")])
+    rec = np.zeros(1000, dt)
+    for name in dt.names:
+        rec[name] = np.arange(1000) * 7 % 251
+    idx = np.random.default_rng(0).integers(0, 1000, 300)
+    assert gather_records(rec, idx).tobytes() == rec[idx].tobytes()
+    assert gather_records(rec, idx).dtype == dt
+    mask = rec["X"] > 100
+    assert gather_records(rec, mask).tobytes() == rec[mask].tobytes()

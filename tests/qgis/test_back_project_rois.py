@@ -131,3 +131,41 @@ def test_through_qgis_process(qp_env, survey, tmp_path):
     assert not layer.crs().isValid() or layer.crs().description().startswith("Undefined")
     assert QgsVectorLayer(res["OUTPUT_SUMMARY"], "s", "ogr").featureCount() == 40
     assert os.path.isfile(res["OUTPUT_JSON"]) and len(list((tmp_path / "crops").rglob("*.png"))) == 80
+
+
+def test_photo_pixel_layer_is_the_core_result_record_by_record(provider, survey, tmp_path):
+    """The GeoPackage the tool writes (columns converted at once, geometries built in one pass)
+    holds each record of the core's result, in order: the reference is the result itself, read
+    element by element here (NaN as NULL; x = column, y = −row, rings closed)."""
+    from qgis.core import QgsApplication
+    params = {"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+              "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.5,
+              "MIN_VISIBLE": 0, "OUTPUT": str(tmp_path / "pixels.gpkg"),
+              "OUTPUT_SUMMARY": str(tmp_path / "summary.gpkg")}
+    alg = QgsApplication.processingRegistry().createAlgorithmById(ALG)
+    step = alg.step(params, QgsProcessingContext(), QgsProcessingFeedback())
+    result = step.function(**step.kwargs)
+    assert result.clipped.any() and np.isnan(result.occluded_fraction).all()
+    layer = QgsVectorLayer(_run(params)["OUTPUT"], "pixels", "ogr")
+    feats = sorted(layer.getFeatures(), key=lambda f: f.id())
+    assert len(feats) == len(result) > 40
+    for i, f in enumerate(feats):
+        j = int(result.photo_index[i])
+        want = [result.roi_names[result.roi[i]], str(result.photo[i]), result.photo_paths[j],
+                int(result.rank[i]), float(result.score[i]), float(result.view_angle[i]),
+                float(result.gsd[i]), float(result.visible_fraction[i]), None,
+                float(result.centre_distance[i]), bool(result.clipped[i]),
+                int(result.image_sizes[j][0]), int(result.image_sizes[j][1])]
+        got = [None if v is None or (hasattr(v, "isNull") and v.isNull()) else v
+               for v in f.attributes()[1:]]
+        assert got == want, i
+        polys = result.polygons_of(i)
+        geom = f.geometry().constGet()
+        assert geom.numGeometries() == len(polys)
+        for k, rings in enumerate(polys):
+            part = geom.geometryN(k)
+            assert part.numInteriorRings() == len(rings) - 1
+            for r, ring in enumerate(rings):
+                line = part.exteriorRing() if r == 0 else part.interiorRing(r - 1)
+                xy = np.array([[p.x(), p.y()] for p in line.points()])
+                assert np.array_equal(xy, np.vstack([ring, ring[:1]]) * [1.0, -1.0])
