@@ -25,9 +25,10 @@ from easyidp_toolbox.scripts.qgis_desktop import (install_zip, profile_dir, run_
 
 def _missing_on_debian(extras: bool):
     """Distributions of the dependency table (table order) that Debian's own Python lacks: what a
-    fresh profile on this machine misses. ``extras``: include the script-only extras."""
+    fresh profile on this machine misses. ``extras``: include the script-only extras. Rows that
+    do not fit this QGIS (``fits_here``: pyopf beside Debian 12's Pillow) are never installed."""
     rows = [d for d in dependencies.DEPENDENCIES
-            if d.tools != dependencies.ALL and (d.tools or extras)]
+            if d.tools != dependencies.ALL and (d.tools or extras) and d.fits_here()]
     code = ("import importlib.util, sys\n"
             "print(' '.join(m for m in sys.argv[1:] if importlib.util.find_spec(m) is None))")
     out = subprocess.run(["/usr/bin/python3", "-c", code, *[d.module for d in rows]],
