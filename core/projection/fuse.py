@@ -22,7 +22,8 @@ scores, from several photos. Steps:
    the votes are reweighted ``ROBUST_ROUNDS`` times by each photo's IoU with the last
    outline. Contoured between cells; the outermost ring of the largest piece. Not the union,
    so a misplaced view neither grows nor moves it. ``position`` is the outline's centroid, its
-   height the DSM there (bilinear); ``views`` the number of photos in the group;
+   height the DSM there (bilinear; outline vertices off the DSM or on nodata take the median
+   of the outline's other heights, else of its members'); ``views`` the number of photos in the group;
    ``mean_score``/``max_score``. ``visibility=False``: every photo votes on every cell.
 4. **Confidence**: the outline is back-projected (:func:`.backward.back_project`, DSM heights,
    occlusion tested, ``min_visible``) into the photos that were searched; ``expected_views`` is
@@ -67,27 +68,34 @@ class FusedObject(MapPolygon):
     confidence: float = 0.0
 
 
-def _nms(idx: List[int], geoms, scores, iou: float) -> List[int]:
+def _nms(ok: List[int], geoms, scores, keys, iou: float) -> List[int]:
+    """Indices of ``ok`` kept by NMS within each key (photo, label): by decreasing score, a
+    polygon whose IoU with a kept one exceeds ``iou``, or that lies more than NMS_WITHIN inside
+    it (or it inside the polygon), is suppressed. One spatial query for all pairs."""
     import shapely
-    order = sorted(idx, key=lambda i: -scores[i])
-    kept: List[int] = []
-    if not order:
-        return kept
-    tree = shapely.STRtree([geoms[i] for i in order])
+    if not ok:
+        return []
+    order = sorted(ok, key=lambda i: -scores[i])
+    g = np.array([geoms[i] for i in order], object)
+    ids = {}
+    key = np.array([ids.setdefault(keys[i], len(ids)) for i in order], np.int64)
+    a, b = shapely.STRtree(g).query(g, predicate="intersects")
+    sel = (a < b) & (key[a] == key[b])          # a ranks before b
+    a, b = a[sel], b[sel]
     suppressed = np.zeros(len(order), bool)
-    for k, i in enumerate(order):
-        if suppressed[k]:
-            continue
-        kept.append(i)
-        cand = tree.query(geoms[i], predicate="intersects")
-        cand = cand[(cand > k) & ~suppressed[cand]]
-        if len(cand):
-            others = [geoms[order[c]] for c in cand]
-            inter = shapely.area(shapely.intersection(geoms[i], others))
-            union = geoms[i].area + shapely.area(others) - inter
-            within = inter > NMS_WITHIN * np.minimum(geoms[i].area, shapely.area(others))
-            suppressed[cand[(inter > iou * union) | within]] = True
-    return kept
+    if len(a):
+        inter = shapely.area(shapely.intersection(g[a], g[b]))
+        area = shapely.area(g)
+        dup = (inter > iou * (area[a] + area[b] - inter)) | \
+            (inter > NMS_WITHIN * np.minimum(area[a], area[b]))
+        a, b = a[dup], b[dup]
+        srt = np.lexsort((b, a))
+        a, b = a[srt], b[srt]
+        starts = np.searchsorted(a, np.arange(len(order) + 1))
+        for k in range(len(order)):             # greedy: a kept polygon suppresses its duplicates
+            if not suppressed[k] and starts[k] < starts[k + 1]:
+                suppressed[b[starts[k]:starts[k + 1]]] = True
+    return [order[k] for k in np.flatnonzero(~suppressed).tolist()]
 
 
 class _Vote:
@@ -100,6 +108,7 @@ class _Vote:
         x0, y0, x1, y1 = shapely.total_bounds(members)
         self.cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
         self.cover = None
+        self._votes = self._seen = None
         if not self.cell > 0:
             return
         cols = int(np.ceil((x1 - x0) / self.cell)) + 2
@@ -129,14 +138,19 @@ class _Vote:
         ``weights`` (photos,): the weight of each photo's vote (default 1)."""
         k = len(self.cover)
         w = np.ones(k) if weights is None else np.asarray(weights, np.float64)
-        cov = self.cover.reshape(k, -1)
-        out = (w @ cov) / max(float(w.sum()), 1e-300)
-        if len(self.disputed):
+        if self._votes is None or self._seen is not seen:
+            cov = self.cover.reshape(k, -1)
             c = cov[:, self.disputed]
             sn = np.ones_like(c) if seen is None else seen.copy()
             sn[:, ~sn.any(axis=0)] = True
+            self._votes = (cov.astype(np.float64), (c & sn).astype(np.float64),
+                           sn.astype(np.float64))
+            self._seen = seen
+        cov, got, sn = self._votes
+        out = (w @ cov) / max(float(w.sum()), 1e-300)
+        if len(self.disputed):
             den = w @ sn
-            out[self.disputed] = np.where(den > 0, (w @ (c & sn)) / np.maximum(den, 1e-300), 0.0)
+            out[self.disputed] = np.where(den > 0, (w @ got) / np.maximum(den, 1e-300), 0.0)
         return out.reshape(self.cover.shape[1:])
 
     def robust_share(self, seen: Optional[np.ndarray], rounds: int = ROBUST_ROUNDS) -> np.ndarray:
@@ -211,12 +225,13 @@ def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, d
         np.zeros(0, np.int64)
     seen = np.zeros(len(pair_cell), bool)
     ok_pair = ok[pair_cell] if len(pair_cell) else np.zeros(0, bool)
-    # in the frame: one projection per photo
-    for j in np.unique(pair_cam[ok_pair]).tolist():
-        sel = np.flatnonzero(ok_pair & (pair_cam == j))
-        st = recon.project_points(np.column_stack([allxy, z])[pair_cell[sel]], dsm.crs,
-                                  cameras=[cams[j]]).status[0]
-        ok_pair[sel[st != INSIDE]] = False
+    # in the frame: one projection of the cells into the photos (sparse: the inside pairs)
+    if ok_pair.any():
+        vis = recon.project_points(np.column_stack([allxy, z])[ok], dsm.crs, cameras=cams,
+                                   inside_only=True)
+        where = np.flatnonzero(ok)
+        inside = where[vis.point] * len(cams) + vis.camera.astype(np.int64)
+        ok_pair &= np.isin(pair_cell * len(cams) + pair_cam, inside)
     todo = np.flatnonzero(ok_pair)
     for a in range(0, len(todo), RAYS_AT_ONCE):
         prog.check()
@@ -256,10 +271,8 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     geoms = [shapely_polygon(f) for f in polys]
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
     scores = [f.score if f.score is not None else 1.0 for f in polys]
-    by = {}
-    for i in ok:
-        by.setdefault((polys[i].photo, polys[i].label), []).append(i)
-    kept = sorted(i for idx in by.values() for i in _nms(idx, geoms, scores, nms_iou))
+    keys = [(f.photo, f.label) for f in polys]
+    kept = sorted(_nms(ok, geoms, scores, keys, nms_iou))
     prog.set(15)
     if not kept:
         return []
@@ -276,13 +289,22 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     same = (lab[a] == lab[b]) & (pho[a] != pho[b]) if len(a) else np.zeros(0, bool)
     a, b = a[same], b[same]
     if len(a):
-        inter = shapely.area(shapely.intersection(np.array(kg, object)[a], np.array(kg, object)[b]))
-        iou = inter / (areas[a] + areas[b] - inter)
+        # cheap tests first: IoU ≥ group_iou needs the area ratio ≥ group_iou and the gate;
+        # the part link needs the boxes' overlap ≥ group_overlap of the smaller area
         gate = np.full(len(a), float(max_distance)) if max_distance else \
             0.25 * (size[a] + size[b])
         near = np.hypot(*(cent[a] - cent[b]).T) <= gate
-        part = inter / np.minimum(areas[a], areas[b]) >= group_overlap
-        link = ((iou >= group_iou) & near) | part
+        small = np.minimum(areas[a], areas[b])
+        near &= small >= group_iou * np.maximum(areas[a], areas[b])
+        box = shapely.bounds(np.array(kg, object))
+        bw = np.minimum(box[a, 2], box[b, 2]) - np.maximum(box[a, 0], box[b, 0])
+        bh = np.minimum(box[a, 3], box[b, 3]) - np.maximum(box[a, 1], box[b, 1])
+        maybe_part = np.clip(bw, 0, None) * np.clip(bh, 0, None) >= group_overlap * small
+        test = near | maybe_part
+        a, b, near, small = a[test], b[test], near[test], small[test]
+        inter = shapely.area(shapely.intersection(np.array(kg, object)[a], np.array(kg, object)[b]))
+        iou = inter / (areas[a] + areas[b] - inter)
+        link = ((iou >= group_iou) & near) | (inter >= group_overlap * small)
         a, b = a[link], b[link]
     comp = _components(len(kept), a, b)
     prog.set(30)
@@ -329,15 +351,26 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     allxy = np.vstack(rings + [np.array([o.position[:2] for o in out])])
     z = dsm.heights(allxy[:, 0], allxy[:, 1])
     k = 0
+    ring_z = []
     for o, r in zip(out, rings):
-        o.parts = [[np.column_stack([r, z[k:k + len(r)]])]]
+        rz = z[k:k + len(r)].copy()
         k += len(r)
-    for o, zz in zip(out, z[k:]):
+        if not np.isfinite(rz).all():     # off the DSM or on nodata: the heights it has, else
+            known = rz[np.isfinite(rz)]   # the members' (their rays hit the DSM)
+            if not len(known):
+                known = np.concatenate([p[np.isfinite(p[:, 2]), 2] for f in o.members
+                                        for p in f.rings if len(p)] + [np.zeros(0)])
+            rz[~np.isfinite(rz)] = float(np.median(known)) if len(known) else 0.0
+        o.parts = [[np.column_stack([r, rz])]]
+        ring_z.append(rz)
+    for o, zz, rz in zip(out, z[k:], ring_z):
+        zz = zz if np.isfinite(zz) else float(np.median(rz))
         o.position = (float(o.position[0]), float(o.position[1]), float(zz))
     # expected views: the photos searched that could have seen each object
     searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
-    rois = ROISet([ROI(str(j), [[r]]) for j, r in enumerate(rings)], crs=dsm.crs)
-    bp = back_project(rois, recon, heights=dsm, cameras=searched,
+    rois = ROISet([ROI(str(j), [[r]], z=[[rz]]) for j, (r, rz) in enumerate(zip(rings, ring_z))],
+                  crs=dsm.crs)
+    bp = back_project(rois, recon, heights="geometry", cameras=searched,
                       occlusion_dsm=dsm if occlusion else None, min_visible=min_visible,
                       progress=prog.sub(60, 100))
     expected = bp.photos_per_roi()

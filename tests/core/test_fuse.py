@@ -192,3 +192,18 @@ def test_nms_within_a_photo_and_groups_across_photos(round_trip):
     # majority (2 of 3) of squares at -0.1, 0, +0.1: x from x0 to x0 + 1, area 1 m² (union 1.2)
     assert abs(xy[:, 0].min() - x0) < 0.03 and abs(xy[:, 0].max() - (x0 + 1)) < 0.03
     assert abs(big.position[0] - (x0 + 0.5)) < 0.01
+
+
+def test_an_object_over_the_dsm_edge_is_fused(round_trip):
+    """By construction: a square in three photos that reaches past the DSM's east edge is one
+    object; its vertices off the DSM take the height of the others (no error), and its expected
+    views are counted."""
+    s = round_trip["survey"]
+    recon = open_reconstruction(s.metashape_project)
+    dsm = DSM(s.dsm)
+    xe, yn = dsm.tif.pixel_to_map(np.array([float(dsm.tif.width)]), np.array([dsm.tif.height / 2.0]))
+    sq = np.array([[-0.5, 0], [0.5, 0], [0.5, 1], [-0.5, 1]], float) + [float(xe[0]), float(yn[0])]
+    out = fuse_views([_shape(p, sq, 0.8) for p in ("DJI_0001", "DJI_0002", "DJI_0003")],
+                     recon, dsm, photos=["DJI_0001", "DJI_0002", "DJI_0003"])
+    assert len(out) == 1 and out[0].views == 3
+    assert np.isfinite(out[0].parts[0][0][:, 2]).all() and np.isfinite(out[0].position[2])
