@@ -328,9 +328,11 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         else [None] * len(votes)
     out: List[FusedObject] = []
     rings = []
-    for members, vote, sn, photos_g in zip(groups, votes, seen, photos_of):
+    for g_i, (members, vote, photos_g) in enumerate(zip(groups, votes, photos_of)):
+        sn, seen[g_i] = seen[g_i], None
         fs = [polys[kept[k]] for k in members]
         ring, outline = vote.outline(vote.robust_share(sn)) if vote.cover is not None else (None, None)
+        vote.cover = vote._votes = vote._seen = None          # memory: one group at a time
         if ring is None:                      # no majority region: the best-scored view
             best = max(members, key=lambda k: scores[kept[k]])
             outline = max(_flat_polygons(kg[best]), key=lambda p: p.area)
