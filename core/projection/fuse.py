@@ -203,46 +203,57 @@ class _Vote:
 def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, dsm,
                     prog) -> List[Optional[np.ndarray]]:
     """Per vote, (photos, disputed cells) bool: the cell, on the DSM surface, is seen by the
-    photo (in front of it and not hidden: the line of sight from the camera centre meets the
+    photo (in its frame, and not hidden: the line of sight from the camera centre meets the
     surface no earlier than one DSM pixel before the cell, as :mod:`.occlusion` tests it). A
-    cell on DSM nodata is seen by none. Lines of sight are cast in batches of RAYS_AT_ONCE."""
+    cell on DSM nodata is seen by none. Groups are taken in chunks of about RAYS_AT_ONCE
+    (cell, photo) pairs, so memory stays bounded."""
     surface = dsm.ray_surface()
     tol = _tolerance(recon, dsm.tif, dsm.crs)
     C = np.array([c.C for c in cams], np.float64).reshape(-1, 3)
+    pairs = np.array([len(v.disputed) * len(c) if v.cover is not None else 0
+                      for v, c in zip(votes, cams_of)], np.int64)
+    out: List[Optional[np.ndarray]] = []
+    start, total, done = 0, max(int(pairs.sum()), 1), 0
+    while start < len(votes):
+        stop = start + max(1, int(np.searchsorted(np.cumsum(pairs[start:]), RAYS_AT_ONCE)))
+        out += _sight_chunk(votes[start:stop], cams_of[start:stop], cams, C, recon, dsm,
+                            surface, tol)
+        done += int(pairs[start:stop].sum())
+        start = stop
+        prog.set(100.0 * done / total)
+    return out
+
+
+def _sight_chunk(votes, cams_of, cams, C, recon, dsm, surface, tol):
     xy = [v.centres(v.disputed) if v.cover is not None else np.zeros((0, 2)) for v in votes]
     sizes = np.array([len(a) for a in xy], np.int64)
     allxy = np.vstack(xy) if len(xy) else np.zeros((0, 2))
     z = dsm.heights(allxy[:, 0], allxy[:, 1]) if len(allxy) else np.zeros(0)
-    model = np.full((len(allxy), 3), np.nan)
+    xyz = np.column_stack([allxy, z])
     ok = np.isfinite(z)
-    if ok.any():
-        model[ok] = recon.to_model(np.column_stack([allxy, z])[ok], dsm.crs)
     # every (cell, photo of its group) pair, as flat arrays
     n_ph = np.array([len(c) for c in cams_of], np.int64)
     pair_cell = np.repeat(np.arange(len(allxy)), np.repeat(n_ph, sizes))
     pair_cam = np.concatenate([np.tile(np.asarray(c, np.int64), s)
-                               for c, s in zip(cams_of, sizes.tolist())]) if len(votes) else \
-        np.zeros(0, np.int64)
+                               for c, s in zip(cams_of, sizes.tolist())] + [np.zeros(0, np.int64)])
     seen = np.zeros(len(pair_cell), bool)
     ok_pair = ok[pair_cell] if len(pair_cell) else np.zeros(0, bool)
-    # in the frame: one projection of the cells into the photos (sparse: the inside pairs)
     if ok_pair.any():
-        vis = recon.project_points(np.column_stack([allxy, z])[ok], dsm.crs, cameras=cams,
-                                   inside_only=True)
+        # in the frame: one projection of the cells into the photos (sparse: the inside pairs)
+        vis = recon.project_points(xyz[ok], dsm.crs, cameras=cams, inside_only=True)
         where = np.flatnonzero(ok)
         inside = where[vis.point] * len(cams) + vis.camera.astype(np.int64)
         ok_pair &= np.isin(pair_cell * len(cams) + pair_cam, inside)
     todo = np.flatnonzero(ok_pair)
-    for a in range(0, len(todo), RAYS_AT_ONCE):
-        prog.check()
-        sel = todo[a:a + RAYS_AT_ONCE]
-        o = C[pair_cam[sel]]
-        d = model[pair_cell[sel]] - o
+    if len(todo):
+        model = np.full((len(allxy), 3), np.nan)
+        model[ok] = recon.to_model(xyz[ok], dsm.crs)
+        o = C[pair_cam[todo]]
+        d = model[pair_cell[todo]] - o
         dist = np.linalg.norm(d, axis=1)
         hits = first_hits(surface, recon.frame, o, d / dist[:, None],
                           max_distance=np.maximum(dist - tol, 0.0))
-        seen[sel] = hits.status != HIT
-        prog.set(100.0 * min(a + RAYS_AT_ONCE, len(todo)) / max(len(todo), 1))
+        seen[todo] = hits.status != HIT
     out, k = [], 0
     for v, c, s in zip(votes, cams_of, sizes.tolist()):
         out.append(seen[k:k + s * len(c)].reshape(s, len(c)).T if v.cover is not None else None)
