@@ -43,7 +43,6 @@ from ..errors import EasyIDPError
 from ..geometry import rasterize
 from ..progress import as_progress
 from ..raster import HIT, as_dsm, first_hits
-from ..reconstruction import INSIDE
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .forward import ForwardShape
