@@ -50,6 +50,7 @@ from .map_polygon import MapPolygon, shapely_polygon
 from .occlusion import RAYS_AT_ONCE, _tolerance
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
+LINK_BATCH = 4096         # candidate links intersected at once
 NMS_WITHIN = 0.8         # a polygon this much inside a kept one of its photo is a duplicate
 ROBUST_ROUNDS = 2        # reweightings of the consensus vote
 ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
@@ -312,11 +313,25 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         maybe_part = np.clip(bw, 0, None) * np.clip(bh, 0, None) >= group_overlap * small
         test = near | maybe_part
         a, b, near, small = a[test], b[test], near[test], small[test]
-        inter = shapely.area(shapely.intersection(np.array(kg, object)[a], np.array(kg, object)[b]))
-        iou = inter / (areas[a] + areas[b] - inter)
-        link = ((iou >= group_iou) & near) | (inter >= group_overlap * small)
-        a, b = a[link], b[link]
-    comp = _components(len(kept), a, b)
+        # nearest pairs first, in batches; a pair already joined by earlier links is not
+        # intersected (only the components matter)
+        srt = np.argsort(np.hypot(*(cent[a] - cent[b]).T), kind="stable")
+        a, b, near, small = a[srt], b[srt], near[srt], small[srt]
+        g = np.array(kg, object)
+        uf = _UnionFind(len(kept))
+        for k0 in range(0, len(a), LINK_BATCH):
+            sl = slice(k0, k0 + LINK_BATCH)
+            ra, rb = uf.roots(a[sl]), uf.roots(b[sl])
+            todo = np.flatnonzero(ra != rb) + k0
+            if not len(todo):
+                continue
+            inter = shapely.area(shapely.intersection(g[a[todo]], g[b[todo]]))
+            iou = inter / (areas[a[todo]] + areas[b[todo]] - inter)
+            link = ((iou >= group_iou) & near[todo]) | (inter >= group_overlap * small[todo])
+            uf.union(a[todo[link]], b[todo[link]])
+        comp = uf.roots(np.arange(len(kept)))
+    else:
+        comp = np.arange(len(kept))
     prog.set(30)
     groups = {}
     for k, c in enumerate(comp.tolist()):
@@ -408,20 +423,27 @@ def _flat_polygons(g) -> list:
             and not p.is_empty]
 
 
-def _components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Connected-component label of each of ``n`` nodes linked by edges (a, b)."""
-    parent = np.arange(n)
+class _UnionFind:
+    """Connected components of ``n`` nodes, links added in batches."""
 
-    def root(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
+    def __init__(self, n: int):
+        self.parent = np.arange(n)
+
+    def _root(self, i: int) -> int:
+        p = self.parent
+        while p[i] != i:
+            p[i] = p[p[i]]
+            i = p[i]
         return i
-    for x, y in zip(a.tolist(), b.tolist()):
-        rx, ry = root(x), root(y)
-        if rx != ry:
-            parent[rx] = ry
-    return np.array([root(i) for i in range(n)], np.int64)
+
+    def roots(self, idx: np.ndarray) -> np.ndarray:
+        return np.array([self._root(i) for i in np.asarray(idx).tolist()], np.int64)
+
+    def union(self, a: np.ndarray, b: np.ndarray) -> None:
+        for x, y in zip(np.asarray(a).tolist(), np.asarray(b).tolist()):
+            rx, ry = self._root(x), self._root(y)
+            if rx != ry:
+                self.parent[rx] = ry
 
 
 __all__ = ["fuse_views", "FusedObject"]
