@@ -14,8 +14,8 @@ scores, from several photos. Steps:
    partly hidden); a group is a connected component.
 3. **One object per group**: the *consensus* outline is voted on a grid of ``VOTE_CELLS``
    cells across the group. A photo votes only on the cells it can see: where the photos
-   disagree, each cell (on the DSM surface) is tested for being in the photo's frame and on its
-   line of sight (as :mod:`.occlusion` tests samples). An oblique view that cannot see the far
+   disagree, the cells (on the DSM surface; one test per ``SIGHT_BLOCK``² cells) are tested for
+   being in the photo's frame and on its line of sight (as :mod:`.occlusion` tests samples). An oblique view that cannot see the far
    flank of a plant puts its outline on the plant's near side; it has no say on the far side,
    so the vote is not pulled towards the camera. A cell is in the outline when more than half
    of the (weighted) photos that see it cover it; with at least ``ROBUST_MIN_PHOTOS`` photos
@@ -50,6 +50,7 @@ from .map_polygon import MapPolygon, shapely_polygon
 from .occlusion import RAYS_AT_ONCE, _tolerance
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
+SIGHT_BLOCK = 2          # vote cells per side of a block tested by one line of sight
 LINK_BATCH = 4096         # candidate links intersected at once
 NMS_WITHIN = 0.8         # a polygon this much inside a kept one of its photo is a duplicate
 ROBUST_ROUNDS = 2        # reweightings of the consensus vote
@@ -127,9 +128,17 @@ class _Vote:
         n = self.cover.sum(axis=0)
         self.disputed = np.flatnonzero(((n > 0) & (n < n_photos)).ravel())
 
-    def centres(self, flat: np.ndarray) -> np.ndarray:
-        r, c = np.divmod(flat, self.cover.shape[2])
-        return np.column_stack([self.ox + (c + 0.5) * self.cell, self.oy - (r + 0.5) * self.cell])
+    def sight_points(self) -> np.ndarray:
+        """(k, 2) map points whose lines of sight stand for the disputed cells: the centres of
+        the SIGHT_BLOCK × SIGHT_BLOCK blocks of cells that hold one (``self.block`` maps each
+        disputed cell to its block's row)."""
+        r, c = np.divmod(self.disputed, self.cover.shape[2])
+        key = (r // SIGHT_BLOCK) * (self.cover.shape[2] // SIGHT_BLOCK + 1) + c // SIGHT_BLOCK
+        uniq, self.block = np.unique(key, return_inverse=True)
+        self.block = np.asarray(self.block).ravel()
+        br, bc = np.divmod(uniq, self.cover.shape[2] // SIGHT_BLOCK + 1)
+        h = SIGHT_BLOCK * self.cell
+        return np.column_stack([self.ox + (bc + 0.5) * h, self.oy - (br + 0.5) * h])
 
     def share(self, seen: Optional[np.ndarray], weights: Optional[np.ndarray] = None) -> np.ndarray:
         """(rows, cols) weighted share of the photos that see a cell whose polygons cover it.
@@ -210,7 +219,7 @@ def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, d
     surface = dsm.ray_surface()
     tol = _tolerance(recon, dsm.tif, dsm.crs)
     C = np.array([c.C for c in cams], np.float64).reshape(-1, 3)
-    pairs = np.array([len(v.disputed) * len(c) if v.cover is not None else 0
+    pairs = np.array([len(v.disputed) * len(c) // 2 if v.cover is not None else 0
                       for v, c in zip(votes, cams_of)], np.int64)
     out: List[Optional[np.ndarray]] = []
     start, total, done = 0, max(int(pairs.sum()), 1), 0
@@ -225,7 +234,7 @@ def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, d
 
 
 def _sight_chunk(votes, cams_of, cams, C, recon, dsm, surface, tol):
-    xy = [v.centres(v.disputed) if v.cover is not None else np.zeros((0, 2)) for v in votes]
+    xy = [v.sight_points() if v.cover is not None else np.zeros((0, 2)) for v in votes]
     sizes = np.array([len(a) for a in xy], np.int64)
     allxy = np.vstack(xy) if len(xy) else np.zeros((0, 2))
     z = dsm.heights(allxy[:, 0], allxy[:, 1]) if len(allxy) else np.zeros(0)
@@ -256,7 +265,8 @@ def _sight_chunk(votes, cams_of, cams, C, recon, dsm, surface, tol):
         seen[todo] = hits.status != HIT
     out, k = [], 0
     for v, c, s in zip(votes, cams_of, sizes.tolist()):
-        out.append(seen[k:k + s * len(c)].reshape(s, len(c)).T if v.cover is not None else None)
+        out.append(seen[k:k + s * len(c)].reshape(s, len(c)).T[:, v.block]
+                   if v.cover is not None else None)
         k += s * len(c)
     return out
 
