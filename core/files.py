@@ -66,10 +66,12 @@ def write_bytes(path: PathLike, data: bytes) -> Path:
 
 
 def write_json(path: PathLike, obj, **dump_kw) -> Path:
-    """Write ``obj`` as UTF-8 JSON to ``path`` atomically."""
+    """Write ``obj`` as UTF-8 JSON to ``path`` atomically. (Encoded with ``json.dumps``: without
+    ``indent`` that is the C encoder, several times faster than ``json.dump``'s.)"""
+    text = json.dumps(obj, **dump_kw)
     with atomic_output(path) as tmp:
         with open(tmp, "w", encoding="utf-8") as fh:
-            json.dump(obj, fh, **dump_kw)
+            fh.write(text)
     return Path(path)
 
 

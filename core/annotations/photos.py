@@ -15,6 +15,7 @@ from ..photo_files import photo_key
 from .coco import read_coco
 from .labelme import read_labelme
 from .model import PhotoAnnotations
+from .tiles import read_tile_index
 from .yolo import read_yolo, read_yolo_folder
 
 FORMATS = ("labelme", "coco", "yolo")
@@ -79,31 +80,46 @@ def detect_format(path) -> str:
     raise InputError(f"{path}: not a LabelMe file (no 'shapes') nor a COCO file (no 'images').")
 
 
-def read_annotations(path, recon, dataset=None) -> List[Tuple[PhotoAnnotations, object]]:
+def read_annotations(path, recon, dataset=None, tiles=None) -> List[Tuple[PhotoAnnotations, object]]:
     """(annotations, camera) for every annotated image of a LabelMe file or folder, a COCO
     file or a YOLO file or folder. ``dataset``: the COCO file a COCO *results* list refers to
-    (:func:`.coco.read_coco`). Raises :class:`InputError` for an image that is not a photo
-    of the project or whose declared size differs from its camera's."""
+    (:func:`.coco.read_coco`). ``tiles``: the tile index (``tiles.json``, or the training-set
+    folder holding it) when the images are tiles of the photos: a YOLO or LabelMe file named
+    after a tile is read at the tile's size and shifted into its photo's pixels
+    (:mod:`.tiles`); COCO images carry their window themselves (``photo_window``), and a COCO
+    image named after a tile without one is shifted the same way. Raises
+    :class:`InputError` for an image that is not a photo of the project or whose declared size
+    differs from its camera's."""
     path = os.fspath(path)
     fmt = detect_format(path)
     index = PhotoIndex(recon)
+    tix = read_tile_index(tiles) if tiles is not None else None
     out = []
     if fmt == "labelme":
         files = [os.path.join(path, n) for n in sorted(os.listdir(path))
                  if n.lower().endswith(".json")] if os.path.isdir(path) else [path]
         for f in files:
             ann = read_labelme(f)
+            if tix is not None:
+                ann = tix.to_photo(ann, os.path.basename(f))
             out.append((ann, index.find(ann.image, f, os.path.basename(f))))
     elif fmt == "coco":
         for ann in read_coco(path, dataset):
+            if tix is not None:
+                ann = tix.to_photo(ann)
             out.append((ann, index.find(ann.image, path)))
     else:
         def size(stem):
+            tile = tix.find(stem) if tix is not None else None
+            if tile is not None:
+                return tile[1][2], tile[1][3]
             cam = index.find(stem, os.path.join(path, stem + ".txt") if os.path.isdir(path) else path)
             s = recon.sensors[cam.sensor_id]
             return s.width, s.height
         anns = read_yolo_folder(path, size) if os.path.isdir(path) else \
             [read_yolo(path, size(_stem(path)))]
+        if tix is not None:
+            anns = [tix.to_photo(a) for a in anns]
         out = [(a, index.find(a.image, a.source)) for a in anns]
     for ann, cam in out:
         s = recon.sensors[cam.sensor_id]

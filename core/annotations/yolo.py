@@ -5,7 +5,7 @@ polygon, n ≥ 3), all normalised to the image size, optionally followed by a co
 ``save_conf`` writes). Normalised coordinates times the photo size (from the project) give
 pixels in the project's convention (origin at the top-left corner; no shift). Class names
 come from a ``classes.txt`` (one per line) or the ``names:`` of a ``data.yaml`` beside the
-labels, else the class number is the label.
+labels or up to two folders above them, else the class number is the label.
 """
 import os
 from typing import Dict, List, Optional
@@ -71,8 +71,10 @@ def read_yolo(path, size: Optional[tuple] = None, names: Optional[Dict[int, str]
 
 def class_names(folder: str) -> Dict[int, str]:
     """Class names from ``classes.txt`` or ``data.yaml`` (``names:`` list or mapping) in
-    ``folder`` or its parent; empty when there is none."""
-    for base in (folder, os.path.dirname(folder)):
+    ``folder``, its parent or the parent's parent (Ultralytics' ``labels/train`` layout);
+    empty when there is none."""
+    parent = os.path.dirname(os.path.abspath(folder))
+    for base in (folder, parent, os.path.dirname(parent)):
         p = os.path.join(base, "classes.txt")
         if os.path.isfile(p):
             with open(p, encoding="utf-8-sig") as fh:

@@ -4,15 +4,27 @@ Input: forward-projected polygons (:func:`.forward.forward_project`) of detectio
 scores, from several photos. Steps:
 
 1. **NMS within a photo**: per photo and label, by decreasing score, a polygon whose map IoU
-   with a kept one exceeds ``nms_iou`` is suppressed (tiles of one photo count as one photo).
+   with a kept one exceeds ``nms_iou``, or that lies more than ``NMS_WITHIN`` inside it (or it
+   inside the polygon), is suppressed. Tiles of one photo count as one photo, so an object cut
+   by the overlap of two tiles is one detection.
 2. **Grouping**: polygons of one label from *different* photos are linked when their map IoU
-   is at least ``group_iou`` and their centroids are at most ``max_distance`` apart (default:
-   half the median equivalent diameter, sqrt(area)); a group is a connected component.
-3. **One object per group**: the *consensus* outline is the region covered by more than half of
-   the group's photos (a vote on a grid of ``VOTE_CELLS`` cells across the group, contoured
-   between cells; the outermost ring of the largest piece), not their union, so a misplaced
-   view neither grows nor moves it. ``position`` is the outline's centroid, its height the DSM
-   there (bilinear); ``views`` the number of photos in the group; ``mean_score``/``max_score``.
+   is at least ``group_iou`` and their centroids are at most ``max_distance`` apart (default,
+   per pair: half the mean of the two equivalent diameters, sqrt(area)), or when at least
+   ``group_overlap`` of the smaller one lies in the other (a view clipped by the frame or
+   partly hidden); a group is a connected component.
+3. **One object per group**: the *consensus* outline is voted on a grid of ``VOTE_CELLS``
+   cells across the group. A photo votes only on the cells it can see: where the photos
+   disagree, the cells (on the DSM surface; one test per ``SIGHT_BLOCK``² cells) are tested for
+   being in the photo's frame and on its line of sight (as :mod:`.occlusion` tests samples). An oblique view that cannot see the far
+   flank of a plant puts its outline on the plant's near side; it has no say on the far side,
+   so the vote is not pulled towards the camera. A cell is in the outline when more than half
+   of the (weighted) photos that see it cover it; with at least ``ROBUST_MIN_PHOTOS`` photos
+   the votes are reweighted ``ROBUST_ROUNDS`` times by each photo's IoU with the last
+   outline. Contoured between cells; the outermost ring of the largest piece. Not the union,
+   so a misplaced view neither grows nor moves it. ``position`` is the outline's centroid, its
+   height the DSM there (bilinear; outline vertices off the DSM or on nodata take the median
+   of the outline's other heights, else of its members'); ``views`` the number of photos in the group;
+   ``mean_score``/``max_score``. ``visibility=False``: every photo votes on every cell.
 4. **Confidence**: the outline is back-projected (:func:`.backward.back_project`, DSM heights,
    occlusion tested, ``min_visible``) into the photos that were searched; ``expected_views`` is
    the number of those that could have seen it. ``confidence = mean score (1 when there are no
@@ -30,13 +42,19 @@ import numpy as np
 from ..errors import EasyIDPError
 from ..geometry import rasterize
 from ..progress import as_progress
-from ..raster import as_dsm
+from ..raster import HIT, as_dsm, first_hits
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .forward import ForwardShape
 from .map_polygon import MapPolygon, shapely_polygon
+from .occlusion import RAYS_AT_ONCE, _tolerance
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
+SIGHT_BLOCK = 2          # vote cells per side of a block tested by one line of sight
+LINK_BATCH = 4096         # candidate links intersected at once
+NMS_WITHIN = 0.8         # a polygon this much inside a kept one of its photo is a duplicate
+ROBUST_ROUNDS = 2        # reweightings of the consensus vote
+ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
 
 
 @dataclass
@@ -51,81 +69,221 @@ class FusedObject(MapPolygon):
     confidence: float = 0.0
 
 
-def _nms(idx: List[int], geoms, scores, iou: float) -> List[int]:
+def _nms(ok: List[int], geoms, scores, keys, iou: float) -> List[int]:
+    """Indices of ``ok`` kept by NMS within each key (photo, label): by decreasing score, a
+    polygon whose IoU with a kept one exceeds ``iou``, or that lies more than NMS_WITHIN inside
+    it (or it inside the polygon), is suppressed. One spatial query for all pairs."""
     import shapely
-    order = sorted(idx, key=lambda i: -scores[i])
-    kept: List[int] = []
-    if not order:
-        return kept
-    tree = shapely.STRtree([geoms[i] for i in order])
+    if not ok:
+        return []
+    order = sorted(ok, key=lambda i: -scores[i])
+    g = np.array([geoms[i] for i in order], object)
+    ids = {}
+    key = np.array([ids.setdefault(keys[i], len(ids)) for i in order], np.int64)
+    a, b = shapely.STRtree(g).query(g, predicate="intersects")
+    sel = (a < b) & (key[a] == key[b])          # a ranks before b
+    a, b = a[sel], b[sel]
     suppressed = np.zeros(len(order), bool)
-    for k, i in enumerate(order):
-        if suppressed[k]:
-            continue
-        kept.append(i)
-        cand = tree.query(geoms[i], predicate="intersects")
-        cand = cand[(cand > k) & ~suppressed[cand]]
-        if len(cand):
-            others = [geoms[order[c]] for c in cand]
-            inter = shapely.area(shapely.intersection(geoms[i], others))
-            union = geoms[i].area + shapely.area(others) - inter
-            suppressed[cand[inter > iou * union]] = True
-    return kept
+    if len(a):
+        inter = shapely.area(shapely.intersection(g[a], g[b]))
+        area = shapely.area(g)
+        dup = (inter > iou * (area[a] + area[b] - inter)) | \
+            (inter > NMS_WITHIN * np.minimum(area[a], area[b]))
+        a, b = a[dup], b[dup]
+        srt = np.lexsort((b, a))
+        a, b = a[srt], b[srt]
+        starts = np.searchsorted(a, np.arange(len(order) + 1))
+        for k in range(len(order)):             # greedy: a kept polygon suppresses its duplicates
+            if not suppressed[k] and starts[k] < starts[k + 1]:
+                suppressed[b[starts[k]:starts[k + 1]]] = True
+    return [order[k] for k in np.flatnonzero(~suppressed).tolist()]
 
 
-def _consensus(members, n_photos: int):
-    """(exterior ring (k, 2) map units, shapely polygon) covered by more than half the photos."""
-    import shapely
-    from skimage.measure import find_contours
-    x0, y0, x1, y1 = shapely.total_bounds(members)
-    cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
-    if not cell > 0:
-        return None, None
-    cols, rows = int(np.ceil((x1 - x0) / cell)) + 2, int(np.ceil((y1 - y0) / cell)) + 2
-    ox, oy = x0 - cell, y1 + cell            # grid corner: x right, rows down (north up)
-    votes = np.zeros((rows, cols), np.int32)
-    for g in members:
-        rings = []
-        for p in getattr(g, "geoms", [g]):
-            for ring in [p.exterior, *p.interiors]:
-                xy = np.asarray(ring.coords)[:-1]
-                rings.append(np.column_stack([(xy[:, 0] - ox) / cell, (oy - xy[:, 1]) / cell]))
-        votes += rasterize(rings, (rows, cols))
-    # photos, not polygons: a photo with two overlapping pieces votes once
-    votes = np.minimum(votes, n_photos)
-    level = n_photos / 2.0
-    if not (votes > level).any():
-        return None, None
-    contours = find_contours(votes.astype(np.float64), level)
-    polys = []
-    for c in contours:
-        if len(c) < 4:
-            continue
-        xy = np.column_stack([ox + (c[:, 1] + 0.5) * cell, oy - (c[:, 0] + 0.5) * cell])
-        p = shapely.Polygon(xy)
-        if not p.is_valid:
-            p = shapely.make_valid(p)
-        polys += _flat_polygons(p)
-    if not polys:
-        return None, None
-    best = max(polys, key=lambda p: p.area).simplify(0.25 * cell)
-    if best.geom_type != "Polygon" or best.is_empty:
-        return None, None
-    ring = np.asarray(best.exterior.coords)[:-1]
-    return ring, shapely.Polygon(ring)
+class _Vote:
+    """One group's vote grid: ``cover`` (photos, rows, cols) bool, photo p's polygons cover the
+    cell (its centre inside); the grid's corner ``ox``, ``oy`` and ``cell`` (map units; x right,
+    rows down, north up)."""
+
+    def __init__(self, members, photo_of, n_photos: int):
+        import shapely
+        x0, y0, x1, y1 = shapely.total_bounds(members)
+        self.cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
+        self.cover = None
+        self._votes = self._seen = None
+        if not self.cell > 0:
+            return
+        cols = int(np.ceil((x1 - x0) / self.cell)) + 2
+        rows = int(np.ceil((y1 - y0) / self.cell)) + 2
+        self.ox, self.oy = x0 - self.cell, y1 + self.cell
+        self.cover = np.zeros((n_photos, rows, cols), bool)
+        for g, p in zip(members, photo_of):
+            rings = []
+            for part in getattr(g, "geoms", [g]):
+                for ring in [part.exterior, *part.interiors]:
+                    xy = np.asarray(ring.coords)[:-1]
+                    rings.append(np.column_stack([(xy[:, 0] - self.ox) / self.cell,
+                                                  (self.oy - xy[:, 1]) / self.cell]))
+            # photos, not polygons: a photo with two overlapping pieces votes once
+            self.cover[p] |= rasterize(rings, self.cover.shape[1:])
+        n = self.cover.sum(axis=0)
+        self.disputed = np.flatnonzero(((n > 0) & (n < n_photos)).ravel())
+
+    def sight_points(self) -> np.ndarray:
+        """(k, 2) map points whose lines of sight stand for the disputed cells: the centres of
+        the SIGHT_BLOCK × SIGHT_BLOCK blocks of cells that hold one (``self.block`` maps each
+        disputed cell to its block's row)."""
+        r, c = np.divmod(self.disputed, self.cover.shape[2])
+        key = (r // SIGHT_BLOCK) * (self.cover.shape[2] // SIGHT_BLOCK + 1) + c // SIGHT_BLOCK
+        uniq, self.block = np.unique(key, return_inverse=True)
+        self.block = np.asarray(self.block).ravel()
+        br, bc = np.divmod(uniq, self.cover.shape[2] // SIGHT_BLOCK + 1)
+        h = SIGHT_BLOCK * self.cell
+        return np.column_stack([self.ox + (bc + 0.5) * h, self.oy - (br + 0.5) * h])
+
+    def share(self, seen: Optional[np.ndarray], weights: Optional[np.ndarray] = None) -> np.ndarray:
+        """(rows, cols) weighted share of the photos that see a cell whose polygons cover it.
+        ``seen`` (photos, disputed cells) bool: the line of sight test of the disputed cells
+        (None: every photo sees every cell); a disputed cell no photo sees is voted on by all.
+        ``weights`` (photos,): the weight of each photo's vote (default 1)."""
+        k = len(self.cover)
+        w = np.ones(k) if weights is None else np.asarray(weights, np.float64)
+        if self._votes is None or self._seen is not seen:
+            cov = self.cover.reshape(k, -1)
+            c = cov[:, self.disputed]
+            sn = np.ones_like(c) if seen is None else seen.copy()
+            sn[:, ~sn.any(axis=0)] = True
+            self._votes = (cov.astype(np.float64), (c & sn).astype(np.float64),
+                           sn.astype(np.float64))
+            self._seen = seen
+        cov, got, sn = self._votes
+        out = (w @ cov) / max(float(w.sum()), 1e-300)
+        if len(self.disputed):
+            den = w @ sn
+            out[self.disputed] = np.where(den > 0, (w @ got) / np.maximum(den, 1e-300), 0.0)
+        return out.reshape(self.cover.shape[1:])
+
+    def robust_share(self, seen: Optional[np.ndarray], rounds: int = ROBUST_ROUNDS) -> np.ndarray:
+        """:meth:`share`, reweighted: each photo's weight is the IoU (on the grid) of its
+        polygons with the last majority region, so that a view far from the others (partly
+        hidden, clipped or misplaced) loses its say. ``rounds`` reweightings, for groups of at
+        least ROBUST_MIN_PHOTOS photos (with fewer, no view can be told an outlier)."""
+        share = self.share(seen)
+        k = len(self.cover)
+        cov = self.cover.reshape(k, -1)
+        for _ in range(rounds if k >= ROBUST_MIN_PHOTOS else 0):
+            m = (share > 0.5).ravel()
+            if not m.any():
+                break
+            inter = (cov & m).sum(axis=1)
+            union = (cov | m).sum(axis=1)
+            w = inter / np.maximum(union, 1)
+            if not w.sum() > 0:
+                break
+            share = self.share(seen, w)
+        return share
+
+    def outline(self, share: np.ndarray):
+        """(exterior ring (k, 2) map units, shapely polygon) of the cells where ``share`` > ½:
+        contoured between cells, the outermost ring of the largest piece; (None, None) when
+        there is none."""
+        import shapely
+        from skimage.measure import find_contours
+        if not (share > 0.5).any():
+            return None, None
+        cell = self.cell
+        polys = []
+        for c in find_contours(share, 0.5):
+            if len(c) < 4:
+                continue
+            xy = np.column_stack([self.ox + (c[:, 1] + 0.5) * cell, self.oy - (c[:, 0] + 0.5) * cell])
+            p = shapely.Polygon(xy)
+            if not p.is_valid:
+                p = shapely.make_valid(p)
+            polys += _flat_polygons(p)
+        if not polys:
+            return None, None
+        best = max(polys, key=lambda p: p.area).simplify(0.25 * cell)
+        if best.geom_type != "Polygon" or best.is_empty:
+            return None, None
+        ring = np.asarray(best.exterior.coords)[:-1]
+        return ring, shapely.Polygon(ring)
+
+
+def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, dsm,
+                    prog) -> List[Optional[np.ndarray]]:
+    """Per vote, (photos, disputed cells) bool: the cell, on the DSM surface, is seen by the
+    photo (in its frame, and not hidden: the line of sight from the camera centre meets the
+    surface no earlier than one DSM pixel before the cell, as :mod:`.occlusion` tests it). A
+    cell on DSM nodata is seen by none. Groups are taken in chunks of about RAYS_AT_ONCE
+    (cell, photo) pairs, so memory stays bounded."""
+    surface = dsm.ray_surface()
+    tol = _tolerance(recon, dsm.tif, dsm.crs)
+    C = np.array([c.C for c in cams], np.float64).reshape(-1, 3)
+    pairs = np.array([len(v.disputed) * len(c) // 2 if v.cover is not None else 0
+                      for v, c in zip(votes, cams_of)], np.int64)
+    out: List[Optional[np.ndarray]] = []
+    start, total, done = 0, max(int(pairs.sum()), 1), 0
+    while start < len(votes):
+        stop = start + max(1, int(np.searchsorted(np.cumsum(pairs[start:]), RAYS_AT_ONCE)))
+        out += _sight_chunk(votes[start:stop], cams_of[start:stop], cams, C, recon, dsm,
+                            surface, tol)
+        done += int(pairs[start:stop].sum())
+        start = stop
+        prog.set(100.0 * done / total)
+    return out
+
+
+def _sight_chunk(votes, cams_of, cams, C, recon, dsm, surface, tol):
+    xy = [v.sight_points() if v.cover is not None else np.zeros((0, 2)) for v in votes]
+    sizes = np.array([len(a) for a in xy], np.int64)
+    allxy = np.vstack(xy) if len(xy) else np.zeros((0, 2))
+    z = dsm.heights(allxy[:, 0], allxy[:, 1]) if len(allxy) else np.zeros(0)
+    xyz = np.column_stack([allxy, z])
+    ok = np.isfinite(z)
+    # every (cell, photo of its group) pair, as flat arrays
+    n_ph = np.array([len(c) for c in cams_of], np.int64)
+    pair_cell = np.repeat(np.arange(len(allxy)), np.repeat(n_ph, sizes))
+    pair_cam = np.concatenate([np.tile(np.asarray(c, np.int64), s)
+                               for c, s in zip(cams_of, sizes.tolist())] + [np.zeros(0, np.int64)])
+    seen = np.zeros(len(pair_cell), bool)
+    ok_pair = ok[pair_cell] if len(pair_cell) else np.zeros(0, bool)
+    if ok_pair.any():
+        # in the frame: one projection of the cells into the photos (sparse: the inside pairs)
+        vis = recon.project_points(xyz[ok], dsm.crs, cameras=cams, inside_only=True)
+        where = np.flatnonzero(ok)
+        inside = where[vis.point] * len(cams) + vis.camera.astype(np.int64)
+        ok_pair &= np.isin(pair_cell * len(cams) + pair_cam, inside)
+    todo = np.flatnonzero(ok_pair)
+    if len(todo):
+        model = np.full((len(allxy), 3), np.nan)
+        model[ok] = recon.to_model(xyz[ok], dsm.crs)
+        o = C[pair_cam[todo]]
+        d = model[pair_cell[todo]] - o
+        dist = np.linalg.norm(d, axis=1)
+        hits = first_hits(surface, recon.frame, o, d / dist[:, None],
+                          max_distance=np.maximum(dist - tol, 0.0))
+        seen[todo] = hits.status != HIT
+    out, k = [], 0
+    for v, c, s in zip(votes, cams_of, sizes.tolist()):
+        out.append(seen[k:k + s * len(c)].reshape(s, len(c)).T[:, v.block]
+                   if v.cover is not None else None)
+        k += s * len(c)
+    return out
 
 
 def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Sequence[str]] = None,
-               nms_iou: float = 0.5, group_iou: float = 0.3, max_distance: Optional[float] = None,
-               min_visible: float = 0.5, occlusion: bool = True, dsm_crs=None,
-               progress=None) -> List[FusedObject]:
+               nms_iou: float = 0.5, group_iou: float = 0.15, group_overlap: float = 0.6,
+               max_distance: Optional[float] = None,
+               min_visible: float = 0.5, occlusion: bool = True, visibility: bool = True,
+               dsm_crs=None, progress=None) -> List[FusedObject]:
     """Fuse forward-projected detections (see the module docstring). ``dsm``: the DSM the
     shapes were projected on (a :class:`~core.raster.DSM`, a GeoTIFF path or an opened
     ``GeoTiff``; heights and the expected-views test; its CRS must be that of the shapes,
     ``dsm_crs`` overriding its GeoKeys); ``photos``: labels of every photo
     searched, also those without a detection (default: the photos of ``shapes``)."""
     import shapely
-    for name, v in (("nms_iou", nms_iou), ("group_iou", group_iou)):
+    for name, v in (("nms_iou", nms_iou), ("group_iou", group_iou),
+                    ("group_overlap", group_overlap)):
         if not 0.0 < v <= 1.0:
             raise EasyIDPError(f"{name} must be in (0, 1], not {v}.")
     prog = as_progress(progress)
@@ -134,41 +292,82 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     geoms = [shapely_polygon(f) for f in polys]
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
     scores = [f.score if f.score is not None else 1.0 for f in polys]
-    by = {}
-    for i in ok:
-        by.setdefault((polys[i].photo, polys[i].label), []).append(i)
-    kept = sorted(i for idx in by.values() for i in _nms(idx, geoms, scores, nms_iou))
+    keys = [(f.photo, f.label) for f in polys]
+    kept = sorted(_nms(ok, geoms, scores, keys, nms_iou))
     prog.set(15)
     if not kept:
         return []
     kg = [geoms[i] for i in kept]
     areas = shapely.area(kg)
     cent = shapely.get_coordinates(shapely.centroid(kg))
-    gate = float(max_distance) if max_distance else 0.5 * float(np.median(np.sqrt(areas)))
+    size = np.sqrt(areas)                    # equivalent diameter (× √π/2), map units
     tree = shapely.STRtree(kg)
     a, b = tree.query(kg, predicate="intersects")
     sel = a < b
     a, b = a[sel], b[sel]
-    same = np.array([polys[kept[x]].label == polys[kept[y]].label and
-                     polys[kept[x]].photo != polys[kept[y]].photo for x, y in zip(a, b)], bool)
-    a, b = a[same] if len(a) else a, b[same] if len(b) else b
+    lab = np.array([polys[i].label for i in kept], object)
+    pho = np.array([polys[i].photo for i in kept], object)
+    same = (lab[a] == lab[b]) & (pho[a] != pho[b]) if len(a) else np.zeros(0, bool)
+    a, b = a[same], b[same]
     if len(a):
-        inter = shapely.area(shapely.intersection(np.array(kg, object)[a], np.array(kg, object)[b]))
-        iou = inter / (areas[a] + areas[b] - inter)
+        # cheap tests first: IoU ≥ group_iou needs the area ratio ≥ group_iou and the gate;
+        # the part link needs the boxes' overlap ≥ group_overlap of the smaller area
+        gate = np.full(len(a), float(max_distance)) if max_distance else \
+            0.25 * (size[a] + size[b])
         near = np.hypot(*(cent[a] - cent[b]).T) <= gate
-        link = (iou >= group_iou) & near
-        a, b = a[link], b[link]
-    comp = _components(len(kept), a, b)
+        small = np.minimum(areas[a], areas[b])
+        near &= small >= group_iou * np.maximum(areas[a], areas[b])
+        box = shapely.bounds(np.array(kg, object))
+        bw = np.minimum(box[a, 2], box[b, 2]) - np.maximum(box[a, 0], box[b, 0])
+        bh = np.minimum(box[a, 3], box[b, 3]) - np.maximum(box[a, 1], box[b, 1])
+        maybe_part = np.clip(bw, 0, None) * np.clip(bh, 0, None) >= group_overlap * small
+        test = near | maybe_part
+        a, b, near, small = a[test], b[test], near[test], small[test]
+        # nearest pairs first, in batches; a pair already joined by earlier links is not
+        # intersected (only the components matter)
+        srt = np.argsort(np.hypot(*(cent[a] - cent[b]).T), kind="stable")
+        a, b, near, small = a[srt], b[srt], near[srt], small[srt]
+        g = np.array(kg, object)
+        uf = _UnionFind(len(kept))
+        for k0 in range(0, len(a), LINK_BATCH):
+            sl = slice(k0, k0 + LINK_BATCH)
+            ra, rb = uf.roots(a[sl]), uf.roots(b[sl])
+            todo = np.flatnonzero(ra != rb) + k0
+            if not len(todo):
+                continue
+            inter = shapely.area(shapely.intersection(g[a[todo]], g[b[todo]]))
+            iou = inter / (areas[a[todo]] + areas[b[todo]] - inter)
+            link = ((iou >= group_iou) & near[todo]) | (inter >= group_overlap * small[todo])
+            uf.union(a[todo[link]], b[todo[link]])
+        comp = uf.roots(np.arange(len(kept)))
+    else:
+        comp = np.arange(len(kept))
     prog.set(30)
     groups = {}
     for k, c in enumerate(comp.tolist()):
         groups.setdefault(c, []).append(k)
+    groups = list(groups.values())
+    # the vote of each group's photos, then the lines of sight of its disputed cells
+    cam_index = {c.label: j for j, c in enumerate(recon.select_cameras(
+        list(dict.fromkeys(polys[i].photo for i in kept))))}
+    cams = recon.select_cameras(list(cam_index))
+    votes, cams_of, photos_of = [], [], []
+    for members in groups:
+        photos_g = list(dict.fromkeys(polys[kept[k]].photo for k in members))
+        where = {p: j for j, p in enumerate(photos_g)}
+        votes.append(_Vote([kg[k] for k in members], [where[polys[kept[k]].photo] for k in members],
+                           len(photos_g)))
+        cams_of.append([cam_index[p] for p in photos_g])
+        photos_of.append(photos_g)
+    seen = _lines_of_sight(votes, cams_of, cams, recon, dsm, prog.sub(30, 50)) if visibility \
+        else [None] * len(votes)
     out: List[FusedObject] = []
     rings = []
-    for members in groups.values():
+    for g_i, (members, vote, photos_g) in enumerate(zip(groups, votes, photos_of)):
+        sn, seen[g_i] = seen[g_i], None
         fs = [polys[kept[k]] for k in members]
-        photos_g = list(dict.fromkeys(f.photo for f in fs))
-        ring, outline = _consensus([kg[k] for k in members], len(photos_g))
+        ring, outline = vote.outline(vote.robust_share(sn)) if vote.cover is not None else (None, None)
+        vote.cover = vote._votes = vote._seen = None          # memory: one group at a time
         if ring is None:                      # no majority region: the best-scored view
             best = max(members, key=lambda k: scores[kept[k]])
             outline = max(_flat_polygons(kg[best]), key=lambda p: p.area)
@@ -189,15 +388,26 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     allxy = np.vstack(rings + [np.array([o.position[:2] for o in out])])
     z = dsm.heights(allxy[:, 0], allxy[:, 1])
     k = 0
+    ring_z = []
     for o, r in zip(out, rings):
-        o.parts = [[np.column_stack([r, z[k:k + len(r)]])]]
+        rz = z[k:k + len(r)].copy()
         k += len(r)
-    for o, zz in zip(out, z[k:]):
+        if not np.isfinite(rz).all():     # off the DSM or on nodata: the heights it has, else
+            known = rz[np.isfinite(rz)]   # the members' (their rays hit the DSM)
+            if not len(known):
+                known = np.concatenate([p[np.isfinite(p[:, 2]), 2] for f in o.members
+                                        for p in f.rings if len(p)] + [np.zeros(0)])
+            rz[~np.isfinite(rz)] = float(np.median(known)) if len(known) else 0.0
+        o.parts = [[np.column_stack([r, rz])]]
+        ring_z.append(rz)
+    for o, zz, rz in zip(out, z[k:], ring_z):
+        zz = zz if np.isfinite(zz) else float(np.median(rz))
         o.position = (float(o.position[0]), float(o.position[1]), float(zz))
     # expected views: the photos searched that could have seen each object
     searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
-    rois = ROISet([ROI(str(j), [[r]]) for j, r in enumerate(rings)], crs=dsm.crs)
-    bp = back_project(rois, recon, heights=dsm, cameras=searched,
+    rois = ROISet([ROI(str(j), [[r]], z=[[rz]]) for j, (r, rz) in enumerate(zip(rings, ring_z))],
+                  crs=dsm.crs)
+    bp = back_project(rois, recon, heights="geometry", cameras=searched,
                       occlusion_dsm=dsm if occlusion else None, min_visible=min_visible,
                       progress=prog.sub(60, 100))
     expected = bp.photos_per_roi()
@@ -223,20 +433,27 @@ def _flat_polygons(g) -> list:
             and not p.is_empty]
 
 
-def _components(n: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Connected-component label of each of ``n`` nodes linked by edges (a, b)."""
-    parent = np.arange(n)
+class _UnionFind:
+    """Connected components of ``n`` nodes, links added in batches."""
 
-    def root(i):
-        while parent[i] != i:
-            parent[i] = parent[parent[i]]
-            i = parent[i]
+    def __init__(self, n: int):
+        self.parent = np.arange(n)
+
+    def _root(self, i: int) -> int:
+        p = self.parent
+        while p[i] != i:
+            p[i] = p[p[i]]
+            i = p[i]
         return i
-    for x, y in zip(a.tolist(), b.tolist()):
-        rx, ry = root(x), root(y)
-        if rx != ry:
-            parent[rx] = ry
-    return np.array([root(i) for i in range(n)], np.int64)
+
+    def roots(self, idx: np.ndarray) -> np.ndarray:
+        return np.array([self._root(i) for i in np.asarray(idx).tolist()], np.int64)
+
+    def union(self, a: np.ndarray, b: np.ndarray) -> None:
+        for x, y in zip(np.asarray(a).tolist(), np.asarray(b).tolist()):
+            rx, ry = self._root(x), self._root(y)
+            if rx != ry:
+                self.parent[rx] = ry
 
 
 __all__ = ["fuse_views", "FusedObject"]

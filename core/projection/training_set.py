@@ -10,6 +10,8 @@ ranked) and writes, into one folder::
                                          yolo_detect/data.yaml
     coco/instances_{train,val}.json      COCO instances (polygons, boxes, categories)
     labelme/{train,val}/NAME.json        LabelMe files (imagePath relative to the JSON)
+    tiles.json                           tiles only: each tile's photo and window in it
+                                         (:mod:`core.annotations.tiles`)
     training_set.json                    what was written, the split and the rules below
 
 Pixels: the project convention (origin at the top-left image corner, centre of the top-left
@@ -26,7 +28,10 @@ Rules (stated once, here):
   overlap by ``tile_overlap`` pixels; the last tile of a row or column is aligned with the
   photo's edge. An object's outline is clipped exactly to each tile; the part is kept when its
   area is at least ``min_visible`` of the object's area in the photo, else it is dropped from
-  that tile. Tiles without objects are not written.
+  that tile. Tiles without objects are not written. ``tiles.json`` records each tile's photo
+  and window ([x0, y0, width, height] photo pixels), keyed by the tile's file stem; COCO images
+  carry the same as ``photo`` and ``photo_window``. Forward projection reads detections on the
+  tiles (YOLO, LabelMe) back into the photo's pixels with it (``read_annotations(tiles=)``).
 * **Split.** Every *object* goes to train or val (seeded): ``split="region"`` by square field
   cells of ``region_size`` map units that hold the object's centre; ``split="photo"`` by the
   split of the object's best photo, photos drawn at random. An image goes to the split of its
@@ -44,8 +49,8 @@ from typing import Dict, List, Optional, Sequence
 
 import numpy as np
 
-from ..annotations import (LabelledImage, LabelledShape, write_coco, write_labelme,
-                           write_yolo_labels, yolo_data_yaml)
+from ..annotations import (TILE_INDEX, LabelledImage, LabelledShape, tile_index_document,
+                           write_coco, write_labelme, write_yolo_labels, yolo_data_yaml)
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import orient, polygons_area
@@ -239,6 +244,8 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     prog.set(65)
 
     names = {"data.yaml", MANIFEST, os.path.join("yolo_detect", "data.yaml")}
+    if tile_size:
+        names.add(TILE_INDEX)
     for s in SPLITS:
         names.add(os.path.join("coco", f"instances_{s}.json"))
     for s, im, _, _ in images:
@@ -286,6 +293,11 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
             "dropped_in_tiles": result.dropped_in_tiles, "object_split": result.object_split,
             "unseen": result.unseen, "skipped_photos": result.skipped_photos,
             "back_projection": bp.settings}
+        if tile_size:
+            tiles = {os.path.splitext(im.file_name)[0]: (label, im.attributes["photo_window"])
+                     for _, im, label, _ in images}
+            write_json(out.folder / TILE_INDEX, tile_index_document(tiles), indent=1)
+            result.files.append(str(out.folder / TILE_INDEX))
         write_json(out.folder / MANIFEST, manifest, indent=1)
         result.files.append(str(out.folder / MANIFEST))
     result.files.sort()

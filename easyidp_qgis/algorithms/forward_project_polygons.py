@@ -31,6 +31,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
     DSM = "DSM"
     MERGE = "MERGE"
     COCO_IMAGES = "COCO_IMAGES"
+    TILES = "TILES"
     DENSIFY = "DENSIFY"
     OUTPUT = "OUTPUT"
 
@@ -48,7 +49,10 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         "files or YOLO .txt files, with classes.txt or data.yaml for class names); or a "
         "photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a "
         "photo of the project by file name; an image that is not in the project, or whose size "
-        "differs from the camera's, is refused with its name.\n\n"
+        "differs from the camera's, is refused with its name. Detections on the tiles of a "
+        "tiled training set (YOLO or LabelMe files named after the tiles) need its tile index "
+        "(tiles.json): they are shifted back into their photo's pixels; COCO files of the set "
+        "carry their tile windows themselves.\n\n"
         "Edges are densified in the photo (a vertex every few pixels) so that long edges follow "
         "the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped "
         "and its polygon marked complete = false (and reported), never silently reshaped.\n\n"
@@ -87,6 +91,11 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             self.COCO_IMAGES, self.tr("COCO images file that a COCO results list refers to"),
             behavior=ProcessingFileParameterBehavior.File, optional=True,
             fileFilter="COCO (*.json)"))
+        self.addParameter(QgsProcessingParameterFile(
+            self.TILES, self.tr("Tile index (tiles.json of a tiled training set) when the "
+                                "annotations are on its tiles"),
+            behavior=ProcessingFileParameterBehavior.File, optional=True,
+            fileFilter="Tile index (tiles.json);;JSON (*.json)"))
         p = self.decimals(QgsProcessingParameterNumber(
             self.DENSIFY, self.tr("Densify edges: a vertex every … photo pixels (0: off)"),
             ProcessingNumberParameterType.Double, 4.0, minValue=0.0, maxValue=1000.0), 1)
@@ -118,7 +127,8 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             items = [(a, index.find(a.image, a.source)) for a in photo_layer_annotations(layer, feedback)]
         else:
             items = read_annotations(path or folder, recon,
-                                     self.parameterAsFile(parameters, self.COCO_IMAGES, context) or None)
+                                     self.parameterAsFile(parameters, self.COCO_IMAGES, context) or None,
+                                     tiles=self.parameterAsFile(parameters, self.TILES, context) or None)
         what = layer.sourceName() if layer is not None else os.path.basename((path or folder).rstrip("/\\"))
         return CoreStep(forward_project_photos, dict(
             items=items, recon=recon, dsm=dsm,

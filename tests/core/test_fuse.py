@@ -45,7 +45,8 @@ def round_trip(tmp_path_factory):
     photos = [cam.label for _, cam in items]
     fused = merge_views(shapes, "fuse", recon=recon, dsm=s.dsm, photos=photos)
     union = merge_views(shapes, "union")
-    return dict(survey=s, objs=objs, sim=sim, fused=fused, union=union, shapes=shapes)
+    return dict(survey=s, objs=objs, sim=sim, fused=fused, union=union, shapes=shapes,
+                photos=photos)
 
 
 def _found(objects, keep=lambda o: True):
@@ -58,24 +59,100 @@ def _found(objects, keep=lambda o: True):
 
 
 def test_fused_detections_match_the_truth(round_trip):
+    """Synthetic truth (the demo discs): recall and precision ≥ 0.98, position error median
+    ≤ 1 cm and max ≤ 3 cm (the issue's figures, seed 0: 0.64 and 1.98 cm; seeds 0–7 measured: max 1.98–3.10 cm, and
+    3.89 cm for seed 7, a weed whose 4 views are all shifted the same way).
+    Union on the same input is measurably less precise."""
     r = round_trip
     fused = _found(r["fused"], lambda o: o.confidence >= CONFIDENCE)
     sf = score_objects(r["objs"], fused)
     su = score_objects(r["objs"], _found(r["union"]))
-    views_equal = sum(fused[j]["obj"].views == len(set(r["sim"]["detected"].get(t, [])))
-                      for t, j in sf["matches"].items())
     print(f"\nfuse : recall {sf['recall']:.3f} precision {sf['precision']:.3f} median "
-          f"{sf['median_error_m'] * 100:.2f} cm max {sf['max_error_m'] * 100:.2f} cm; views = "
-          f"photos detecting it for {views_equal}/{sf['matched']}")
+          f"{sf['median_error_m'] * 100:.2f} cm max {sf['max_error_m'] * 100:.2f} cm")
     print(f"union: recall {su['recall']:.3f} precision {su['precision']:.3f} median "
           f"{su['median_error_m'] * 100:.2f} cm max {su['max_error_m'] * 100:.2f} cm")
     assert sf["recall"] >= 0.98 and sf["precision"] >= 0.98
     assert sf["median_error_m"] <= 0.01
-    # the brief's target is 3 cm; measured 4.1 cm (plants on crop ridges: noisy vertices on
-    # steep canopy flanks hit the surface displaced); the bound below is what holds today
-    assert sf["max_error_m"] <= 0.05
-    assert views_equal >= 0.95 * sf["matched"]
+    assert sf["max_error_m"] <= 0.03
     assert su["precision"] < sf["precision"] - 0.1
+
+
+def truth_shares(survey, objs, grid=0.02):
+    """Per object id, ((photos,) share of it that each photo sees, photo labels), from the
+    generator's truth (true poses and its own projection, the scene's surface, its
+    segment-under-surface test; not the core's back-projection, occlusion or ray casting): the
+    share of the disc's outline (pixel area) inside the frame, times the share of its surface
+    samples (a ``grid`` m grid) in the frame that no surface hides: the exporter's rule."""
+    import shapely
+    from easyidp_toolbox.core.demo.flight import make_camera, plan_flight
+    from easyidp_toolbox.core.demo.scene import make_scene
+    from easyidp_toolbox.core.demo.truth import hidden, project
+    from easyidp_toolbox.core.reconstruction import INSIDE
+    scene = make_scene(survey.seed)
+    shots = plan_flight(scene, np.random.default_rng([survey.seed, 1]))
+    camera = make_camera(survey.size)
+    frame = shapely.box(0, 0, camera.width, camera.height)
+    off = scene.offset
+    C = np.array([sh.C for sh in shots])
+    out = {}
+    for o in objs:
+        ring = disc_ring(o) - off[:2]
+        rz = np.column_stack([ring, scene.surface_local(ring[:, 0], ring[:, 1])])
+        g = np.arange(-o["radius"], o["radius"] + 1e-9, grid)
+        gx, gy = [a.ravel() for a in np.meshgrid(g, g)]
+        keep = gx ** 2 + gy ** 2 <= o["radius"] ** 2
+        x, y = o["centre"][0] - off[0] + gx[keep], o["centre"][1] - off[1] + gy[keep]
+        pts = np.column_stack([x, y, scene.surface_local(x, y)])
+        ring_px, _ = project(camera, shots, rz)
+        _, st = project(camera, shots, pts)
+        share = np.zeros(len(shots))
+        for k in range(len(shots)):
+            inf = st[k] == INSIDE
+            if not inf.any():
+                continue
+            poly = shapely.Polygon(ring_px[k]).buffer(0)
+            inside = poly.intersection(frame).area / poly.area if poly.area > 0 else 0.0
+            hid = hidden(scene, np.repeat(C[k][None], int(inf.sum()), axis=0), pts[inf])
+            share[k] = inside * (1.0 - hid.mean())
+        out[o["id"]] = (share, [sh.label for sh in shots])
+    return out
+
+
+def test_view_counts_equal_the_photos_that_see_the_object(round_trip):
+    """Two counts per fused object matched to a truth disc:
+
+    * ``expected_views`` (the photos searched that could see it) equals the number of searched
+      photos whose truth share (:func:`truth_shares`) is at least 0.5 (min_visible), for at
+      least 98 % of the objects none of whose photos is within ±0.05 of that threshold (near
+      it the fused outline and the truth sampling may decide either way; those are counted).
+      Seed 0: 197 of 198; the other was not examined;
+    * ``views`` equals the number of simulated detections of it that survived the misses, in
+      the same photos, for at least 97 % of the objects (the others: a view moved more than
+      15 cm by occlusion or the frame that overlaps none of the others, left as its own group).
+    """
+    r = round_trip
+    fused = _found(r["fused"], lambda o: o.confidence >= CONFIDENCE)
+    sf = score_objects(r["objs"], fused)
+    shares = truth_shares(r["survey"], [o for o in r["objs"] if o["id"] in sf["matches"]])
+    clear = equal_exp = border = 0
+    views_equal = 0
+    for t, j in sf["matches"].items():
+        o = fused[j]["obj"]
+        share, labels = shares[t]
+        share = share * np.isin(labels, r["photos"])      # the photos searched (aligned)
+        if np.abs(share - 0.5).min() > 0.05:
+            clear += 1
+            equal_exp += o.expected_views == int((share >= 0.5).sum())
+        else:
+            border += 1
+        det = set(r["sim"]["detected"].get(t, []))
+        views_equal += o.views == len(det) and set(o.photos) == det
+    n = sf["matched"]
+    print(f"\nexpected views = truth photos for {equal_exp}/{clear} objects clear of the "
+          f"threshold ({border} near it); views = surviving detections for {views_equal}/{n}")
+    assert clear >= 0.5 * n
+    assert equal_exp >= 0.98 * clear
+    assert views_equal >= 0.97 * n
 
 
 def test_fused_objects_carry_scores_heights_and_confidence(round_trip):
@@ -116,3 +193,18 @@ def test_nms_within_a_photo_and_groups_across_photos(round_trip):
     # majority (2 of 3) of squares at -0.1, 0, +0.1: x from x0 to x0 + 1, area 1 m² (union 1.2)
     assert abs(xy[:, 0].min() - x0) < 0.03 and abs(xy[:, 0].max() - (x0 + 1)) < 0.03
     assert abs(big.position[0] - (x0 + 0.5)) < 0.01
+
+
+def test_an_object_over_the_dsm_edge_is_fused(round_trip):
+    """By construction: a square in three photos that reaches past the DSM's east edge is one
+    object; its vertices off the DSM take the height of the others (no error), and its expected
+    views are counted."""
+    s = round_trip["survey"]
+    recon = open_reconstruction(s.metashape_project)
+    dsm = DSM(s.dsm)
+    xe, yn = dsm.tif.pixel_to_map(np.array([float(dsm.tif.width)]), np.array([dsm.tif.height / 2.0]))
+    sq = np.array([[-0.5, 0], [0.5, 0], [0.5, 1], [-0.5, 1]], float) + [float(xe[0]), float(yn[0])]
+    out = fuse_views([_shape(p, sq, 0.8) for p in ("DJI_0001", "DJI_0002", "DJI_0003")],
+                     recon, dsm, photos=["DJI_0001", "DJI_0002", "DJI_0003"])
+    assert len(out) == 1 and out[0].views == 3
+    assert np.isfinite(out[0].parts[0][0][:, 2]).all() and np.isfinite(out[0].position[2])
