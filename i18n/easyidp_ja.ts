@@ -970,14 +970,14 @@ The log gives the global correction and how many plots moved by more than the th
     <message>
       <source>Brings polygons drawn or detected on the raw photos (LabelMe, COCO, YOLO, or the photo-pixel layer written by Back-project ROIs) to the map, with their true position, area and perimeter: every vertex's pixel becomes a ray through the solved camera (lens distortion included) and its first hit on the DSM is the vertex on the map. Exact on any terrain and canopy (not a flat-ground homography).
 
-Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json files or YOLO .txt files, with classes.txt or data.yaml for class names); or a photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a photo of the project by file name; an image that is not in the project, or whose size differs from the camera's, is refused with its name.
+Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json files or YOLO .txt files, with classes.txt or data.yaml for class names); or a photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a photo of the project by file name; an image that is not in the project, or whose size differs from the camera's, is refused with its name. Detections on the tiles of a tiled training set (YOLO or LabelMe files named after the tiles) need its tile index (tiles.json): they are shifted back into their photo's pixels; COCO files of the set carry their tile windows themselves.
 
 Edges are densified in the photo (a vertex every few pixels) so that long edges follow the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped and its polygon marked complete = false (and reported), never silently reshaped.
 
 Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir); 'fuse' is for detections with scores (COCO results with the COCO images file, YOLO with confidence, LabelMe): duplicates in a photo are suppressed, the views of one object grouped by overlap and distance, and each object gets the outline most of its views agree on, its number of views, the photos that could have seen it (expected_views), mean and max score, its position and DSM height, and a confidence (mean score × views / expected views). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit), and for 'fuse' expected_views, max_score and confidence. Output in the DSM's CRS, heights from the DSM.</source>
       <translation>元画像（撮影写真）上で描画または検出したポリゴン（LabelMe、COCO、YOLO、または「ROI を元画像へ逆投影」が書き出す写真ピクセルのレイヤ）を、正しい位置、面積、周長で地図へ投影します：各頂点のピクセルは、解かれたカメラを通る光線（レンズ歪みを含む）となり、その光線が DSM と最初に交わる点が地図上の頂点になります。どのような地形や樹冠でも正確です（平坦な地面を仮定したホモグラフィではありません）。
 
-入力は次のいずれか 1 つです：ファイル（LabelMe .json、COCO .json、YOLO .txt）、フォルダ（LabelMe .json ファイルまたは YOLO .txt ファイル。クラス名には classes.txt または data.yaml）、または写真ピクセルのレイヤ（x = 列、y = −行、フィールド 'photo'）。各画像はファイル名でプロジェクトの写真と照合されます。プロジェクトにない画像や、サイズがカメラと異なる画像は、その名前を示して拒否されます。
+入力は次のいずれか 1 つです：ファイル（LabelMe .json、COCO .json、YOLO .txt）、フォルダ（LabelMe .json ファイルまたは YOLO .txt ファイル。クラス名には classes.txt または data.yaml）、または写真ピクセルのレイヤ（x = 列、y = −行、フィールド 'photo'）。各画像はファイル名でプロジェクトの写真と照合されます。プロジェクトにない画像や、サイズがカメラと異なる画像は、その名前を示して拒否されます。タイル分割した学習データセットのタイル上の検出（タイル名の YOLO または LabelMe ファイル）には、そのタイル索引（tiles.json）が必要です。検出は元の写真のピクセル座標へ戻されます。このデータセットの COCO ファイルはタイルの範囲を自ら保持しています。
 
 辺は写真上で高密度化され（数ピクセルごとに 1 頂点）、長い辺も地表に沿います。光線が DSM に当たらない、DSM の外に出る、または NoData 値に入る頂点は除外され、そのポリゴンには complete = false が設定されます（報告もされます）。黙って形が変えられることはありません。
 
@@ -1782,6 +1782,10 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
       <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
+    </message>
+    <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
     </message>
   </context>
 </TS>

@@ -970,14 +970,14 @@ The log gives the global correction and how many plots moved by more than the th
     <message>
       <source>Brings polygons drawn or detected on the raw photos (LabelMe, COCO, YOLO, or the photo-pixel layer written by Back-project ROIs) to the map, with their true position, area and perimeter: every vertex's pixel becomes a ray through the solved camera (lens distortion included) and its first hit on the DSM is the vertex on the map. Exact on any terrain and canopy (not a flat-ground homography).
 
-Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json files or YOLO .txt files, with classes.txt or data.yaml for class names); or a photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a photo of the project by file name; an image that is not in the project, or whose size differs from the camera's, is refused with its name.
+Input, one of: a file (LabelMe .json, COCO .json, YOLO .txt); a folder (LabelMe .json files or YOLO .txt files, with classes.txt or data.yaml for class names); or a photo-pixel layer (x = column, y = −row, field 'photo'). Each image is matched to a photo of the project by file name; an image that is not in the project, or whose size differs from the camera's, is refused with its name. Detections on the tiles of a tiled training set (YOLO or LabelMe files named after the tiles) need its tile index (tiles.json): they are shifted back into their photo's pixels; COCO files of the set carry their tile windows themselves.
 
 Edges are densified in the photo (a vertex every few pixels) so that long edges follow the surface. A vertex whose ray misses the DSM, leaves it or enters nodata is dropped and its polygon marked complete = false (and reported), never silently reshaped.
 
 Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygons of one label from several photos into one; 'best' keeps the best view (complete, highest score, most nadir); 'fuse' is for detections with scores (COCO results with the COCO images file, YOLO with confidence, LabelMe): duplicates in a photo are suppressed, the views of one object grouped by overlap and distance, and each object gets the outline most of its views agree on, its number of views, the photos that could have seen it (expected_views), mean and max score, its position and DSM height, and a confidence (mean score × views / expected views). Fields: photo, label, score, area_m2 and perimeter_m (planimetric, metres), views, complete, missing (vertices without a hit), and for 'fuse' expected_views, max_score and confidence. Output in the DSM's CRS, heights from the DSM.</source>
       <translation>将在原始照片上绘制或检测到的多边形（LabelMe、COCO、YOLO，或“将感兴趣区反投影到原始照片”写出的照片像素图层）投影到地图上，得到其真实位置、面积和周长：每个顶点的像素成为穿过解算相机（含镜头畸变）的一条射线，射线与 DSM 的第一个交点即为该顶点在地图上的位置。在任何地形和冠层上都精确（并非平地单应变换）。
 
-输入，以下之一：一个文件（LabelMe .json、COCO .json、YOLO .txt）；一个文件夹（LabelMe .json 文件或 YOLO .txt 文件，类别名称来自 classes.txt 或 data.yaml）；或一个照片像素图层（x = 列，y = −行，字段 photo）。每幅图像按文件名与工程中的照片匹配；不在工程中或尺寸与相机不符的图像会被拒绝，并给出其名称。
+输入，以下之一：一个文件（LabelMe .json、COCO .json、YOLO .txt）；一个文件夹（LabelMe .json 文件或 YOLO .txt 文件，类别名称来自 classes.txt 或 data.yaml）；或一个照片像素图层（x = 列，y = −行，字段 photo）。每幅图像按文件名与工程中的照片匹配；不在工程中或尺寸与相机不符的图像会被拒绝，并给出其名称。在分块训练集的分块上的检测结果（以分块命名的 YOLO 或 LabelMe 文件）需要其分块索引（tiles.json）：它们会被移回所在照片的像素坐标；该训练集的 COCO 文件自身带有分块窗口。
 
 边在照片中加密（每隔几个像素一个顶点），使长边贴合地表。射线未击中 DSM、离开 DSM 或进入无数据值区域的顶点会被删除，其多边形标记为 complete = false（并报告），绝不会悄然改变形状。
 
@@ -1782,6 +1782,10 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
       <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
+    </message>
+    <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>分块索引（分块训练集的 tiles.json），当标注位于其分块上时</translation>
     </message>
   </context>
 </TS>
