@@ -10,8 +10,9 @@ cache=${EASYIDP_ROOTS:-/var/cache/easyidp-roots}
 root=$cache/$suite
 here=$(cd "$(dirname "$0")/.." && pwd)
 parent=$(dirname "$here")
-# the Makefile's list (what make env installs on a host), and make itself
-PACKAGES="$(make -s -f "$here/Makefile" apt-packages) make ca-certificates"
+# the Makefile's list (what make env installs on a host), make itself, and git (the clone is a
+# checkout: make package and its test list the files git tracks)
+PACKAGES="$(make -s -f "$here/Makefile" apt-packages) make ca-certificates git"
 
 in_root() {  # in_root CMD...: a private mount namespace, /proc /dev and the work folder bound
     unshare -m --propagation private bash -c '
