@@ -19,8 +19,10 @@ import shutil
 import sys
 from pathlib import Path
 
+import cv2  # OpenCV: the independent reference
 import numpy as np
 import pytest
+import pyopf  # noqa: F401 (required in both test environments: requirements/qgis.txt, current.txt)
 
 from easyidp_toolbox.core import InputError, open_reconstruction
 from easyidp_toolbox.core.demo.flight import make_camera
@@ -28,9 +30,6 @@ from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import INSIDE
 from easyidp_toolbox.core.roi import read_geojson
-
-cv2 = pytest.importorskip("cv2")
-pytest.importorskip("pyopf")     # a test dependency (requirements/qgis.txt, current.txt)
 
 NO_DENSIFY = 1e12
 
