@@ -82,7 +82,6 @@ def run_child(cmd: Sequence[str], env: Optional[dict] = None, cwd: Optional[str]
                    acct["returncode"], stdout, stderr)
 
 
-
 def run_json_child(cmd: Sequence[str], env: Optional[dict] = None,
                    timeout: Optional[float] = None, label: str = "",
                    strict: bool = False) -> Tuple[Run, Optional[dict]]:

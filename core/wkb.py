@@ -65,7 +65,6 @@ def multipolygon_wkb(polygons: Sequence, z: bool = False, min_vertices: int = 0,
     return b"".join(out)
 
 
-
 def _scatter(buf: np.ndarray, starts: np.ndarray, rows: np.ndarray, taken: np.ndarray) -> None:
     """Write the byte rows ``rows`` (n, w) at the positions ``starts`` (n,) of ``buf`` and mark
     them in ``taken``."""

@@ -22,7 +22,6 @@ from easyidp_toolbox.scripts.qgis_desktop import (install_zip, profile_dir, run_
                                                   run_headless)
 
 
-
 def _missing_on_debian(extras: bool):
     """Distributions of the dependency table (table order) that Debian's own Python lacks: what a
     fresh profile on this machine misses. ``extras``: include the script-only extras. Rows that
