@@ -138,6 +138,8 @@ def clip_convex(polys: Sequence[Sequence[np.ndarray]], region: ConvexRegion,
                     if len(q) >= 2:
                         chains.append((q, region.perimeter(q[0], e_in),
                                        region.perimeter(q[-1], e_out)))
+    if chains and not _alternate(chains):
+        return _clip_each_ring(polys, region)
     exteriors: List[np.ndarray] = _walk(chains, region) if chains else []
     if not chains and rings_2d:
         v = region.vertices
@@ -156,6 +158,52 @@ def clip_convex(polys: Sequence[Sequence[np.ndarray]], region: ConvexRegion,
         if owner is not None:
             result[owner].append(h)
     return result
+
+
+def _alternate(chains) -> bool:
+    """Whether the chains' exits and entries alternate along the region's boundary, as they do
+    for any polygon whose rings cross neither themselves nor each other (after an exit the
+    boundary runs inside the polygon up to the next entry). A ring that folds on the boundary
+    (a DSM-height ROI seen obliquely can fold by a fraction of a pixel) breaks it, and the walk
+    would then go round the whole region."""
+    s = np.array([c[2] for c in chains] + [c[1] for c in chains])
+    kind = np.repeat([0, 1], len(chains))             # exits first where they meet an entry
+    order = np.lexsort((kind, s))
+    return bool(np.all(np.diff(kind[order]) != 0))
+
+
+def _clip_each_ring(polys, region: ConvexRegion) -> Polygons:
+    """Each ring clipped by the region's half-spaces one after the other (Sutherland–Hodgman),
+    the polygons' structure kept: the fallback for rings that cross themselves or each other.
+    The area is then that of the winding number, and a concave piece that leaves the region and
+    comes back is joined to the rest along the boundary by a zero-width bridge."""
+    out = []
+    for p in polys:
+        rings = [region.to_plane(r) for r in (_half_spaces(np.asarray(r, np.float64), region)
+                                               for r in p if len(r) >= 3) if len(r) >= 3]
+        if rings and abs(ring_area(rings[0])) > 0:
+            out.append(rings)
+    return out
+
+
+def _half_spaces(ring: np.ndarray, region: ConvexRegion) -> np.ndarray:
+    """``ring`` (subject space) clipped by each half-space F_k >= 0 in turn."""
+    for k in range(region.K):
+        if len(ring) < 3:
+            return ring[:0]
+        F = region.values(ring)[:, k]
+        Fn, nxt = _following(F), _following(ring)
+        ins = F >= 0
+        cross = np.flatnonzero(ins != (Fn >= 0))
+        emit = ins.astype(np.int64)
+        emit[cross] += 1
+        slot = np.cumsum(emit) - emit
+        new = np.empty((int(emit.sum()), ring.shape[1]))
+        new[slot[ins]] = ring[ins]
+        t = F[cross] / (F[cross] - Fn[cross])
+        new[slot[cross] + ins[cross]] = ring[cross] + t[:, None] * (nxt[cross] - ring[cross])
+        ring = new
+    return ring
 
 
 def _smallest_container(ring: np.ndarray, exteriors: List[np.ndarray]) -> Optional[int]:

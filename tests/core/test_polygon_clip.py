@@ -143,3 +143,22 @@ def test_vectorised_convex_clip_equals_the_general_one():
     tri = np.array([[0, 0], [4, 0], [0, 3.]])
     both = np.concatenate([star, tri])
     assert convex_rings(both, np.array([0, 5, 8])).tolist() == [False, True]
+
+
+def test_a_ring_folded_on_the_frame_edge_is_not_turned_into_the_frame():
+    """A ring that crosses itself by a hair where it crosses the frame's edge (as a DSM-height
+    ROI seen obliquely does; demo seed 7, plant A6_P2 in DJI_0016, came back as the whole
+    photo). Independent check: the brute-force point count; by construction the clipped area
+    never exceeds the ring's own."""
+    th = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    circle = np.column_stack([9.5 + 2 * np.cos(th), 4 + 2 * np.sin(th)])
+    folded = 0
+    for i in range(64):
+        ring = circle.copy()
+        ring[[i, (i + 1) % 64]] = ring[[(i + 1) % 64, i]]      # two neighbours swapped: a fold
+        out = clip_convex(orient([[ring]]), FRAME)
+        _in_frame(out)
+        assert polygons_area(out) <= abs(ring_area(ring)) + 1e-9
+        assert polygons_area(out) == pytest.approx(_brute([ring]), abs=0.2)
+        folded += abs(ring[i, 0] - 10) < 0.5
+    assert folded >= 2          # some folds sit on the edge x = 10
