@@ -216,7 +216,11 @@ def run_season_bench(size, grid, dates, reference):
         run, info = child([sys.executable, str(WORKERS), "season", str(surveys), str(geojson),
                            str(workers), mode])
         infos[label] = (run, info)
-        print(f"    {label}: {run.wall:.1f} s", flush=True)
+        busy = {}
+        for _, worker, _, seconds in (info or {}).get("jobs", []):
+            busy.setdefault(worker, []).append(seconds or 0.0)
+        print(f"    {label}: {run.wall:.1f} s; jobs per worker (busy s): "
+              + ", ".join(f"{len(v)} ({sum(v):.0f})" for v in busy.values()), flush=True)
     ref = None
     if reference:
         run, info = child([str(REF_PYTHON), str(WORKERS), "easyidp", str(SEASON / "ortho_00.tif"),

@@ -115,9 +115,15 @@ def open_runner(workers: Optional[int] = None, scheduler: Optional[str] = None,
                                "tcp://HOST:8786`, and give its tcp://HOST:PORT address.") from None
         label = f"Dask scheduler {scheduler}"
     else:
-        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
-                               host="127.0.0.1", dashboard_address=None,
-                               silence_logs=logging.ERROR)
+        import dask
+        # Dask's nannies start workers with MALLOC_TRIM_THRESHOLD_=65536: every freed cell
+        # array goes back to the OS and the next one is faulted in page by page
+        environ = {k: v for k, v in dask.config.get("distributed.nanny.pre-spawn-environ",
+                                                    {}).items() if k != "MALLOC_TRIM_THRESHOLD_"}
+        with dask.config.set({"distributed.nanny.pre-spawn-environ": environ}):
+            cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True,
+                                   host="127.0.0.1", dashboard_address=None,
+                                   silence_logs=logging.ERROR)
         client = Client(cluster)
         label = f"Dask LocalCluster of {workers} worker process{'es' if workers > 1 else ''}"
     try:
