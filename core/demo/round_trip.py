@@ -7,8 +7,9 @@ with every vertex moved towards or away from the outline's centre by Gaussian no
 ``noise_px`` pixels (standard deviation; radial, so that the outline stays a simple polygon
 as a segmenter's contour is) and a score in [0.6, 0.95]; each label also spawns, with probability
 ``false_positive``, a false detection elsewhere in its photo (a disc of the label's size at a
-uniform random place in the frame, score in [0.3, 0.9]): 5 % false positives per photo on
-average. Seeded: same input and seed, same detections.
+uniform random place in the frame whose box overlaps no label's box, drawn again up to
+FALSE_TRIES times; score in [0.3, 0.9]): 5 % false positives per photo on average. A false
+detection on a real object would be one more view of it. Seeded: same input and seed, same detections.
 
 :func:`score_objects` matches map objects to the truth discs (one to one, nearest centre of
 the same class first, within ``match_radius`` of the disc's radius) and gives recall,
@@ -22,15 +23,24 @@ import numpy as np
 from ..files import write_json
 
 
+FALSE_TRIES = 50     # places drawn for a false detection until one is clear of every label
+
+
 def simulate_detections(coco_path, out_path, seed: int = 0, noise_px: float = 3.0,
                         miss: float = 0.1, false_positive: float = 0.05) -> Dict[str, object]:
     """Write a COCO results list for the images of ``coco_path`` to ``out_path``. Returns
     ``detected`` {instance: [photo, ...]} (the true detections kept), ``false`` (count) and
     ``missed`` (count)."""
     rng = np.random.default_rng([seed, 2026])
+    again = np.random.default_rng([seed, 2026, 1])   # redraws: the main stream stays as it was
     doc = json.load(open(coco_path, encoding="utf-8"))
     images = {im["id"]: im for im in doc["images"]}
     results, detected, missed, false = [], {}, 0, 0
+    boxes = {k: [] for k in images}
+    for a in doc["annotations"]:
+        x, y, w, h = a["bbox"]
+        boxes[a["image_id"]].append([x, y, x + w, y + h])
+    boxes = {k: np.array(v, float).reshape(-1, 4) for k, v in boxes.items()}
     for a in doc["annotations"]:
         im = images[a["image_id"]]
         photo = im.get("photo", im["file_name"])
@@ -49,6 +59,12 @@ def simulate_detections(coco_path, out_path, seed: int = 0, noise_px: float = 3.
             size = np.array([im["width"], im["height"]], float)
             span = r.max(axis=0) - r.min(axis=0)
             at = rng.uniform(span, size - span)
+            for _ in range(FALSE_TRIES):          # elsewhere: clear of every label's box
+                lo, hi = at - c + r.min(axis=0), at - c + r.max(axis=0)
+                box = boxes[a["image_id"]]
+                if not ((box[:, :2] < hi) & (box[:, 2:] > lo)).all(axis=1).any():
+                    break
+                at = again.uniform(span, size - span)
             fake = _radial_noise(r - c + at, noise_px, rng)
             results.append(_result(a["image_id"], a["category_id"], [fake], rng.uniform(0.3, 0.9)))
     write_json(out_path, results, separators=(",", ":"))

@@ -25,11 +25,17 @@ scores, from several photos. Steps:
    height the DSM there (bilinear; outline vertices off the DSM or on nodata take the median
    of the outline's other heights, else of its members'); ``views`` the number of photos in the group;
    ``mean_score``/``max_score``. ``visibility=False``: every photo votes on every cell.
-4. **Confidence**: the outline is back-projected (:func:`.backward.back_project`, DSM heights,
+4. **Lone views**: an object of one view whose detection, in its photo, overlaps by IoU ≥
+   ``ATTACH_IOU`` the outline of a nearby object (same label, not yet seen in that photo)
+   projected into that photo joins that object: views, photos and scores, not the outline. On
+   the map such a view can lie far off, because the part of the object its photo cannot see is
+   drawn on what hides it; in the photo it still covers the object.
+5. **Confidence**: the outline is back-projected (:func:`.backward.back_project`, DSM heights,
    occlusion tested, ``min_visible``) into the photos that were searched; ``expected_views`` is
-   the number of those that could have seen it. ``confidence = mean score (1 when there are no
-   scores) × views / max(expected_views, views)``: an object found in 1 of 9 photos that could
-   see it gets 1/9 of its score.
+   the number of those that could have seen it, with the photos that found it (an outline a
+   little off may miss ``min_visible`` in a photo that did see the object): never below
+   ``views``. ``confidence = mean score (1 when there are no scores) × views /
+   expected_views``: an object found in 1 of 9 photos that could see it gets 1/9 of its score.
 
 Map coordinates: those of the shapes (the DSM's CRS unless forward projection was given
 another); areas in m² by the members' own planimetric ratio, as :mod:`.merge` does.
@@ -43,6 +49,7 @@ from ..errors import EasyIDPError
 from ..geometry import rasterize
 from ..progress import as_progress
 from ..raster import HIT, as_dsm, first_hits
+from ..reconstruction import INSIDE
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .forward import ForwardShape
@@ -55,6 +62,7 @@ LINK_BATCH = 4096         # candidate links intersected at once
 NMS_WITHIN = 0.8         # a polygon this much inside a kept one of its photo is a duplicate
 ROBUST_ROUNDS = 2        # reweightings of the consensus vote
 ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
+ATTACH_IOU = 0.5         # photo-space IoU for a lone view to join an object seen elsewhere
 
 
 @dataclass
@@ -403,6 +411,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     for o, zz, rz in zip(out, z[k:], ring_z):
         zz = zz if np.isfinite(zz) else float(np.median(rz))
         o.position = (float(o.position[0]), float(o.position[1]), float(zz))
+    out, rings, ring_z = _attach_lone_views(out, rings, ring_z, recon, dsm.crs)
     # expected views: the photos searched that could have seen each object
     searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
     rois = ROISet([ROI(str(j), [[r]], z=[[rz]]) for j, (r, rz) in enumerate(zip(rings, ring_z))],
@@ -410,13 +419,84 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     bp = back_project(rois, recon, heights="geometry", cameras=searched,
                       occlusion_dsm=dsm if occlusion else None, min_visible=min_visible,
                       progress=prog.sub(60, 100))
-    expected = bp.photos_per_roi()
-    for o, e in zip(out, expected.tolist()):
-        o.expected_views = int(e)
-        o.confidence = float((o.mean_score if o.mean_score is not None else 1.0)
-                             * o.views / max(e, o.views))
+    seen_by = [set() for _ in out]
+    for j, p in zip(bp.roi.tolist(), bp.photo.tolist()):
+        seen_by[j].add(p)
+    for o, sb in zip(out, seen_by):
+        o.expected_views = e = len(sb | set(o.photos))     # a photo that found it could see it
+        o.confidence = float((o.mean_score if o.mean_score is not None else 1.0) * o.views / e)
     prog.set(100)
     return out
+
+
+def _attach_lone_views(out, rings, ring_z, recon, crs):
+    """Objects of one view whose detection, in its photo, has an IoU of at least ATTACH_IOU
+    with the outline of a nearby object of the same label seen in other photos, projected into
+    that photo, join that object (best IoU first, one view per photo): its views, photos,
+    members and scores, not its outline. On the map such a view can lie far off: the part of
+    the object its photo cannot see is drawn on what hides it. Returns (objects, rings,
+    ring heights) without the views that joined."""
+    import shapely
+    lone = [i for i, o in enumerate(out) if o.views == 1]
+    multi = [i for i, o in enumerate(out) if o.views > 1]
+    lone_set = set(lone)
+    if not lone or not multi:
+        return out, rings, ring_z
+    mg = np.array([shapely.Polygon(rings[i]) for i in multi], object)
+    lg = np.array([shapely.Polygon(rings[i]) for i in lone], object)
+    reach = np.sqrt(shapely.area(lg)) + np.sqrt(np.median(shapely.area(mg)))
+    a, b = shapely.STRtree(mg).query(shapely.buffer(lg, reach), predicate="intersects")
+    pairs = [(lone[x], multi[y]) for x, y in zip(a.tolist(), b.tolist())
+             if out[lone[x]].label == out[multi[y]].label
+             and out[lone[x]].photos[0] not in out[multi[y]].photos]
+    by_photo = {}
+    for i, j in pairs:
+        by_photo.setdefault(out[i].photos[0], []).append((i, j))
+    found = []                                    # (IoU, lone, object)
+    for photo, pp in by_photo.items():
+        cam = recon.select_cameras([photo])[0]
+        ids = list(dict.fromkeys([i for i, _ in pp] + [j for _, j in pp]))
+        xyz = {i: (out[i].members[0].rings[0] if i in lone_set
+                   else np.column_stack([rings[i], ring_z[i]])) for i in ids}
+        allp = np.vstack([xyz[i] for i in ids])
+        proj = recon.project_points(allp, crs, cameras=[cam])
+        uv, ok = proj.pixels[0], proj.status[0] == INSIDE
+        sensor = recon.sensors[cam.sensor_id]
+        frame = shapely.box(0, 0, sensor.width, sensor.height)
+        px, k = {}, 0
+        for i in ids:
+            n = len(xyz[i])
+            if n < 3 or not np.isfinite(uv[k:k + n]).all():
+                pass
+            elif i in lone_set:   # the detection: its vertices that hit the DSM, back in the photo
+                px[i] = shapely.make_valid(shapely.Polygon(uv[k:k + n]))
+            elif ok[k:k + n].any():
+                px[i] = shapely.make_valid(shapely.Polygon(uv[k:k + n])).intersection(frame)
+            k += n
+        pp = [(i, j) for i, j in pp if i in px and j in px]
+        if not pp:
+            continue
+        ga = np.array([px[i] for i, _ in pp], object)
+        gb = np.array([px[j] for _, j in pp], object)
+        inter = shapely.area(shapely.intersection(ga, gb))
+        iou = inter / np.maximum(shapely.area(ga) + shapely.area(gb) - inter, 1e-300)
+        found += [(v, i, j) for v, (i, j) in zip(iou.tolist(), pp) if v >= ATTACH_IOU]
+    joined = set()
+    for _, i, j in sorted(found, reverse=True):
+        o, lv = out[j], out[i]
+        if i in joined or lv.photos[0] in o.photos:
+            continue
+        joined.add(i)
+        o.photos.append(lv.photos[0])
+        o.views += 1
+        o.members += lv.members
+        o.complete = o.complete and lv.complete
+        sc = [f.score for f in o.members if f.score is not None]
+        if sc:
+            o.score = o.mean_score = float(np.mean(sc))
+            o.max_score = float(np.max(sc))
+    keep = [k for k in range(len(out)) if k not in joined]
+    return [out[k] for k in keep], [rings[k] for k in keep], [ring_z[k] for k in keep]
 
 
 def _mean(values) -> float:

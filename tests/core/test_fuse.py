@@ -60,9 +60,9 @@ def _found(objects, keep=lambda o: True):
 
 def test_fused_detections_match_the_truth(round_trip):
     """Synthetic truth (the demo discs): recall and precision ≥ 0.98, position error median
-    ≤ 1 cm and max ≤ 3 cm (the issue's figures, seed 0: 0.64 and 1.98 cm; seeds 0–7 measured: max 1.98–3.10 cm, and
-    3.89 cm for seed 7, a weed whose 4 views are all shifted the same way).
-    Union on the same input is measurably less precise."""
+    ≤ 1 cm and max ≤ 3 cm (the issue's figures; seed 0: 0.64 and 1.98 cm). Seeds 1, 2 and 7
+    were measured too: median 0.61–0.66 cm, max 2.24–2.79 cm, and 3.55 cm for seed 1, a weed
+    whose 4 views all lean the same way. Union on the same input is measurably less precise.
     r = round_trip
     fused = _found(r["fused"], lambda o: o.confidence >= CONFIDENCE)
     sf = score_objects(r["objs"], fused)
@@ -119,40 +119,44 @@ def truth_shares(survey, objs, grid=0.02):
 
 
 def test_view_counts_equal_the_photos_that_see_the_object(round_trip):
-    """Two counts per fused object matched to a truth disc:
+    """Synthetic truth (the generator's projection and hidden test, :func:`truth_shares`), for
+    every fused object matched to a truth disc. A photo *sees* the disc when its truth share is
+    at least 0.5 (min_visible). Within ±0.05 of that threshold the exporter (on the DSM) and the
+    truth (on the scene's surface, its own sampling) may decide either way, so such a photo may
+    be counted or not; every other photo must be decided alike:
 
-    * ``expected_views`` (the photos searched that could see it) equals the number of searched
-      photos whose truth share (:func:`truth_shares`) is at least 0.5 (min_visible), for at
-      least 98 % of the objects none of whose photos is within ±0.05 of that threshold (near
-      it the fused outline and the truth sampling may decide either way; those are counted).
-      Seed 0: 197 of 198; the other was not examined;
-    * ``views`` equals the number of simulated detections of it that survived the misses, in
-      the same photos, for at least 97 % of the objects (the others: a view moved more than
-      15 cm by occlusion or the frame that overlaps none of the others, left as its own group).
+    * ``expected_views`` (the photos searched that could see it) equals the photos searched that
+      see it;
+    * ``views`` (the photos of its group) equals the simulated detections of it that survived
+      the misses, in the same photos (a false detection that lands on an object no label put in
+      that photo can only be counted there: near the threshold).
+
+    Seeds 0, 1 and 7 were measured: no object is wrong in either count. A view whose map outline
+    lies far off (the part its photo cannot see is drawn on what hides it) joins its object by
+    the photo-space IoU (:func:`fuse_views`).
     """
     r = round_trip
     fused = _found(r["fused"], lambda o: o.confidence >= CONFIDENCE)
     sf = score_objects(r["objs"], fused)
     shares = truth_shares(r["survey"], [o for o in r["objs"] if o["id"] in sf["matches"]])
-    clear = equal_exp = border = 0
-    views_equal = 0
+    wrong_expected, wrong_views, border = [], [], 0
     for t, j in sf["matches"].items():
         o = fused[j]["obj"]
         share, labels = shares[t]
         share = share * np.isin(labels, r["photos"])      # the photos searched (aligned)
-        if np.abs(share - 0.5).min() > 0.05:
-            clear += 1
-            equal_exp += o.expected_views == int((share >= 0.5).sum())
-        else:
-            border += 1
+        sure = {lab for lab, v in zip(labels, share) if v >= 0.55}
+        maybe = {lab for lab, v in zip(labels, share) if 0.45 <= v < 0.55}
+        border += bool(maybe)
+        if not len(sure) <= o.expected_views <= len(sure) + len(maybe):
+            wrong_expected.append((t, o.expected_views, sorted(sure), sorted(maybe)))
         det = set(r["sim"]["detected"].get(t, []))
-        views_equal += o.views == len(det) and set(o.photos) == det
-    n = sf["matched"]
-    print(f"\nexpected views = truth photos for {equal_exp}/{clear} objects clear of the "
-          f"threshold ({border} near it); views = surviving detections for {views_equal}/{n}")
-    assert clear >= 0.5 * n
-    assert equal_exp >= 0.98 * clear
-    assert views_equal >= 0.97 * n
+        if not (det - maybe) <= set(o.photos) <= (det | maybe):
+            wrong_views.append((t, sorted(o.photos), sorted(det), sorted(maybe)))
+    print(f"\n{sf['matched']} objects ({border} with a photo near the threshold): expected views "
+          f"wrong for {len(wrong_expected)}, views for {len(wrong_views)}")
+    assert sf["matched"] >= 0.98 * len(r["objs"])
+    assert not wrong_expected, wrong_expected
+    assert not wrong_views, wrong_views
 
 
 def test_fused_objects_carry_scores_heights_and_confidence(round_trip):
@@ -208,3 +212,43 @@ def test_an_object_over_the_dsm_edge_is_fused(round_trip):
                      recon, dsm, photos=["DJI_0001", "DJI_0002", "DJI_0003"])
     assert len(out) == 1 and out[0].views == 3
     assert np.isfinite(out[0].parts[0][0][:, 2]).all() and np.isfinite(out[0].position[2])
+
+
+def test_a_view_moved_by_what_hides_it_joins_its_object(round_trip):
+    """By construction: a square (on the DSM) seen in three photos, and in a fourth whose
+    outline lies on the same lines of sight but 0.8 m higher, as when the part of an object a
+    photo cannot see is drawn on what hides it: on the map it is tens of centimetres off and
+    overlaps none of the others, in its photo it is the square. It joins the object (4 views,
+    the same outline as the three photos give). The same outline moved as far on the map but off
+    those lines of sight stays a lone view."""
+    s = round_trip["survey"]
+    recon = open_reconstruction(s.metashape_project)
+    dsm = DSM(s.dsm)
+    x0, y0 = 319830.0, 3956030.0
+    sq = np.array([[0, 0], [0.3, 0], [0.3, 0.3], [0, 0.3]], float) + [x0, y0]
+    z = dsm.heights(sq[:, 0], sq[:, 1])
+    ground = np.column_stack([sq, z])
+    vis = recon.project_points(ground[:1], s.crs, inside_only=True)
+    labels, C = recon.camera_centres(s.crs)
+    seeing = [labels[j] for j in np.unique(vis.camera)]
+    C = dict(zip(labels, C))
+    far = max(seeing, key=lambda p: np.hypot(*(C[p][:2] - sq[0])))
+    near = [p for p in seeing if p != far][:3]
+
+    def shape(photo, pts):
+        return ForwardShape(photo, "plant", "polygon", [pts], [np.full(len(pts), HIT, np.uint8)],
+                            [np.ones(len(pts), bool)], score=0.8, area_m2=0.09, perimeter_m=1.2)
+
+    t = 0.8 / (C[far][2] - ground[:, 2])                     # 0.8 m up the lines of sight
+    raised = ground + t[:, None] * (C[far] - ground)
+    shift = raised[:, :2].mean(axis=0) - sq.mean(axis=0)
+    assert np.hypot(*shift) > 0.3                            # overlaps none of the others
+    moved = np.column_stack([sq + shift, z])
+    base = [shape(p, ground.copy()) for p in near]
+    photos = near + [far]
+    joined = fuse_views(base + [shape(far, raised)], recon, dsm, photos=photos)
+    apart = fuse_views(base + [shape(far, moved)], recon, dsm, photos=photos)
+    alone = fuse_views(base, recon, dsm, photos=photos)
+    assert [o.views for o in joined] == [4] and sorted(joined[0].photos) == sorted(photos)
+    np.testing.assert_allclose(joined[0].parts[0][0], alone[0].parts[0][0])
+    assert sorted(o.views for o in apart) == [1, 3]
