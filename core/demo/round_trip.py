@@ -8,8 +8,9 @@ with every vertex moved towards or away from the outline's centre by Gaussian no
 as a segmenter's contour is) and a score in [0.6, 0.95]; each label also spawns, with probability
 ``false_positive``, a false detection elsewhere in its photo (a disc of the label's size at a
 uniform random place in the frame whose box overlaps no label's box, drawn again up to
-FALSE_TRIES times; score in [0.3, 0.9]): 5 % false positives per photo on average. A false
-detection on a real object would be one more view of it. Seeded: same input and seed, same detections.
+FALSE_TRIES times; score in [0.3, 0.9]): 5 % false positives per photo on average (a false
+detection on a labelled object would be one more view of it). Seeded: same input and seed,
+same detections.
 
 :func:`score_objects` matches map objects to the truth discs (one to one, nearest centre of
 the same class first, within ``match_radius`` of the disc's radius) and gives recall,
