@@ -62,7 +62,7 @@ def test_fused_detections_match_the_truth(round_trip):
     """Synthetic truth (the demo discs): recall and precision ≥ 0.98, position error median
     ≤ 1 cm and max ≤ 3 cm (the issue's figures; seed 0: 0.64 and 1.98 cm). Seeds 1, 2 and 7
     were measured too: median 0.61–0.66 cm, max 2.24–2.79 cm, and 3.55 cm for seed 1, a weed
-    whose 4 views all lean the same way. Union on the same input is measurably less precise.
+    whose 4 views all lean the same way. Union on the same input is measurably less precise."""
     r = round_trip
     fused = _found(r["fused"], lambda o: o.confidence >= CONFIDENCE)
     sf = score_objects(r["objs"], fused)
