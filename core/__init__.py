@@ -14,6 +14,9 @@ Conventions (see ARCHITECTURE.md): map coordinates are (x, y) = (easting, northi
 (lon, lat); image pixels have their origin at the top-left *corner*, x right, y down, so the
 centre of the top-left pixel is (0.5, 0.5).
 """
+# The one version source: metadata.txt (make changelog) and the wheel (pyproject.toml) read it.
+__version__ = "0.3.0"
+
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .pointcloud import PointCloud, canopy_summary, crop_point_cloud, read_point_cloud, write_point_cloud
 from .plotgrid import PlotGrid, create_plot_grid, fit_plot_grid

@@ -109,7 +109,7 @@ def _write(con, tables) -> None:
                       "VALUES (?,?,?,?)", (t.name, "attributes", t.name, LAST_CHANGE))
             if t.fields:
                 marks = ",".join("?" * len(t.fields))
-                sql = f"INSERT INTO {table} ({names[2:]}) VALUES ({marks})"  # nosec B608
+                sql = f"INSERT INTO {table} ({names[2:]}) VALUES ({marks})"  # nosec B608 -- quoted names
                 c.executemany(sql, values)
             continue
         srs_id = _srs(t.crs, srs)
@@ -124,7 +124,7 @@ def _write(con, tables) -> None:
         c.execute("INSERT INTO gpkg_geometry_columns VALUES (?,?,?,?,?,?)",
                   (t.name, "geom", "MULTIPOLYGON", srs_id, 0, 0))
         marks = ",".join("?" * (len(t.fields) + 1))
-        sql = f"INSERT INTO {table} (geom{names}) VALUES ({marks})"  # nosec B608
+        sql = f"INSERT INTO {table} (geom{names}) VALUES ({marks})"  # nosec B608 -- quoted names
         c.executemany(sql, [(_blob(g, srs_id), *row) for g, row in zip(t.geometries, values)])
     c.executemany("INSERT INTO gpkg_spatial_ref_sys VALUES (?,?,?,?,?,?)",
                   [(v[0], k, v[1], v[2], v[3], v[4]) for k, v in sorted(srs.items())])

@@ -280,7 +280,7 @@ def check_python(python: str) -> Optional[str]:
     """None when ``python`` is the same Python version as QGIS's; else what is wrong."""
     want = "{}.{}".format(*sys.version_info[:2])
     try:
-        out = subprocess.run([python, "-c", "import sys; print('%d.%d' % sys.version_info[:2])"],
+        out = subprocess.run([python, "-c", "import sys; print('%d.%d' % sys.version_info[:2])"],  # nosec B603 -- QGIS's Python, no shell
                              capture_output=True, text=True, timeout=60, **_no_window())
     except (OSError, subprocess.SubprocessError) as exc:
         return _i18n.tr("QGIS's Python interpreter {python} cannot run: {error}").format(

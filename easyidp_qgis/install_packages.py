@@ -92,7 +92,7 @@ def installed_distributions():
     for dist in importlib.metadata.distributions():
         try:
             name, version = dist.metadata["Name"], dist.version
-        except Exception:  # a broken metadata file must not stop the install
+        except Exception:  # nosec B112 -- a broken metadata file must not stop the install
             continue
         if not name or not version:
             continue
@@ -135,7 +135,7 @@ def run_pip(args: list, env: dict, start: float, end: float, expected: int) -> N
     say("$ " + " ".join(cmd))
     step = (end - start) / max(1, expected)
     done = start
-    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+    proc = subprocess.Popen(cmd, env=env, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,  # nosec B603 -- this Python's pip, argument list, no shell
                             text=True, encoding="utf-8", errors="replace", bufsize=1)
     try:
         for line in proc.stdout:

@@ -59,7 +59,7 @@ class InstallTask(QgsTask):
                      subprocess.CREATE_NO_WINDOW}
         else:
             group = {"start_new_session": True}  # its own process group: cancel stops pip too
-        proc = subprocess.Popen(self.argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,
+        proc = subprocess.Popen(self.argv, stdout=subprocess.PIPE, stderr=subprocess.STDOUT,  # nosec B603 -- QGIS's Python and the plugin's installer, no shell
                                 stdin=subprocess.DEVNULL, text=True, encoding="utf-8",
                                 errors="replace", bufsize=1, env=env, **group)
         self.pid = proc.pid
@@ -119,7 +119,9 @@ def _stop(proc: subprocess.Popen) -> None:
     if proc.poll() is not None:
         return
     if os.name == "nt":
-        subprocess.run(["taskkill", "/F", "/T", "/PID", str(proc.pid)], capture_output=True,
+        taskkill = os.path.join(os.environ.get("SystemRoot", r"C:\Windows"), "System32",
+                                "taskkill.exe")
+        subprocess.run([taskkill, "/F", "/T", "/PID", str(proc.pid)], capture_output=True,  # nosec B603 -- Windows's taskkill, no shell
                        creationflags=subprocess.CREATE_NO_WINDOW)
     else:
         try:

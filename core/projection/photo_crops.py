@@ -177,7 +177,7 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
                 if not fut.cancelled():
                     try:
                         fut.result()
-                    except Exception:
+                    except Exception:  # nosec B110 -- the error being raised is the first one
                         pass
             raise
         finally:

@@ -18,7 +18,6 @@ its motion from the centre row to the last row; it becomes a
 import io
 import posixpath
 import re
-import xml.etree.ElementTree as ET
 import zipfile
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple, Union
@@ -32,6 +31,7 @@ from .frame_model import Calibration
 from .geodesy import GeocentricFrame, LocalFrame, is_local
 from .model import Camera, Marker, Reconstruction, Sensor
 from ..rotations import rotation_vector
+from ..safe_xml import Element, XMLError, parse_xml
 from .rolling_shutter import RollingShutter
 
 SUPPORTED_SENSOR_TYPES = {"frame"}
@@ -60,15 +60,15 @@ def _floats(text: Optional[str], n: Optional[int], what: str, where: str) -> np.
     return vals
 
 
-def _float_attr(el: ET.Element, name: str, where: str) -> Optional[float]:
+def _float_attr(el: Element, name: str, where: str) -> Optional[float]:
     v = el.get(name)
     return None if v is None else float(_floats(v, 1, f"attribute {name} of <{el.tag}>", where)[0])
 
 
-def _parse_xml(data: bytes, where: str) -> ET.Element:
+def _parse_xml(data: bytes, where: str) -> Element:
     try:
-        return ET.fromstring(data)
-    except (ET.ParseError, LookupError, ValueError) as exc:   # LookupError: unknown encoding
+        return parse_xml(data)
+    except XMLError as exc:
         raise InputError(f"{where}: not a readable XML document ({exc}).") from None
 
 
@@ -91,7 +91,7 @@ class _Source:
     def where(self, rel: str) -> str:
         return f"{self.label}!{rel}" if isinstance(self.root, zipfile.ZipFile) else str(self.root / rel)
 
-    def doc(self, rel: str) -> ET.Element:
+    def doc(self, rel: str) -> Element:
         """doc.xml of the zip at ``rel`` (or the xml file itself)."""
         where = self.where(rel)
         data = self.read(rel)
@@ -135,7 +135,7 @@ def list_chunks(path) -> List[Dict]:
     return [dict(c) for c in _chunk_entries(src, doc)]
 
 
-def _open_project(path: Path) -> Tuple[_Source, ET.Element]:
+def _open_project(path: Path) -> Tuple[_Source, Element]:
     if not path.is_file():
         raise InputError(f"{path}: file not found.")
     if path.suffix.lower() == ".psz":
@@ -160,7 +160,7 @@ def _open_project(path: Path) -> Tuple[_Source, ET.Element]:
     return src, src.doc(Path(rel).name)
 
 
-def _chunk_entries(src: _Source, doc: ET.Element):
+def _chunk_entries(src: _Source, doc: Element):
     chunks = doc.find("chunks")
     out = []
     for el in (chunks if chunks is not None else []):
@@ -194,7 +194,7 @@ def _choose_chunk(entries, chunk, where: str):
 
 
 # --- chunk content -----------------------------------------------------------------------------
-def _calibration(sensor: ET.Element, width: int, height: int, where: str) -> Optional[Calibration]:
+def _calibration(sensor: Element, width: int, height: int, where: str) -> Optional[Calibration]:
     cals = sensor.findall("calibration")
     # by class, never by truth value: an Element's truth is its number of children
     ranked = sorted(cals, key=lambda c: {"adjusted": 0, "initial": 1}.get(c.get("class"), 2))
@@ -217,7 +217,7 @@ def _calibration(sensor: ET.Element, width: int, height: int, where: str) -> Opt
         raise InputError(f"{where}: sensor {sensor.get('label')!r}: {exc}.") from None
 
 
-def _rig_offset(sensor: ET.Element, where: str) -> Optional[np.ndarray]:
+def _rig_offset(sensor: Element, where: str) -> Optional[np.ndarray]:
     loc, rot = sensor.find("location"), sensor.find("rotation")
     if loc is None and rot is None:
         return None
@@ -232,7 +232,7 @@ def _rig_offset(sensor: ET.Element, where: str) -> Optional[np.ndarray]:
     return T
 
 
-def _sensors(chunk: ET.Element, where: str) -> Dict[str, Sensor]:
+def _sensors(chunk: Element, where: str) -> Dict[str, Sensor]:
     out = {}
     for s in chunk.iter("sensor"):
         sid, label, typ = s.get("id"), s.get("label", ""), s.get("type", "frame")
@@ -258,7 +258,7 @@ def _sensors(chunk: ET.Element, where: str) -> Dict[str, Sensor]:
     return out
 
 
-def _transform(el: Optional[ET.Element], where: str) -> Optional[np.ndarray]:
+def _transform(el: Optional[Element], where: str) -> Optional[np.ndarray]:
     """<transform> as 4×4: either rotation/translation/scale children or 16 numbers."""
     if el is None:
         return None
@@ -276,7 +276,7 @@ def _transform(el: Optional[ET.Element], where: str) -> Optional[np.ndarray]:
     return M
 
 
-def _shutter_block(el: ET.Element, label: str, where: str):
+def _shutter_block(el: Element, label: str, where: str):
     """(rotation 3×3, translation (3,)) of a camera's <rolling_shutter> block, or None."""
     rs = el.find("rolling_shutter")
     if rs is None:
@@ -293,7 +293,7 @@ def _shutter_block(el: ET.Element, label: str, where: str):
     return M, t
 
 
-def _iter_with_group(parent: Optional[ET.Element], tag: str):
+def _iter_with_group(parent: Optional[Element], tag: str):
     """Yield (element, group label) for ``tag`` children, looking inside <group> elements."""
     if parent is None:
         return
@@ -306,7 +306,7 @@ def _iter_with_group(parent: Optional[ET.Element], tag: str):
                     yield sub, el.get("label")
 
 
-def _crs(chunk: ET.Element, where: str, given=None) -> Tuple[Optional[CRS], str]:
+def _crs(chunk: Element, where: str, given=None) -> Tuple[Optional[CRS], str]:
     """(chunk CRS, how it was resolved: :func:`~..crs.project_crs`) of the chunk ``<reference>``."""
     ref = chunk.find("reference")
     text = (ref.text or "").strip() if ref is not None else ""
@@ -315,7 +315,7 @@ def _crs(chunk: ET.Element, where: str, given=None) -> Tuple[Optional[CRS], str]
     return project_crs(text, f"{where}, chunk <reference>", given)
 
 
-def _frame_doc(src: Optional[_Source], chunk_rel: Optional[str], chunk: ET.Element):
+def _frame_doc(src: Optional[_Source], chunk_rel: Optional[str], chunk: Element):
     """(photo paths {camera id: path}, observations {marker id: [(camera id, u, v)]},
     frame doc path, problem message or None)."""
     paths, obs = {}, {}
@@ -354,7 +354,7 @@ def _resolve_photo(path: str, src: Optional[_Source], frame_rel: Optional[str]) 
     return str((src.root / posixpath.dirname(frame_rel) / path).resolve())
 
 
-def read_chunk(chunk: ET.Element, where: str, source: Path, src: Optional[_Source] = None,
+def read_chunk(chunk: Element, where: str, source: Path, src: Optional[_Source] = None,
                chunk_rel: Optional[str] = None, chunk_key: str = "0", crs=None) -> Reconstruction:
     """A :class:`Reconstruction` from a chunk element (project chunk or exported cameras XML).
     ``crs``: the chunk CRS when its ``<reference>`` cannot be used (see :func:`_crs`)."""

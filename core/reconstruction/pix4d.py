@@ -18,7 +18,6 @@ coordinates about the calibrated principal point, tangential in OpenCV order:
 x' = x·rad + 2T1xy + T2(r² + 2x²) → in our model p1 = T2, p2 = T1.
 """
 import re
-import xml.etree.ElementTree as ET
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
 
@@ -27,6 +26,7 @@ import numpy as np
 from ..crs import as_crs, project_crs
 from ..photo_files import is_windows_path, photo_key
 from ..errors import InputError, reads_file
+from ..safe_xml import XMLError, parse_xml
 from .frame_model import Calibration
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
@@ -237,8 +237,8 @@ def _p4d_photos(p4d: Optional[Path]) -> Dict[str, str]:
     if p4d is None:
         return {}
     try:
-        root = ET.parse(p4d).getroot()
-    except (ET.ParseError, OSError) as exc:
+        root = parse_xml(p4d.read_bytes())
+    except (XMLError, OSError) as exc:
         raise InputError(f"{p4d}: not a readable .p4d XML file ({exc}).") from None
     out = {}
     for im in root.iter("image"):

@@ -35,7 +35,7 @@ def read_geopackage(path, name_field: Optional[str] = None, crs=None,
     try:
         table, column, srs_id = _layer(con, path, layer)
         layer_crs = _crs(con, path, srs_id)
-        cur = con.execute(f"SELECT * FROM {quote_identifier(table)}")  # nosec B608
+        cur = con.execute(f"SELECT * FROM {quote_identifier(table)}")  # nosec B608 -- quoted name
         names = [d[0] for d in cur.description]
         pk = _primary_key(con, table)
         features = []

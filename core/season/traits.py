@@ -14,7 +14,6 @@ Traits (names in the long table; heights in the units of the DSM or cloud, usual
 A pixel counts when its centre is inside the ROI and it is valid (not nodata, alpha > 0).
 """
 import re
-import xml.etree.ElementTree as ET
 from typing import Dict, List, Optional, Sequence, Tuple
 
 import numpy as np
@@ -22,6 +21,7 @@ import numpy as np
 from ..errors import EasyIDPError
 from ..indices import RGB_NAMES
 from ..raster import TAG_GDAL_METADATA, GeoTiff
+from ..safe_xml import XMLError, parse_xml
 
 TRAIT_GROUPS = ("height", "cover", "bands", "index", "cloud")
 """What can be asked for: DSM heights, canopy cover, band means, the vegetation index (ExG or
@@ -80,8 +80,8 @@ def _gdal_descriptions(tif: GeoTiff) -> List[str]:
     if not xml:
         return []
     try:
-        root = ET.fromstring(xml)
-    except ET.ParseError:
+        root = parse_xml(xml)
+    except XMLError:
         return []
     out: Dict[int, str] = {}
     for item in root.iter("Item"):
