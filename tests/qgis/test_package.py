@@ -165,7 +165,7 @@ def test_bandit_refuses_findings_of_every_severity(tmp_path, source, rule):
     """LOW findings block as MEDIUM and HIGH ones do (B105–B107 are LOW in Bandit)."""
     (tmp_path / "planted.py").write_text(source)
     found = package._bandit(str(tmp_path))
-    assert any(f.startswith(f"Bandit: planted.py:") and f" {rule} " in f for f in found), found
+    assert any(f.startswith("Bandit: planted.py:") and f" {rule} " in f for f in found), found
 
 
 def test_a_nosec_needs_its_rule_and_a_reason(tmp_path):
