@@ -1,4 +1,10 @@
-# EasyIDP for QGIS: one entry point. Run as root on Debian 12 or 13 (apt is used when QGIS is missing).
+# EasyIDP for QGIS: one entry point. Run as root on Debian 12 or 13 (apt is used when QGIS is missing),
+# except make check, make realdata and make changelog, which need only Python 3 with venv.
+#   make check  lint (ruff) and the unit tests, in .venv-check (packages from the registry): no
+#               root, no QGIS, no real test data, no easyidp 2.0.4; the first thing make test runs
+#   make realdata  the real test data from its public sources at pinned commits, each file checked
+#               (REALDATA_FROM=DIR: from a local folder; REALDATA_MIRROR=URL: from a mirror)
+#   make changelog  metadata.txt's version and changelog from core/__init__.py and CHANGELOG.md
 #   make demo   build the demo data and run every tool on it through qgis_process (and compare
 #               with easyidp 2.0.4 in its own environment, .venv-ref, built when missing)
 #   make test   all tests: core (two environments), real QGIS offscreen, qgis_process runs and the
@@ -16,6 +22,12 @@ VENV := $(ROOT)/.venv
 VENV_CORE := $(ROOT)/.venv-core
 VENV_REF := $(ROOT)/.venv-ref
 VENV_EXACT := $(ROOT)/.venv-exactextract
+VENV_CHECK := $(ROOT)/.venv-check
+# where the real test data is (tests/*/conftest.py look there too)
+REALDATA ?= $(or $(EASYIDP_REALDATA),$(abspath $(ROOT)/../shared/realdata))
+# the files ruff format keeps (the rest of the tree keeps its hand layout; pyproject.toml)
+FORMAT_CHECKED := core/safe_xml.py scripts/changelog.py scripts/realdata.py tests/support/markers.py \
+    tests/core/test_wheel.py tests/core/test_realdata.py tests/core/test_changelog.py
 # The plugin folder must be named easyidp_toolbox: .plugins/easyidp_toolbox links to this tree.
 PLUGINS := $(ROOT)/.plugins
 export QT_QPA_PLATFORM := offscreen
@@ -31,7 +43,7 @@ CODENAME := $(shell . /etc/os-release 2>/dev/null && echo $$VERSION_CODENAME)
 HOST_SUITE := $(if $(filter bookworm trixie,$(CODENAME)),$(CODENAME),sid)
 OTHER_SUITES := $(filter-out $(HOST_SUITE),$(SUITES))
 
-.PHONY: env env-qgis env-ref env-exactextract test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
+.PHONY: check realdata changelog env env-qgis env-ref env-exactextract test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
         bench package screenshots clean
 
 env: env-qgis $(VENV_CORE)/.done
@@ -91,7 +103,29 @@ $(VENV_EXACT)/.done: requirements/exactextract.txt | apt
 	$(VENV_EXACT)/bin/pip install -q --disable-pip-version-check -r requirements/exactextract.txt
 	touch $@
 
-test: env env-ref
+# make check: a venv of Python 3 (python3-venv on Debian) with the current stack and ruff
+$(VENV_CHECK)/.done: requirements/current.txt requirements/check.txt | $(PLUGINS)/easyidp_toolbox
+	@echo "== creating $(VENV_CHECK) (ruff and the current stack, from the registry; no QGIS)"
+	@test -x $(VENV_CHECK)/bin/python || $(PY_SYS) -m venv $(VENV_CHECK)
+	$(VENV_CHECK)/bin/pip install -q --disable-pip-version-check --prefer-binary -r requirements/check.txt
+	echo $(PLUGINS) > $$($(VENV_CHECK)/bin/python -c 'import sysconfig; print(sysconfig.get_paths()["purelib"])')/easyidp_toolbox.pth
+	touch $@
+
+check: $(VENV_CHECK)/.done
+	@echo "== lint (ruff; the rules in pyproject.toml)"
+	cd $(ROOT) && $(VENV_CHECK)/bin/ruff check --no-cache . && $(VENV_CHECK)/bin/ruff format --no-cache --check $(FORMAT_CHECKED)
+	@echo "== unit tests (no QGIS, real data or easyidp 2.0.4)"
+	cd $(ROOT) && EASYIDP_REALDATA=$(ROOT)/.no-realdata EASYIDP_REF_PYTHON=$(ROOT)/.no-reference \
+	    $(VENV_CHECK)/bin/python -m pytest -q -p no:cacheprovider -m "unit and not gdal" tests/core
+
+realdata:
+	$(PY_SYS) $(ROOT)/scripts/realdata.py --to $(REALDATA) $(if $(REALDATA_FROM),--from $(REALDATA_FROM)) \
+	    $(if $(REALDATA_MIRROR),--mirror $(REALDATA_MIRROR))
+
+changelog:
+	$(PY_SYS) $(ROOT)/scripts/changelog.py
+
+test: check env env-ref
 	$(MAKE) --no-print-directory test-core test-core-current test-qgis test-roots
 
 # The other QGIS of the matrix, each in a Debian root built once and cached (.ci/debian_root.sh,
@@ -137,5 +171,5 @@ package: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.package --output $(ROOT)/dist $(if $(STRICT),--strict)
 
 clean:
-	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist \
+	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(VENV_CHECK) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist \
 	    $(foreach s,$(SUITES),$(ROOT)/.venv-$(s) $(ROOT)/.venv-ref-$(s) $(ROOT)/demo_output-$(s))

@@ -8,6 +8,7 @@ entities and character references expand. Nothing can grow ("billion laughs", qu
 and nothing outside the document is read (external entities, external DTDs). None of the files
 read here has a DTD. The tree is ElementTree's (``Element``), built by its ``TreeBuilder``.
 """
+
 import xml.parsers.expat
 from typing import Union
 
@@ -23,8 +24,10 @@ class XMLError(ValueError):
 
 
 def _refuse_dtd(*_args) -> None:
-    raise XMLError("it has a document type declaration (<!DOCTYPE>), which project files never "
-                   "have; it is refused so that no entity can expand")
+    raise XMLError(
+        "it has a document type declaration (<!DOCTYPE>), which project files never "
+        "have; it is refused so that no entity can expand"
+    )
 
 
 def parse_xml(data: Union[bytes, str]) -> Element:
@@ -43,7 +46,8 @@ def parse_xml(data: Union[bytes, str]) -> Element:
         return "{" + raw if "}" in raw else raw
 
     parser.StartElementHandler = lambda tag, attrs: builder.start(
-        name(tag), {name(k): v for k, v in attrs.items()})
+        name(tag), {name(k): v for k, v in attrs.items()}
+    )
     parser.EndElementHandler = lambda tag: builder.end(name(tag))
     parser.CharacterDataHandler = builder.data
     try:

@@ -8,6 +8,7 @@ becomes one line of ``metadata.txt``'s ``changelog``, ``<version> <entries joine
 (QGIS shows it in the plugin manager). ``--check`` changes nothing and exits 1 when
 ``metadata.txt`` is out of step; ``make package`` refuses to build then.
 """
+
 import argparse
 import re
 import sys
@@ -23,7 +24,7 @@ def core_version(root: Path = ROOT) -> str:
     text = (root / "core" / "__init__.py").read_text(encoding="utf-8")
     match = re.search(r'^__version__ = "([^"]+)"$', text, re.MULTILINE)
     if not match:
-        raise ValueError(f"{root / 'core' / '__init__.py'} has no __version__ = \"…\" line")
+        raise ValueError(f'{root / "core" / "__init__.py"} has no __version__ = "…" line')
     return match.group(1)
 
 
@@ -52,11 +53,16 @@ def _key(version: str) -> Tuple[int, ...]:
 
 def metadata_changelog(changelog: str, version: str) -> str:
     """The value of ``changelog=`` for ``version``: one line per release up to it."""
-    lines = [f"{v} {'; '.join(e).rstrip('.')}." for v, e in releases(changelog)
-             if _key(v) <= _key(version)]
+    lines = [
+        f"{v} {'; '.join(e).rstrip('.')}."
+        for v, e in releases(changelog)
+        if _key(v) <= _key(version)
+    ]
     if not lines or not lines[0].startswith(version + " "):
-        raise ValueError(f"CHANGELOG.md has no section ## [{version}] - <date> for the version "
-                         "of core/__init__.py")
+        raise ValueError(
+            f"CHANGELOG.md has no section ## [{version}] - <date> for the version "
+            "of core/__init__.py"
+        )
     return "\n    ".join(lines)
 
 
@@ -97,8 +103,11 @@ def main(argv=None) -> int:
         print("metadata.txt is in step with core.__version__ and CHANGELOG.md")
         return 0
     if args.check:
-        print("ERROR: metadata.txt is out of step with core.__version__ and CHANGELOG.md: run "
-              "make changelog", file=sys.stderr)
+        print(
+            "ERROR: metadata.txt is out of step with core.__version__ and CHANGELOG.md: run "
+            "make changelog",
+            file=sys.stderr,
+        )
         return 1
     (ROOT / "metadata.txt").write_text(wanted, encoding="utf-8")
     print(f"metadata.txt: version {core_version()} and its changelog written")

@@ -4,6 +4,8 @@ from pathlib import Path
 
 import pytest
 
+from easyidp_toolbox.tests.support import markers
+
 ROOT = Path(__file__).resolve().parents[2]
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
 
@@ -13,12 +15,19 @@ def pytest_configure(config):
     config.addinivalue_line("markers", "gdal: compares with GDAL's Python bindings (QGIS "
                             "environment only)")
     config.addinivalue_line("markers", "geopandas: uses geopandas (current-stack environment only)")
+    markers.register(config)
+
+
+def pytest_collection_modifyitems(config, items):
+    """unit, realdata, reference: from each test's fixtures and names (tests/support/markers.py)."""
+    markers.apply(items, "core", Path(__file__).resolve().parent)
 
 
 @pytest.fixture(scope="session")
 def realdata() -> Path:
     if not REALDATA.is_dir():
-        pytest.fail(f"real test data not found at {REALDATA} (set EASYIDP_REALDATA)")
+        pytest.fail(f"real test data not found at {REALDATA}: run make realdata (or set "
+                    "EASYIDP_REALDATA to a folder that holds it); make check runs without it")
     return REALDATA
 
 

@@ -7,6 +7,7 @@ independent reader, pixel for pixel); the back-projection's whole-plot photo set
 survey's truth (the generator's own record of which photos hold each plot). Not a unit test
 (conftest.py leaves it out of make check): it downloads packages and takes about a minute.
 """
+
 import json
 import os
 import re
@@ -22,7 +23,7 @@ import pytest
 ROOT = Path(__file__).resolve().parents[2]
 
 # Run inside the fresh venv: prints a JSON summary.
-CHECK = textwrap.dedent('''
+CHECK = textwrap.dedent("""
     import json, sys
     import numpy as np
     import tifffile
@@ -67,12 +68,13 @@ CHECK = textwrap.dedent('''
     print(json.dumps({"version": core.__version__, "file": easyidp_toolbox.__file__,
                       "crops": len(crop.files), "rois": len(rois), "worst": worst,
                       "whole": whole}))
-''')
+""")
 
 
 @pytest.fixture(scope="module")
 def survey(tmp_path_factory):
     from easyidp_toolbox.core.demo import make_demo_survey
+
     s = make_demo_survey(str(tmp_path_factory.mktemp("wheel_demo")), seed=0, size="small")
     with open(s.truth) as fh:
         s.truth_doc = json.load(fh)
@@ -82,9 +84,22 @@ def survey(tmp_path_factory):
 @pytest.fixture(scope="module")
 def wheel(tmp_path_factory):
     out = tmp_path_factory.mktemp("wheel")
-    run = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", "-q",
-                          "--disable-pip-version-check", "-w", str(out), str(ROOT)],
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "pip",
+            "wheel",
+            "--no-deps",
+            "-q",
+            "--disable-pip-version-check",
+            "-w",
+            str(out),
+            str(ROOT),
+        ],
+        capture_output=True,
+        text=True,
+    )
     assert run.returncode == 0, run.stderr[-2000:]
     (path,) = out.glob("easyidp_toolbox-*.whl")
     return path
@@ -102,11 +117,12 @@ def test_the_wheel_holds_the_engine_only(wheel):
     tops = {n.split("/")[0] for n in names}
     assert tops == {"easyidp_toolbox", f"easyidp_toolbox-{version}.dist-info"}
     inside = {n.split("/")[1] for n in names if n.startswith("easyidp_toolbox/")}
-    assert inside == {"__init__.py", "core"}            # no easyidp_qgis, scripts, tests, bench
+    assert inside == {"__init__.py", "core"}  # no easyidp_qgis, scripts, tests, bench
     assert not [n for n in names if "__pycache__" in n or n.endswith(".pyc")]
-    tracked = subprocess.run(["git", "-C", str(ROOT), "ls-files", "core/*.py"],
-                             capture_output=True, text=True).stdout.split()
-    if tracked:                                         # a git checkout: every core module
+    tracked = subprocess.run(
+        ["git", "-C", str(ROOT), "ls-files", "core/*.py"], capture_output=True, text=True
+    ).stdout.split()
+    if tracked:  # a git checkout: every core module
         assert {f"easyidp_toolbox/{p}" for p in tracked} <= set(names)
     meta = zipfile.ZipFile(wheel).read(f"easyidp_toolbox-{version}.dist-info/METADATA").decode()
     requires = re.findall(r"^Requires-Dist: (.+)$", meta, re.MULTILINE)
@@ -122,25 +138,41 @@ def _fresh_venv(folder: Path) -> Path:
 
 
 def _pip(python: Path, *args):
-    run = subprocess.run([str(python), "-m", "pip", "-q", "--disable-pip-version-check", *args],
-                         capture_output=True, text=True)
+    run = subprocess.run(
+        [str(python), "-m", "pip", "-q", "--disable-pip-version-check", *args],
+        capture_output=True,
+        text=True,
+    )
     assert run.returncode == 0, run.stderr[-3000:]
 
 
 def _run_check(python: Path, survey, out: Path) -> dict:
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PROJ_DATA", "PROJ_LIB")}
-    run = subprocess.run([str(python), "-c", CHECK, survey.orthomosaic, survey.plots_geojson,
-                          survey.dsm, survey.metashape_project, str(out)],
-                         capture_output=True, text=True, cwd=str(out.parent), env=env)
+    run = subprocess.run(
+        [
+            str(python),
+            "-c",
+            CHECK,
+            survey.orthomosaic,
+            survey.plots_geojson,
+            survey.dsm,
+            survey.metashape_project,
+            str(out),
+        ],
+        capture_output=True,
+        text=True,
+        cwd=str(out.parent),
+        env=env,
+    )
     assert run.returncode == 0, run.stderr[-3000:]
     return json.loads(run.stdout.strip().splitlines()[-1])
 
 
 def _check_result(got: dict, survey, venv_dir: Path):
     assert got["version"] == _core_version()
-    assert Path(got["file"]).resolve().is_relative_to(venv_dir.resolve())   # not the checkout
+    assert Path(got["file"]).resolve().is_relative_to(venv_dir.resolve())  # not the checkout
     assert got["crops"] == got["rois"] > 0
-    assert got["worst"] == 0                            # the crops are the ortho's own pixels
+    assert got["worst"] == 0  # the crops are the ortho's own pixels
     plots = survey.truth_doc["plots"]
     assert got["whole"] == {name: sorted(plots[name]["photos_whole"]) for name in got["whole"]}
 

@@ -14,6 +14,8 @@ from pathlib import Path
 
 import pytest
 
+from easyidp_toolbox.tests.support import markers
+
 ROOT = Path(__file__).resolve().parents[2]
 REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "realdata"))
 
@@ -21,8 +23,18 @@ REALDATA = Path(os.environ.get("EASYIDP_REALDATA", ROOT.parent / "shared" / "rea
 @pytest.fixture(scope="session")
 def realdata() -> Path:
     if not REALDATA.is_dir():
-        pytest.fail(f"real test data not found at {REALDATA}")
+        pytest.fail(f"real test data not found at {REALDATA}: run make realdata (or set "
+                    "EASYIDP_REALDATA to a folder that holds it)")
     return REALDATA
+
+
+def pytest_configure(config):
+    markers.register(config)
+
+
+def pytest_collection_modifyitems(config, items):
+    """qgis, desktop, realdata, reference: by path and fixtures (tests/support/markers.py)."""
+    markers.apply(items, "qgis", Path(__file__).resolve().parent)
 
 
 @pytest.fixture(scope="session")
