@@ -10,6 +10,14 @@ anything); e.g. ``Dependency("skimage", "scikit-image>=0.22", ("seasonmetrics",)
 ``requirements/qgis.txt`` (the test environment; a test checks both, and that every package the
 code imports has a row).
 
+*Install* installs the releases the tests ran with (``TESTED``, the pins of
+``requirements/qgis.txt``; a test keeps them equal), per Python: a Python the tests ran on gets
+``==`` its pin; another Python gets the table's lower bound capped below the next major release
+of the nearest tested Python's pin (pip then picks the newest release with wheels for it).
+What those pins bring with them is whatever pip resolves, and the message bar lists it before
+installing. The script-only extras (Dask, OPF, pyshp) are installed only when asked for
+(``install_argv(..., extras)``, or the command the messages give).
+
 Packages go to a folder the plugin owns inside the user's QGIS profile
 (``<profile>/python/easyidp_toolbox_packages/python3.X``), put first on ``sys.path`` when the plugin
 loads. QGIS's own environment is never changed: numpy and GDAL are QGIS's (``PROTECTED``) and are
@@ -24,7 +32,7 @@ import shlex
 import subprocess
 import sys
 from dataclasses import dataclass
-from typing import List, Optional, Sequence, Tuple, Union
+from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from qgis.PyQt.QtCore import QCoreApplication
 
@@ -95,6 +103,23 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)
     Dependency("pyopf", "pyopf>=1.4.1", (), ("pillow", ">=10"), ">=3.10"),  # OPF projects
 )
+
+# The releases the tests ran with, by Python (requirements/qgis.txt, where the QGIS matrix runs
+# them: Python 3.11 on Debian 12, 3.13 on Debian 13, 3.14 on sid). A distribution absent here
+# (scipy, Pillow, matplotlib, pyproj: QGIS's own on the tested platforms) keeps the table's bound.
+TESTED_PYTHONS = ((3, 11), (3, 13), (3, 14))
+TESTED: Dict[str, Tuple[Tuple[str, str], ...]] = {   # distribution: ((Python range, version), …)
+    "tifffile": (("", "2026.3.3"),),
+    "imagecodecs": (("", "2026.1.14"),),
+    "laspy": (("", "2.7.0"),),
+    "lazrs": (("", "0.8.2"),),
+    "plyfile": (("<3.12", "1.0.3"), (">=3.12", "1.1.3")),
+    "pyshp": (("", "3.1.6"),),
+    "dask": (("", "2026.8.0"),),
+    "scikit-image": (("<3.12", "0.24.0"), (">=3.12", "0.26.0")),
+    "shapely": (("<3.12", "2.0.7"), (">=3.12", "2.1.2")),
+    "pyopf": (("", "1.4.1"),),
+}
 
 # QGIS's own packages: checked, never installed (a plugin must not replace QGIS's numpy or GDAL).
 PROTECTED = ("numpy", "gdal")
@@ -305,10 +330,37 @@ def installable(items: Sequence[Missing]) -> List[Missing]:
     return [m for m in items if not m.protected]
 
 
+def tested_version(distribution: str, python: Tuple[int, int]) -> Optional[str]:
+    """The release the tests ran with on ``python`` (a tested Python), or None."""
+    for spec, version in TESTED.get(canonical(distribution), ()):
+        if not spec or version_satisfies("%d.%d" % python, spec):
+            return version
+    return None
+
+
+def pinned_requirement(dep: Dependency, python: Optional[Tuple[int, int]] = None) -> str:
+    """The requirement *Install* gives pip for ``dep`` on ``python`` (default: this one).
+
+    A tested Python: ``name[extras]==<the tested release>``. Another Python: the table's
+    specifier and ``<`` the next major release of the nearest tested Python's pin (the newer
+    one on a tie). Not in ``TESTED``: the table's requirement."""
+    python = tuple(python or sys.version_info[:2])
+    name = dep.requirement[:len(dep.requirement) - len(dep.specifier)].strip()
+    if canonical(dep.distribution) not in TESTED:
+        return dep.requirement
+    if python in TESTED_PYTHONS:
+        pin = tested_version(dep.distribution, python)
+        return f"{name}=={pin}" if version_satisfies(pin, dep.specifier) else dep.requirement
+    nearest = min(TESTED_PYTHONS, key=lambda t: (abs(t[1] - python[1]), -t[1]))
+    major = int(tested_version(dep.distribution, nearest).split(".")[0])
+    return ",".join(filter(None, [f"{name}{dep.specifier}", f"<{major + 1}"]))
+
+
 def install_argv(items: Sequence[Missing], python: Optional[str] = None,
                  target: Optional[str] = None) -> List[str]:
-    """The command that installs ``items`` into the package folder (what *Install* runs)."""
-    reqs = [m.dependency.requirement for m in installable(items)]
+    """The command that installs ``items`` into the package folder (what *Install* runs), each
+    at its pinned release (``pinned_requirement``)."""
+    reqs = [pinned_requirement(m.dependency) for m in installable(items)]
     return [python or python_executable(), INSTALL_SCRIPT, "--target", target or packages_dir(),
             *reqs]
 

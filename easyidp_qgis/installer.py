@@ -2,7 +2,10 @@
 
 Only the desktop shows it (``initGui``); ``qgis_process`` never installs anything. *Install* runs
 ``install_packages.py`` with QGIS's own Python in a ``QgsTask`` (progress in the bar and in the
-task manager, cancellable from either); nothing is downloaded before the click.
+task manager, cancellable from either); nothing is downloaded before the click. The packages go
+in at the releases the tests ran with (``dependencies.pinned_requirement``); once pip has
+resolved them, the bar lists everything that will be installed, what comes with them included.
+The result stays in the bar until it is closed.
 """
 import os
 import queue
@@ -26,7 +29,7 @@ class InstallTask(QgsTask):
     """Runs the install command in the background, reporting ``::progress`` lines; cancellable.
 
     ``done(task)`` is called in the main thread at the end; ``ok``, ``cancelled``, ``output`` and
-    ``error`` say how it went.
+    ``error`` say how it went; ``plan`` is what pip resolved (``"name version, …"``), once known.
     """
 
     def __init__(self, argv: List[str], description: str, done: Callable[["InstallTask"], None]):
@@ -35,6 +38,7 @@ class InstallTask(QgsTask):
         self.done = done
         self.output: List[str] = []
         self.error = ""
+        self.plan = ""
         self.ok = False
         self.cancelled = False
         self.returncode: Optional[int] = None
@@ -66,6 +70,17 @@ class InstallTask(QgsTask):
         lines: "queue.Queue[Optional[str]]" = queue.Queue()
         reader = threading.Thread(target=_read_lines, args=(proc.stdout, lines), daemon=True)
         reader.start()
+        try:
+            self._follow(proc, lines)
+            proc.wait()
+            reader.join(timeout=5)
+        finally:
+            proc.stdout.close()  # the pipe is ours to close (no ResourceWarning)
+        self.returncode = proc.returncode
+        return proc.returncode == 0 and not self.cancelled
+
+    def _follow(self, proc: subprocess.Popen, lines: "queue.Queue[Optional[str]]") -> None:
+        """Read the installer's lines until it ends or the task is cancelled."""
         while True:
             if self.isCanceled():
                 self.cancelled = True
@@ -84,10 +99,9 @@ class InstallTask(QgsTask):
                 self.output.append(line)
                 if line.startswith("ERROR:"):
                     self.error = line[len("ERROR:"):].strip()
-        proc.wait()
-        reader.join(timeout=5)
-        self.returncode = proc.returncode
-        return proc.returncode == 0 and not self.cancelled
+                elif line.startswith("To install: "):
+                    self.plan = line[len("To install: "):].strip()
+                    self.setProgress(self.progress())  # the bar shows the plan (main thread)
 
     def finished(self, result: bool) -> None:  # main thread
         self.cancelled = self.cancelled or self.isCanceled()  # also when cancelled before run()
@@ -150,6 +164,7 @@ class DependencyBar:
         self.result = ""  # "", "installed", "failed" or "cancelled"
         self.message = ""  # the text of the last message shown
         self.unloaded = False
+        self.extras = False
 
     def tr(self, text: str) -> str:
         return QCoreApplication.translate("EasyIDP", text)
@@ -179,11 +194,13 @@ class DependencyBar:
         self._show(widget, MessageLevel.Warning, text)
         return True
 
-    def install(self) -> None:
-        """The *Install* button: run the installer for every missing package, in a task."""
+    def install(self, extras: bool = False) -> None:
+        """The *Install* button: run the installer for every missing package the tools need
+        (``extras``: the script-only extras too, Dask and OPF), in a task."""
         if self.task is not None:
             return
-        items = dependencies.installable(dependencies.missing(include_extras=True))
+        self.extras = extras
+        items = dependencies.installable(dependencies.missing(include_extras=extras))
         if not items:
             self._report(MessageLevel.Success, self.tr("Every Python package EasyIDP needs is installed."))
             return
@@ -203,7 +220,15 @@ class DependencyBar:
         cancel.setObjectName(self.CANCEL_BUTTON)
         cancel.clicked.connect(self.cancel)
         widget.layout().addWidget(cancel)
-        self.task.progressChanged.connect(lambda value: progress.setValue(int(value)))
+        task = self.task
+
+        def advanced(value):
+            progress.setValue(int(value))
+            planned = self.tr("Installing {packages} …").format(packages=task.plan)
+            if task.plan and widget.text() != planned:
+                widget.setText(planned)          # what pip resolved, dependencies included
+                self.message = planned
+        self.task.progressChanged.connect(advanced)
         self._show(widget, MessageLevel.Info, text)
         QgsApplication.taskManager().addTask(self.task)
 
@@ -230,7 +255,7 @@ class DependencyBar:
                                             "install later, run:\n{command}").format(
                 command=self.command))
             return
-        still = dependencies.missing(include_extras=True) if task.ok else []
+        still = dependencies.missing(include_extras=self.extras) if task.ok else []
         if not task.ok or still:
             self.result = "failed"
             reason = task.error or (self.tr("still missing after pip: {packages}").format(
@@ -248,12 +273,12 @@ class DependencyBar:
             packages=installed or self.tr("nothing was missing"))
         if _loaded_elsewhere(installed):
             text += " " + self.tr("Restart QGIS to use them: an older copy is already loaded.")
-        self._report(MessageLevel.Success, text, duration=-1)
+        self._report(MessageLevel.Success, text)  # stays until closed
         if self.on_installed is not None:
             self.on_installed()
 
     def _report(self, level, text: str, details: str = "", duration: int = 0) -> None:
-        """A result message; ``duration`` 0 keeps it until closed, -1 is QGIS's default."""
+        """A result message; ``duration`` 0 (every result) keeps it until it is closed."""
         self._pop()
         self.message = text
         if details:

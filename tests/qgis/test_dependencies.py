@@ -4,6 +4,7 @@ The install itself (pip, the message bar, qgis_process in a fresh profile) is te
 test_install_packages.py and test_install_from_zip.py.
 """
 import ast
+import re
 import shlex
 import sys
 from pathlib import Path
@@ -150,12 +151,13 @@ def test_a_tool_refuses_to_run_and_names_the_package(plugin, realdata, tmp_path,
 def test_import_error_message_and_install_hint():
     err = ModuleNotFoundError("No module named 'laspy'", name="laspy")
     text = deps.import_error_message(err)
-    assert "laspy>=" in text and "install_packages.py" in text
+    laspy = deps.dependency_for_module("laspy")
+    assert deps.pinned_requirement(laspy) in text and "install_packages.py" in text
     unknown = deps.import_error_message(ModuleNotFoundError("x", name="somethingelse"))
     assert "somethingelse" not in deps.install_hint() and "QGIS's Python" in unknown
     from easyidp_toolbox.easyidp_qgis.algorithms.base import INSTALL_HINT
     for dep in deps.DEPENDENCIES:
-        assert (dep.requirement in INSTALL_HINT) == (dep.distribution not in ("numpy",))
+        assert (deps.pinned_requirement(dep) in INSTALL_HINT) == (dep.distribution != "numpy")
 
 
 def test_interpreter_and_folder():
@@ -186,3 +188,52 @@ def test_qgis_pyproj_is_never_replaced_but_installed_where_missing(monkeypatch):
     assert "use a newer QGIS" in deps.install_instructions([old])
     absent = deps.Missing(row, None)
     assert not absent.protected and "'pyproj>=99'" in deps.install_instructions([absent])
+
+
+def _qgis_txt_pins(python):
+    """{distribution: version} that requirements/qgis.txt pins (==) for ``python`` (major,
+    minor), its markers evaluated by pip's own packaging (the truth: not our parser)."""
+    from pip._vendor.packaging.requirements import Requirement
+    pins = {}
+    qgis_txt = (ROOT / "requirements" / "qgis.txt").read_text()
+    for line in qgis_txt.splitlines():
+        line = line.split("#", 1)[0].strip()
+        if not line:
+            continue
+        req = Requirement(line)
+        env = {"python_version": "%d.%d" % python, "python_full_version": "%d.%d.0" % python}
+        if req.marker is None or req.marker.evaluate(env):
+            for spec in req.specifier:
+                if spec.operator == "==":
+                    pins[deps.canonical(req.name)] = spec.version
+    if python < (3, 12):   # the Makefile installs qgis.txt's pyopf there too, with --no-deps
+        pins["pyopf"] = re.search(r"^pyopf==([0-9.]+)", qgis_txt, re.MULTILINE).group(1)
+    return pins
+
+
+@pytest.mark.parametrize("python", deps.TESTED_PYTHONS)
+def test_the_pinned_table_is_what_the_tests_ran_with(python):
+    pins = _qgis_txt_pins(python)
+    rows = {deps.canonical(d.distribution): d for d in deps.DEPENDENCIES}
+    for name in deps.TESTED:
+        assert name in rows, name
+        assert deps.tested_version(name, python) == pins[name], name
+        assert deps.pinned_requirement(rows[name], python).endswith(f"=={pins[name]}")
+        assert deps.version_satisfies(pins[name], rows[name].specifier), name
+    # every pinned table package of requirements/qgis.txt is in TESTED (numpy is QGIS's own)
+    table = set(rows) - set(deps.PROTECTED)
+    assert {n for n in pins if n in table} == set(deps.TESTED)
+
+
+def test_untested_pythons_get_a_range_below_the_next_major():
+    rows = {d.distribution: d for d in deps.DEPENDENCIES}
+    assert deps.pinned_requirement(rows["tifffile"], (3, 9)) == "tifffile>=2023.7.10,<2027"
+    assert deps.pinned_requirement(rows["scikit-image"], (3, 12)) == "scikit-image>=0.22,<1"
+    assert deps.pinned_requirement(rows["dask"], (3, 10)) == "dask[distributed]>=2024.1,<2027"
+    assert deps.pinned_requirement(rows["dask"], (3, 11)) == "dask[distributed]==2026.8.0"
+    assert deps.pinned_requirement(rows["plyfile"], (3, 11)) == "plyfile==1.0.3"
+    assert deps.pinned_requirement(rows["plyfile"], (3, 14)) == "plyfile==1.1.3"
+    assert deps.pinned_requirement(rows["scipy"], (3, 12)) == "scipy>=1.10"   # QGIS's own
+    # what a fresh profile's Install runs: the pins of this Python
+    argv = deps.install_argv([deps.Missing(rows["laspy"], None)], python="py", target="t")
+    assert argv[-1] == deps.pinned_requirement(rows["laspy"])

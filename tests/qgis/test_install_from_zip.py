@@ -124,14 +124,27 @@ def test_install_failure_says_the_command(first_start):
 
 
 def test_install_from_the_package_index(first_start, profile):
+    """Exactly the tools' packages, at the releases the tests ran with on this Python (the
+    pinned table), and what pip resolved for them; the extras (Dask, OPF, pyshp) not asked for."""
     _, folder = profile
     step = first_start["steps"][2]
     assert step["result"] == "installed", json.dumps(step, indent=1)
-    assert step["missing_after"] == []
-    for name in _missing_on_debian(extras=True):
-        name = name.replace("-", "_")
-        assert any(f.lower().startswith(f"{name}-") and f.endswith(".dist-info")
-                   for f in step["folder"]), name
+    extras = [d for d in _missing_on_debian(extras=True) if d not in NEEDED]
+    assert step["missing_after"] == extras
+    python = sys.version_info[:2]
+    for name in NEEDED:
+        pin = dependencies.tested_version(name, python)
+        infos = [f for f in step["folder"] if f.endswith(".dist-info")
+                 and dependencies.canonical(f.rsplit("-", 1)[0]) == dependencies.canonical(name)]
+        assert len(infos) == 1, (name, infos)
+        if python in dependencies.TESTED_PYTHONS and pin:
+            assert infos[0].rsplit("-", 1)[1] == f"{pin}.dist-info", (name, infos)
+            assert f"{name} {pin}" in step["message"], name    # the bar said what it installed
+    for name in extras:
+        assert not [f for f in step["folder"] if f.endswith(".dist-info") and
+                    dependencies.canonical(f.rsplit("-", 1)[0]) == dependencies.canonical(name)]
+    listed = step["message"].split(": ", 1)[1].rstrip(".").split(", ")
+    assert len(listed) > len(NEEDED)                  # what came with them is listed too
     assert not [f for f in step["folder"] if f.lower().startswith(("numpy", "gdal"))]
     for module, path in first_start["imported"].items():
         assert path.startswith(str(folder)), module  # usable at once, without a restart
