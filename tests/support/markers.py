@@ -6,8 +6,10 @@
   ``require_reference``, ``reference_env`` of ``scripts/reference.py``: ``.venv-ref``);
 - ``qgis``: every test of ``tests/qgis`` (real QGIS, qgis_process);
 - ``desktop``: the QGIS desktop under Xvfb (``DESKTOP_MODULES``);
-- ``unit``: a test of ``tests/core`` with none of the above and not in ``NOT_UNIT``: what
-  ``make check`` runs, with no root, no QGIS, no real data and no reference environment.
+- ``unit``: a test of ``tests/core`` with none of the above, that does not generate the demo
+  survey or season (``GENERATED_NAMES``: tens of seconds each) and is not in ``NOT_UNIT``: what
+  ``make check`` runs, with no root, no QGIS, no real data and no reference environment. The
+  others run in ``make test``.
 """
 
 from pathlib import Path
@@ -22,6 +24,8 @@ MARKERS = {
 }
 REALDATA_NAMES = {"realdata", "REALDATA"}
 REFERENCE_NAMES = {"REF_PYTHON", "require_reference", "reference_env"}
+# a generated survey or season (tens of seconds each): not unit, run by make test
+GENERATED_NAMES = {"make_demo_survey", "make_demo_season"}
 DESKTOP_MODULES = {"test_desktop.py", "test_install_from_zip.py"}
 # tests/core modules that are not unit tests, with the reason
 NOT_UNIT = {"test_wheel.py": "builds the wheel and installs it into fresh venvs from the registry"}
@@ -30,6 +34,15 @@ NOT_UNIT = {"test_wheel.py": "builds the wheel and installs it into fresh venvs 
 def register(config) -> None:
     for name, text in MARKERS.items():
         config.addinivalue_line("markers", f"{name}: {text}")
+
+
+def _code_names(code) -> Set[str]:
+    """The names a code object reads, with its nested functions' and lambdas'."""
+    names = set(code.co_names)
+    for const in code.co_consts:
+        if hasattr(const, "co_names"):
+            names.update(const.co_names)
+    return names
 
 
 def _names_used(item) -> Set[str]:
@@ -43,10 +56,12 @@ def _names_used(item) -> Set[str]:
         code = getattr(func, "__code__", None)
         if code is None:
             continue
-        names.update(code.co_names)
-        for const in code.co_consts:  # nested functions and lambdas
-            if hasattr(const, "co_names"):
-                names.update(const.co_names)
+        names.update(_code_names(code))
+        # the functions it calls by name, one level down (a helper that runs the reference)
+        for name in code.co_names:
+            called = getattr(func, "__globals__", {}).get(name)
+            if callable(called) and hasattr(called, "__code__"):
+                names.update(_code_names(called.__code__))
     return names
 
 
@@ -69,7 +84,7 @@ def apply(items: Iterable, suite: str, folder: Path) -> None:
             kinds.add("qgis")
             if module in DESKTOP_MODULES:
                 kinds.add("desktop")
-        elif not kinds and module not in NOT_UNIT:
+        elif not kinds and module not in NOT_UNIT and not used & GENERATED_NAMES:
             kinds.add("unit")
         for kind in sorted(kinds):
             item.add_marker(getattr(pytest.mark, kind))
