@@ -72,16 +72,6 @@ CHECK = textwrap.dedent("""
 
 
 @pytest.fixture(scope="module")
-def survey(tmp_path_factory):
-    from easyidp_toolbox.core.demo import make_demo_survey
-
-    s = make_demo_survey(str(tmp_path_factory.mktemp("wheel_demo")), seed=0, size="small")
-    with open(s.truth) as fh:
-        s.truth_doc = json.load(fh)
-    return s
-
-
-@pytest.fixture(scope="module")
 def wheel(tmp_path_factory):
     out = tmp_path_factory.mktemp("wheel")
     run = subprocess.run(
@@ -177,12 +167,12 @@ def _check_result(got: dict, survey, venv_dir: Path):
     assert got["whole"] == {name: sorted(plots[name]["photos_whole"]) for name in got["whole"]}
 
 
-def test_wheel_and_pip_install_dot_in_a_fresh_venv(wheel, survey, tmp_path):
+def test_wheel_and_pip_install_dot_in_a_fresh_venv(wheel, demo, tmp_path):
     """The wheel, then `pip install .` over it, into one fresh venv (dependencies from the
-    registry; pip's cache may be warm)."""
+    registry; pip's cache may be warm). ``demo``: the small demo survey (conftest.py)."""
     python = _fresh_venv(tmp_path / "venv")
     _pip(python, "install", str(wheel))
-    _check_result(_run_check(python, survey, tmp_path / "crops_wheel"), survey, tmp_path / "venv")
+    _check_result(_run_check(python, demo, tmp_path / "crops_wheel"), demo, tmp_path / "venv")
     _pip(python, "uninstall", "-y", "easyidp-toolbox")
     _pip(python, "install", str(ROOT))
-    _check_result(_run_check(python, survey, tmp_path / "crops_dot"), survey, tmp_path / "venv")
+    _check_result(_run_check(python, demo, tmp_path / "crops_dot"), demo, tmp_path / "venv")

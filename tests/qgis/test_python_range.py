@@ -18,7 +18,9 @@ from pathlib import Path
 import pytest
 from pip._vendor.packaging.specifiers import SpecifierSet
 
-from easyidp_toolbox.easyidp_qgis.dependencies import DEPENDENCIES, PROTECTED, canonical
+from easyidp_toolbox.easyidp_qgis.dependencies import (DEPENDENCIES, PROTECTED, TESTED_PYTHONS,
+                                                       canonical, pinned_requirement,
+                                                       tested_version)
 
 ROOT = Path(__file__).resolve().parents[2]
 SUPPORTED = ((3, 9), (3, 14))
@@ -54,7 +56,9 @@ def test_the_dependency_table_resolves_to_wheels_for(version, tmp_path):
     # rows with releases for newer Pythons only (pyopf: 3.10) are left out of older ones
     rows = [d for d in DEPENDENCIES if not d.python or SpecifierSet(d.python).contains(
         "%d.%d" % version)]
-    reqs = [d.requirement for d in rows if canonical(d.distribution) not in PROTECTED]
+    # what Install asks for on that Python: the tested pins, or a range below the next major
+    reqs = [pinned_requirement(d, version) for d in rows
+            if canonical(d.distribution) not in PROTECTED]
     (tmp_path / "pins.txt").write_text(f"numpy=={NUMPY[version]}\n")
     report = tmp_path / "report.json"
     proc = subprocess.run(
@@ -75,6 +79,9 @@ def test_the_dependency_table_resolves_to_wheels_for(version, tmp_path):
     assert got["numpy"] == NUMPY[version]
     for dep in rows:
         assert canonical(dep.distribution) in got, (dep.requirement, version)
+        pin = tested_version(dep.distribution, version)
+        if version in TESTED_PYTHONS and pin:
+            assert got[canonical(dep.distribution)] == pin, (dep.distribution, version)
     print(f"\nPython {version[0]}.{version[1]}: " +
           ", ".join(f"{k} {v}" for k, v in sorted(got.items()) if k in
                     {canonical(d.distribution) for d in DEPENDENCIES}))
