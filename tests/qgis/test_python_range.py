@@ -18,9 +18,9 @@ from pathlib import Path
 import pytest
 from pip._vendor.packaging.specifiers import SpecifierSet
 
+from easyidp_toolbox.easyidp_qgis import dependencies
 from easyidp_toolbox.easyidp_qgis.dependencies import (DEPENDENCIES, PROTECTED, TESTED_PYTHONS,
-                                                       canonical, pinned_requirement,
-                                                       tested_version)
+                                                       canonical, pinned_requirement)
 
 ROOT = Path(__file__).resolve().parents[2]
 SUPPORTED = ((3, 9), (3, 14))
@@ -79,7 +79,7 @@ def test_the_dependency_table_resolves_to_wheels_for(version, tmp_path):
     assert got["numpy"] == NUMPY[version]
     for dep in rows:
         assert canonical(dep.distribution) in got, (dep.requirement, version)
-        pin = tested_version(dep.distribution, version)
+        pin = dependencies.tested_version(dep.distribution, version)
         if version in TESTED_PYTHONS and pin:
             assert got[canonical(dep.distribution)] == pin, (dep.distribution, version)
     print(f"\nPython {version[0]}.{version[1]}: " +
