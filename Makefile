@@ -27,7 +27,8 @@ VENV_CHECK := $(ROOT)/.venv-check
 REALDATA ?= $(or $(EASYIDP_REALDATA),$(abspath $(ROOT)/../shared/realdata))
 # the files ruff format keeps (the rest of the tree keeps its hand layout; pyproject.toml)
 FORMAT_CHECKED := core/safe_xml.py scripts/changelog.py scripts/realdata.py tests/support/markers.py \
-    tests/core/test_wheel.py tests/core/test_realdata.py tests/core/test_changelog.py
+    tests/core/test_wheel.py tests/core/test_realdata.py tests/core/test_changelog.py \
+    tests/core/test_safe_xml.py
 # The plugin folder must be named easyidp_toolbox: .plugins/easyidp_toolbox links to this tree.
 PLUGINS := $(ROOT)/.plugins
 export QT_QPA_PLATFORM := offscreen
