@@ -10,7 +10,7 @@ from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
 from ..compat import ProcessingParameterFlag
-from ..outputs import check_outputs, check_values
+from ..outputs import check_values, claim_outputs
 from ..resources import ICON, help_url
 
 
@@ -138,9 +138,10 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         ok, message = check_values(self, parameters, context)   # also where QGIS did not ask
         if not ok:
             raise QgsProcessingException(message)
-        check_outputs(self, parameters, context, self.overwrite(parameters, context))
         try:
-            return self.run_tool(parameters, context, feedback)
+            with claim_outputs(self, parameters, context, self.overwrite(parameters, context),
+                               feedback):
+                return self.run_tool(parameters, context, feedback)
         except EasyIDPError as exc:
             raise QgsProcessingException(str(exc)) from None
         except ImportError as exc:  # a package the table does not list for this tool
