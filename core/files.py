@@ -171,11 +171,12 @@ def check_output_folder(folder: PathLike, what: str = "Output folder",
     return folder
 
 
-def remove_leftovers(folder: PathLike, depth: int = 2) -> List[Path]:
+def remove_leftovers(folder: PathLike, depth: int = 3) -> List[Path]:
     """Remove what killed runs (process gone) left in ``folder`` and its subfolders down to
-    ``depth`` levels (back-projection's crops sit in one folder per ROI): temporary ``.part``
-    files and the lock files of single outputs that no run holds; returns them. Temporary files
-    of live processes, and locks that are held, are left alone."""
+    ``depth`` levels (back-projection's crops sit in one folder per ROI, a training set's
+    images three folders down): temporary ``.part`` files and the lock files of single outputs
+    that no run holds; returns them. Temporary files of live processes, and locks that are
+    held, are left alone."""
     removed = []
     try:
         entries = list(os.scandir(folder))

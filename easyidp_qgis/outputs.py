@@ -171,19 +171,19 @@ def claim_outputs(alg, parameters, context, overwrite: bool, feedback=None):
 
 
 def check_output_location(alg, what: str, path: str) -> None:
-    """Raise QgsProcessingException naming the output when its folder is missing, is not a
-    folder, or cannot be written to (QGIS's own words for it are 'unable to open database')."""
+    """Raise QgsProcessingException naming the output when its folder is a file, or it (or the
+    nearest folder above it that exists, when it is missing) cannot be written to: a read-only
+    file system or permissions (QGIS's own words for it are 'unable to open database')."""
     import errno
     folder = os.path.dirname(path)
-    if not os.path.exists(folder):
-        raise QgsProcessingException(alg.tr(
-            "{output}: the folder {folder} does not exist. Create it, or choose another "
-            "file.").format(output=what, folder=folder))
-    if not os.path.isdir(folder):
+    base = folder
+    while base and not os.path.exists(base) and os.path.dirname(base) != base:
+        base = os.path.dirname(base)
+    if not os.path.isdir(base):
         raise QgsProcessingException(alg.tr(
             "{output}: {folder} is a file, not a folder. Choose another file.").format(
-                output=what, folder=folder))
-    probe = os.path.join(folder, f".easyidp-probe.{os.getpid()}")
+                output=what, folder=base))
+    probe = os.path.join(base, f".easyidp-probe.{os.getpid()}")
     try:
         with open(probe, "wb"):
             pass
@@ -194,6 +194,10 @@ def check_output_location(alg, what: str, path: str) -> None:
         raise QgsProcessingException(alg.tr(
             "{output}: {path} cannot be written: {why}. Choose a folder you can write "
             "to.").format(output=what, path=path, why=why)) from None
+    if base != folder:
+        raise QgsProcessingException(alg.tr(
+            "{output}: the folder {folder} does not exist and cannot be created. Create it, or "
+            "choose another file.").format(output=what, folder=folder))
 
 
 def check_values(alg, parameters, context):
