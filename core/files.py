@@ -147,7 +147,9 @@ def check_output_folder(folder: PathLike, what: str = "Output folder",
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"{what} {str(folder)!r} cannot be created ({exc.strerror or exc}): "
+        why = "it is on a read-only file system" if exc.errno == errno.EROFS else \
+            (exc.strerror or str(exc))
+        raise InputError(f"{what} {str(folder)!r} cannot be created ({why}): "
                          "choose a folder you can write to.") from None
     probe = folder / f".easyidp-probe.{os.getpid()}-{threading.get_ident()}"
     try:

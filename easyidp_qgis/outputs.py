@@ -143,9 +143,11 @@ def claim_outputs(alg, parameters, context, overwrite: bool, feedback=None):
                     "{output}: another run ({holder}) is writing {path}; nothing was written. "
                     "Wait for it to finish, or choose another file.").format(
                         output=what, holder=exc.holder_text(), path=f)) from None
-            except OSError:
+            except OSError as exc:
                 check_output_location(alg, what, f)
-                raise
+                raise QgsProcessingException(alg.tr(
+                    "{output}: {path} cannot be written: {why}. Choose a folder you can write "
+                    "to.").format(output=what, path=f, why=exc.strerror or exc)) from None
             why = _leftover_why(alg, f)
             if why:
                 _remove_with_side_files(f)
