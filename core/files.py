@@ -147,7 +147,9 @@ def check_output_folder(folder: PathLike, what: str = "Output folder",
     try:
         folder.mkdir(parents=True, exist_ok=True)
     except OSError as exc:
-        raise InputError(f"{what} {str(folder)!r} cannot be created ({exc.strerror or exc}): "
+        why = "it is on a read-only file system" if exc.errno == errno.EROFS else \
+            (exc.strerror or str(exc))
+        raise InputError(f"{what} {str(folder)!r} cannot be created ({why}): "
                          "choose a folder you can write to.") from None
     probe = folder / f".easyidp-probe.{os.getpid()}-{threading.get_ident()}"
     try:
@@ -171,17 +173,33 @@ def check_output_folder(folder: PathLike, what: str = "Output folder",
     return folder
 
 
-def remove_leftovers(folder: PathLike) -> List[Path]:
-    """Remove the temporary ``.part`` files that killed runs (process gone) left in ``folder``;
-    returns them. Temporary files of live processes are left alone."""
+def remove_leftovers(folder: PathLike, depth: int = 3) -> List[Path]:
+    """Remove what killed runs (process gone) left in ``folder`` and its subfolders down to
+    ``depth`` levels (back-projection's crops sit in one folder per ROI, a training set's
+    images three folders down): temporary ``.part`` files and the lock files of single outputs
+    that no run holds; returns them. Temporary files of live processes, and locks that are
+    held, are left alone."""
     removed = []
-    for entry in os.scandir(folder):
+    try:
+        entries = list(os.scandir(folder))
+    except OSError:
+        return removed
+    for entry in entries:
         m = _PART.match(entry.name)
-        if m and entry.is_file() and int(m.group(1)) != os.getpid() and not _alive(int(m.group(1))):
+        if entry.is_dir(follow_symlinks=False):
+            if depth > 0:
+                removed += remove_leftovers(entry.path, depth - 1)
+        elif m and int(m.group(1)) != os.getpid() and not _alive(int(m.group(1))):
             try:
                 os.remove(entry.path)
                 removed.append(Path(entry.path))
             except OSError:
+                pass
+        elif entry.name != LOCK_NAME and is_lock_name(entry.name):
+            try:
+                hold_lock(entry.path).release()        # not held: a killed run's; removed
+                removed.append(Path(entry.path))
+            except (LockHeld, OSError):
                 pass
     return removed
 
@@ -216,40 +234,17 @@ class OutputFolder:
 
     # -- the lock ------------------------------------------------------------------------------
     def _lock(self) -> None:
-        path = self.folder / LOCK_NAME
-        for _ in range(2):
-            try:
-                fd = os.open(path, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
-            except FileExistsError:
-                holder = _read_lock(path)
-                if holder.get("host") == socket.gethostname() and holder.get("pid") and \
-                        not _alive(int(holder["pid"])):
-                    try:                                  # a killed run's lock: take it over
-                        path.unlink()
-                    except FileNotFoundError:
-                        pass
-                    continue
-                since = holder.get("started", "an unknown time")
-                raise InputError(
-                    f"Another EasyIDP run (process {holder.get('pid', '?')} on "
-                    f"{holder.get('host', '?')}, since {since}) is writing into "
-                    f"{str(self.folder)!r}. Wait for it to finish or choose another folder; if no "
-                    f"run is active, delete {LOCK_NAME} in that folder.") from None
-            with os.fdopen(fd, "w") as fh:
-                json.dump({"pid": os.getpid(), "host": socket.gethostname(), "token": self._token,
-                           "started": time.strftime("%Y-%m-%d %H:%M:%S")}, fh)
-            self._locked = True
-            return
-        raise InputError(f"Cannot lock the output folder {str(self.folder)!r}: try again.")
+        try:
+            self._held = hold_lock(self.folder / LOCK_NAME, self._token)
+        except LockHeld as held:
+            raise InputError(
+                f"Another EasyIDP run ({held.holder_text()}) is writing into "
+                f"{str(self.folder)!r}. Wait for it to finish or choose another folder.") from None
+        self._locked = True
 
     def _unlock(self) -> None:
         if self._locked:
-            path = self.folder / LOCK_NAME
-            if _read_lock(path).get("token") == self._token:
-                try:
-                    path.unlink()
-                except FileNotFoundError:
-                    pass
+            self._held.release()
             self._locked = False
 
     # -- output names ----------------------------------------------------------------------------
@@ -282,3 +277,95 @@ def _read_lock(path: Path) -> dict:
         return data if isinstance(data, dict) else {}
     except (OSError, ValueError):
         return {}
+
+
+# ---- exclusive locks: held by an open file, released by the system when the process dies -------
+class LockHeld(Exception):
+    """The lock is held by another run; ``holder`` is what that run wrote into the lock file."""
+
+    def __init__(self, path: Path, holder: dict):
+        super().__init__(str(path))
+        self.path, self.holder = path, holder
+
+    def holder_text(self) -> str:
+        """'process 123 on host, since 2026-12-03 09:30:00' (what is known of the holder)."""
+        h = self.holder
+        return (f"process {h.get('pid', '?')} on {h.get('host', '?')}, since "
+                f"{h.get('started', 'an unknown time')}")
+
+
+def _try_lock(fd: int) -> bool:
+    """Take an exclusive, non-blocking lock on the open file ``fd``: ``flock`` on POSIX (one per
+    open file, so two runs in one process's threads exclude each other too), one byte far past
+    the lock's text with ``msvcrt.locking`` on Windows. The system drops it when the process
+    ends, however it ends, so a killed run's lock is never stale."""
+    if os.name == "nt":                      # pragma: no cover (not run on this platform)
+        import msvcrt
+        os.lseek(fd, 1 << 30, os.SEEK_SET)
+        try:
+            msvcrt.locking(fd, msvcrt.LK_NBLCK, 1)
+        except OSError:
+            return False
+        return True
+    import fcntl
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except OSError:
+        return False
+    return True
+
+
+class HeldLock:
+    """A lock file held by this run (:func:`hold_lock`); :meth:`release` removes it."""
+
+    def __init__(self, path: Path, fd: int):
+        self.path, self.fd = path, fd
+
+    def release(self) -> None:
+        if self.fd < 0:
+            return
+        try:                                 # removed while still held: no one can take the
+            os.unlink(self.path)             # old file after it is released
+        except OSError:
+            pass
+        os.close(self.fd)
+        self.fd = -1
+
+
+def hold_lock(path: PathLike, token: str = "") -> HeldLock:
+    """Create (or take over) the lock file ``path`` and lock it exclusively, writing who holds it
+    (process, host, start time) into it; raises :class:`LockHeld` when another run (another
+    process, or another thread of this one) holds it. Exclusive by the system's file lock, not by
+    checking first: of runs started together exactly one gets it. The lock file of a killed run
+    is not locked any more and is simply taken over."""
+    path = Path(path)
+    for _ in range(20):
+        fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o644)
+        if not _try_lock(fd):
+            os.close(fd)
+            raise LockHeld(path, _read_lock(path))
+        try:                                 # its holder may have removed it between our open
+            same = os.path.samestat(os.fstat(fd), os.stat(path))    # and our lock: try again
+        except OSError:
+            same = False
+        if not same:
+            os.close(fd)
+            continue
+        os.ftruncate(fd, 0)
+        os.lseek(fd, 0, os.SEEK_SET)
+        os.write(fd, json.dumps({"pid": os.getpid(), "host": socket.gethostname(), "token": token,
+                                 "started": time.strftime("%Y-%m-%d %H:%M:%S")}).encode())
+        return HeldLock(path, fd)
+    raise LockHeld(path, {})
+
+
+def file_lock_name(path: PathLike) -> Path:
+    """The lock file of one output file: ``.<name>.easyidp.lock`` next to it."""
+    p = Path(path)
+    return p.with_name(f".{p.name}{LOCK_NAME}")
+
+
+def is_lock_name(name: str) -> bool:
+    """Whether a file name is one of the lock files (of a folder or of one output file)."""
+    name = os.path.basename(name)
+    return name == LOCK_NAME or (name.startswith(".") and name.endswith(LOCK_NAME))

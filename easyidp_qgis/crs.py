@@ -4,9 +4,25 @@ from qgis.core import QgsCoordinateReferenceSystem
 from .compat import CrsWktVariant
 
 
-def crs_string(crs: QgsCoordinateReferenceSystem):
-    """An EPSG code when QGIS knows one, else WKT; None for an invalid CRS."""
+UNDEFINED_NAMES = ("undefined geographic srs", "undefined cartesian srs")
+"""What QGIS shows for a GeoPackage layer without a CRS: GDAL writes such a layer with
+``srs_id`` 0 ("Undefined geographic SRS") or -1 ("Undefined Cartesian SRS"), and QGIS reads
+each as a valid CRS of that name (OGC 12-128r18, 1.1.2.1.1)."""
+
+
+def has_crs(crs: QgsCoordinateReferenceSystem) -> bool:
+    """Whether a layer CRS says where the layer is: valid, and not one of the GeoPackage's
+    undefined SRSs (:data:`UNDEFINED_NAMES`). Photo-pixel layers, written with the undefined
+    Cartesian CRS on purpose, have none either."""
     if crs is None or not crs.isValid():
+        return False
+    return bool(crs.authid()) or crs.description().lower() not in UNDEFINED_NAMES
+
+
+def crs_string(crs: QgsCoordinateReferenceSystem):
+    """An EPSG code when QGIS knows one, else WKT; None for an invalid CRS or a GeoPackage's
+    undefined one (:func:`has_crs`)."""
+    if not has_crs(crs):
         return None
     if crs.authid().upper().startswith("EPSG:"):
         return crs.authid()

@@ -1,7 +1,9 @@
 """The output policy of every tool, checked before any work (see README, "Files and safety"):
 an input is never an output, two outputs are never one file, and a file that already exists is
-replaced only when the user ticks OVERWRITE (folders are checked by the core, name by name)."""
+replaced only when the user ticks OVERWRITE (folders are checked by the core, name by name),
+and an output file is held by one run at a time."""
 import os
+from contextlib import contextmanager
 
 from qgis.core import (QgsProcessingException, QgsProcessingParameterFeatureSink,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
@@ -67,9 +69,53 @@ def _outputs(alg, parameters, context):
     return out
 
 
-def check_outputs(alg, parameters, context, overwrite: bool) -> None:
-    """Raise QgsProcessingException before any work when an output would replace an input,
-    two outputs share a file, or (without ``overwrite``) an output file already exists."""
+def _leftover_why(alg, path: str) -> str:
+    """Why the existing GeoPackage ``path`` is the leftover of an interrupted write and not a
+    user's data ('' when it is a GeoPackage GDAL opens): empty (QGIS's writer had just created
+    it), or a file GDAL cannot open (a kill while SQLite wrote its first pages, 64 KiB)."""
+    if not path.lower().endswith(".gpkg") or not os.path.isfile(path):
+        return ""
+    size = os.path.getsize(path)
+    if size == 0:
+        return alg.tr("it is empty (0 bytes)")
+    from osgeo import gdal
+    with open(path, "rb") as fh:
+        if not fh.read(16).startswith(b"SQLite format 3"):
+            return ""                # not a database at all: someone else's file, kept
+    gdal.PushErrorHandler("CPLQuietErrorHandler")
+    try:
+        ds = gdal.OpenEx(path, gdal.OF_VECTOR | gdal.OF_READONLY, allowed_drivers=["GPKG"])
+    finally:
+        gdal.PopErrorHandler()
+    if ds is None:
+        return alg.tr("GDAL cannot open it as a GeoPackage; {size:.0f} KiB").format(size=size / 1024)
+    return ""
+
+
+SIDE_FILES = ("-journal", "-wal", "-shm")
+"""The files SQLite keeps next to a database while it writes (left behind by a kill)."""
+
+
+def _remove_with_side_files(path: str) -> None:
+    for p in [path] + [path + s for s in SIDE_FILES]:
+        try:
+            os.remove(p)
+        except FileNotFoundError:
+            pass
+
+
+@contextmanager
+def claim_outputs(alg, parameters, context, overwrite: bool, feedback=None):
+    """Check the outputs before any work and hold them for the run.
+
+    Raises QgsProcessingException when an output would replace an input, two outputs share a
+    file, another run is writing the same output file, or (without ``overwrite``) an output
+    file already exists. Each output file is locked (:func:`core.files.hold_lock`, a hidden
+    ``.<name>.easyidp.lock`` beside it) for the whole run, then checked: of runs started
+    together into one output, exactly one gets it. A GeoPackage left empty or unreadable by an
+    interrupted run (see :func:`_leftover_why`) is removed with its SQLite side files and
+    replaced, with a warning; SQLite side files left beside an output are removed too."""
+    from ..core.files import LockHeld, file_lock_name, hold_lock
     inputs = _inputs(alg, parameters, context)
     seen = {}
     for f, what in _outputs(alg, parameters, context):
@@ -83,11 +129,77 @@ def check_outputs(alg, parameters, context, overwrite: bool) -> None:
                 "'{a}' and '{b}' are both {path}: one would replace the other. Choose two "
                 "files.").format(a=seen[f], b=what, path=f))
         seen[f] = what
-        if os.path.exists(f) and not overwrite:
-            raise QgsProcessingException(alg.tr(
-                "{output}: {path} already exists and nothing was written. Choose another file, "
-                "or tick 'Overwrite existing files' (advanced) to replace it.").format(
-                    output=what, path=f))
+    held = []
+    try:
+        for f, what in seen.items():
+            try:                       # QGIS makes a missing folder of an output too
+                os.makedirs(os.path.dirname(f), exist_ok=True)
+            except OSError:
+                check_output_location(alg, what, f)
+            try:
+                held.append(hold_lock(file_lock_name(f)))
+            except LockHeld as exc:
+                raise QgsProcessingException(alg.tr(
+                    "{output}: another run ({holder}) is writing {path}; nothing was written. "
+                    "Wait for it to finish, or choose another file.").format(
+                        output=what, holder=exc.holder_text(), path=f)) from None
+            except OSError as exc:
+                check_output_location(alg, what, f)
+                raise QgsProcessingException(alg.tr(
+                    "{output}: {path} cannot be written: {why}. Choose a folder you can write "
+                    "to.").format(output=what, path=f, why=exc.strerror or exc)) from None
+            why = _leftover_why(alg, f)
+            if why:
+                _remove_with_side_files(f)
+                if feedback is not None:
+                    feedback.pushWarning(alg.tr(
+                        "{output}: {path} was not a valid GeoPackage ({why}), the leftover of an "
+                        "interrupted run; it is replaced.").format(output=what, path=f, why=why))
+            elif os.path.exists(f) and not overwrite:
+                raise QgsProcessingException(alg.tr(
+                    "{output}: {path} already exists and nothing was written. Choose another file, "
+                    "or tick 'Overwrite existing files' (advanced) to replace it.").format(
+                        output=what, path=f))
+            if f.lower().endswith(".gpkg") and (overwrite or not os.path.exists(f)):
+                for side in SIDE_FILES:     # a killed writer's journal, not to be replayed
+                    try:                    # into the new file
+                        os.remove(f + side)
+                    except FileNotFoundError:
+                        pass
+        yield
+    finally:
+        for lock in held:
+            lock.release()
+
+
+def check_output_location(alg, what: str, path: str) -> None:
+    """Raise QgsProcessingException naming the output when its folder is a file, or it (or the
+    nearest folder above it that exists, when it is missing) cannot be written to: a read-only
+    file system or permissions (QGIS's own words for it are 'unable to open database')."""
+    import errno
+    folder = os.path.dirname(path)
+    base = folder
+    while base and not os.path.exists(base) and os.path.dirname(base) != base:
+        base = os.path.dirname(base)
+    if not os.path.isdir(base):
+        raise QgsProcessingException(alg.tr(
+            "{output}: {folder} is a file, not a folder. Choose another file.").format(
+                output=what, folder=base))
+    probe = os.path.join(base, f".easyidp-probe.{os.getpid()}")
+    try:
+        with open(probe, "wb"):
+            pass
+        os.remove(probe)
+    except OSError as exc:
+        why = (alg.tr("it is on a read-only file system") if exc.errno == errno.EROFS else
+               alg.tr("you may not write there ({reason})").format(reason=exc.strerror or exc))
+        raise QgsProcessingException(alg.tr(
+            "{output}: {path} cannot be written: {why}. Choose a folder you can write "
+            "to.").format(output=what, path=path, why=why)) from None
+    if base != folder:
+        raise QgsProcessingException(alg.tr(
+            "{output}: the folder {folder} does not exist and cannot be created. Create it, or "
+            "choose another file.").format(output=what, folder=folder))
 
 
 def check_values(alg, parameters, context):

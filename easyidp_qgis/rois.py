@@ -5,7 +5,7 @@ from qgis.core import (QgsCoordinateTransform, QgsCsException, QgsFeatureRequest
 
 from ..core.roi import ROISet, roi_from_coordinates
 from .compat import GeometryType, ProcessingSourceType
-from .crs import crs_string
+from .crs import crs_string, has_crs
 from .geometries import polygon_coordinates
 from .progress import feedback_progress
 from .values import is_null
@@ -41,9 +41,10 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
         raise QgsProcessingException(f"{label}: the ROI layer has no field '{name_field}'.")
     transform, out_crs = None, source.sourceCrs()
     if crs is not None and crs.isValid() and crs != source.sourceCrs():
-        if not source.sourceCrs().isValid():
+        if not has_crs(source.sourceCrs()):
             raise QgsProcessingException(
-                f"{label}: the ROI layer '{source.sourceName()}' has no CRS, so it cannot be "
+                f"{label}: the ROI layer '{source.sourceName()}' has no CRS"
+                f"{_undefined(source.sourceCrs())}, so it cannot be "
                 f"placed on {crs.authid() or crs.description()}. Set the layer's CRS (Layer "
                 "Properties ▸ Source, or Vector general ▸ Assign projection) and run again.")
         # QGIS's own transformation, with the project's datum transformation choices
@@ -75,6 +76,11 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
             progress.set(100.0 * k / total)
     return ROISet(rois, crs_string(out_crs)), features
 
+
+
+def _undefined(crs) -> str:
+    """' (its GeoPackage says "Undefined geographic SRS")' when the CRS is one of those."""
+    return f" (its GeoPackage says \"{crs.description()}\")" if crs.isValid() else ""
 
 
 def rois_parameter(alg, parameters, context, feedback, crs=None):

@@ -1006,6 +1006,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>COCO 結果リストが参照する COCO 画像ファイル</translation>
     </message>
     <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
+    </message>
+    <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
       <translation>辺の高密度化：… 写真ピクセルごとに 1 頂点（0：オフ）</translation>
     </message>
@@ -1214,10 +1218,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>逆投影</translation>
     </message>
     <message>
-      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
-      <translation>どの写真にも ROI が写っていません：ROI が測量範囲内にあり、正しい CRS であることを確認してください。</translation>
-    </message>
-    <message>
       <source>Mean</source>
       <translation>平均</translation>
     </message>
@@ -1228,10 +1228,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
     <message>
       <source>Standard deviation</source>
       <translation>標準偏差</translation>
-    </message>
-    <message>
-      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
-      <translation>{m} 枚の写真で {k} 組の ROI × 写真を計測中…</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -1326,12 +1322,12 @@ LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たない
       <translation>地面：各 ROI の Z の {ground_pct:g} パーセンタイル。</translation>
     </message>
     <message>
-      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
-      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
-    </message>
-    <message>
       <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
       <translation>{n_rois} 個の ROI のいずれにも点群の点が含まれていません。ROI と点群の CRS が正しいか（ファイルに CRS がないか誤っている場合は「点群の座標参照系」を設定してください）、および Z 範囲を確認してください。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
     </message>
     <message>
       <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
@@ -1408,8 +1404,16 @@ NoData 値のピクセルは無視されます。有効なピクセルが 1 つ�
       <translation>{n} 個の ROI の高さ（{what}）：{lo:.3f}～{hi:.3f}（DSM の単位）、空（NULL）{null} 個。</translation>
     </message>
     <message>
+      <source>Heights of {n} ROIs: all empty (NULL): {reason}.</source>
+      <translation>{n} 個の ROI の高さはすべて空（NULL）です：{reason}。</translation>
+    </message>
+    <message>
       <source>Heights of {n} ROIs: all empty (NULL): the DSM has no valid pixel under any of them.</source>
       <translation>{n} 個の ROI の高さ：すべて空（NULL）です。どの ROI の下にも DSM の有効なピクセルがありません。</translation>
+    </message>
+    <message>
+      <source>see the warnings above for each ROI</source>
+      <translation>各 ROI の理由は上の警告を参照してください</translation>
     </message>
     <message>
       <source>Plot traits over a season</source>
@@ -1664,16 +1668,96 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>終了ステータス {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+      <source>you may not read it (permissions)</source>
+      <translation>読み取り権限がありません</translation>
     </message>
     <message>
-      <source>Point cloud (.las, .laz or .ply)</source>
-      <translation>点群（.las、.laz または .ply）</translation>
+      <source>it is empty (0 bytes)</source>
+      <translation>ファイルが空です（0 バイト）</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+      <source>it is JSON but not GeoJSON (no FeatureCollection)</source>
+      <translation>JSON ですが GeoJSON ではありません（FeatureCollection がありません）</translation>
+    </message>
+    <message>
+      <source>it is not UTF-8 text, so not GeoJSON</source>
+      <translation>UTF-8 テキストではないため GeoJSON ではありません</translation>
+    </message>
+    <message>
+      <source>it is not a TIFF file (it starts with {head!r})</source>
+      <translation>TIFF ファイルではありません（先頭は {head!r}）</translation>
+    </message>
+    <message>
+      <source>GDAL cannot open it ({error})</source>
+      <translation>GDAL で開けません（{error}）</translation>
+    </message>
+    <message>
+      <source>not a format it knows</source>
+      <translation>既知の形式ではありません</translation>
+    </message>
+    <message>
+      <source>{name}: {path} exists but cannot be read as a layer: {why}. Check the file, or save it again from the program that made it.</source>
+      <translation>{name}：{path} は存在しますが、レイヤとして読み込めません：{why}。ファイルを確認するか、作成したプログラムで保存し直してください。</translation>
+    </message>
+    <message>
+      <source>it is not valid JSON ({error}); it may be cut short</source>
+      <translation>有効な JSON ではありません（{error}）。ファイルが途中で切れている可能性があります</translation>
+    </message>
+    <message>
+      <source>GDAL cannot open it as a GeoPackage; {size:.0f} KiB</source>
+      <translation>GDAL で GeoPackage として開けません。{size:.0f} KiB</translation>
+    </message>
+    <message>
+      <source>it is on a read-only file system</source>
+      <translation>読み取り専用のファイルシステム上にあります</translation>
+    </message>
+    <message>
+      <source>{output}: {folder} is a file, not a folder. Choose another file.</source>
+      <translation>{output}：{folder} はフォルダではなくファイルです。別のファイルを選んでください。</translation>
+    </message>
+    <message>
+      <source>{output}: the folder {folder} does not exist and cannot be created. Create it, or choose another file.</source>
+      <translation>{output}：フォルダ {folder} が存在せず、作成もできません。作成するか、別のファイルを選んでください。</translation>
+    </message>
+    <message>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
+    </message>
+    <message>
+      <source>you may not write there ({reason})</source>
+      <translation>書き込み権限がありません（{reason}）</translation>
+    </message>
+    <message>
+      <source>{output}: {path} cannot be written: {why}. Choose a folder you can write to.</source>
+      <translation>{output}：{path} に書き込めません：{why}。書き込めるフォルダを選んでください。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
+    </message>
+    <message>
+      <source>{output}: another run ({holder}) is writing {path}; nothing was written. Wait for it to finish, or choose another file.</source>
+      <translation>{output}：別の実行（{holder}）が {path} に書き込み中です。何も書き込んでいません。終わるまで待つか、別のファイルを選んでください。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} was not a valid GeoPackage ({why}), the leftover of an interrupted run; it is replaced.</source>
+      <translation>{output}：{path} は有効な GeoPackage ではありません（{why}）。中断された実行の残りです。置き換えます。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -1684,12 +1768,48 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>残す最高 Z（点群の Z 単位、空欄：制限なし）</translation>
     </message>
     <message>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
+    </message>
+    <message>
+      <source>Point cloud (.las, .laz or .ply)</source>
+      <translation>点群（.las、.laz または .ply）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
+      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+    </message>
+    <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
       <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap フォルダまたは reconstruction.json）</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名前フィールド（既定：地物 ID）</translation>
     </message>
     <message>
       <source>Heights of the ROI vertices</source>
@@ -1734,58 +1854,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
       <translation>属性から高さを取得：ROI レイヤの高さの属性を選択してください。</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名前フィールド（既定：地物 ID）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project: none given ({what}).</source>
-      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
-    </message>
-    <message>
-      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
-      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
-    </message>
-    <message>
-      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
-      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
-    </message>
-    <message>
-      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
-      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
-    </message>
-    <message>
-      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
-      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
-      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
-      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not a number; give a finite value.</source>
-      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
-    </message>
-    <message>
-      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
-      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not one of the choices ({opts}).</source>
-      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
-    </message>
-    <message>
-      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
-      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
-    </message>
-    <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
     </message>
   </context>
 </TS>

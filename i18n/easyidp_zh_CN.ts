@@ -1006,6 +1006,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>COCO 结果列表所引用的 COCO 图像文件</translation>
     </message>
     <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>分块索引（分块训练集的 tiles.json），当标注位于其分块上时</translation>
+    </message>
+    <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
       <translation>边加密：每隔 … 个照片像素一个顶点（0：关闭）</translation>
     </message>
@@ -1214,10 +1218,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
       <translation>反投影</translation>
     </message>
     <message>
-      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
-      <translation>没有任何照片看到 ROI：请检查 ROI 是否位于测区内且坐标参照系正确。</translation>
-    </message>
-    <message>
       <source>Mean</source>
       <translation>均值</translation>
     </message>
@@ -1228,10 +1228,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
     <message>
       <source>Standard deviation</source>
       <translation>标准差</translation>
-    </message>
-    <message>
-      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
-      <translation>正在测量 {m} 张照片中的 {k} 个 ROI × 照片对…</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -1326,12 +1322,12 @@ LAS/LAZ 文件自带坐标系；PLY 文件没有，因此需要为其设置“�
       <translation>地面：每个感兴趣区 Z 的第 {ground_pct:g} 百分位数。</translation>
     </message>
     <message>
-      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
-      <translation>地面栅格 {name} 在 {total} 个感兴趣区中 {n} 个的点下方没有数据（位于其范围外或为无数据值）：这些感兴趣区的离地高度为空。请检查它是否覆盖了感兴趣区。</translation>
-    </message>
-    <message>
       <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
       <translation>{n_rois} 个感兴趣区均不包含点云中的点：请检查感兴趣区和点云的坐标系是否正确（如果文件没有坐标系或坐标系错误，请设置“点云坐标系”），以及 Z 范围。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面栅格 {name} 在 {total} 个感兴趣区中 {n} 个的点下方没有数据（位于其范围外或为无数据值）：这些感兴趣区的离地高度为空。请检查它是否覆盖了感兴趣区。</translation>
     </message>
     <message>
       <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
@@ -1408,8 +1404,16 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
       <translation>{n} 个感兴趣区的高度（{what}）：{lo:.3f} 至 {hi:.3f}（DSM 单位），{null} 个为空（NULL）。</translation>
     </message>
     <message>
+      <source>Heights of {n} ROIs: all empty (NULL): {reason}.</source>
+      <translation>{n} 个 ROI 的高度全部为空（NULL）：{reason}。</translation>
+    </message>
+    <message>
       <source>Heights of {n} ROIs: all empty (NULL): the DSM has no valid pixel under any of them.</source>
       <translation>{n} 个感兴趣区的高度：全部为空（NULL）：DSM 在它们下方都没有有效像元。</translation>
+    </message>
+    <message>
+      <source>see the warnings above for each ROI</source>
+      <translation>各 ROI 的原因见上方警告</translation>
     </message>
     <message>
       <source>Plot traits over a season</source>
@@ -1664,16 +1668,96 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>退出状态 {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
+      <source>you may not read it (permissions)</source>
+      <translation>没有读取权限</translation>
     </message>
     <message>
-      <source>Point cloud (.las, .laz or .ply)</source>
-      <translation>点云（.las、.laz 或 .ply）</translation>
+      <source>it is empty (0 bytes)</source>
+      <translation>文件为空（0 字节）</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点云坐标系（PLY 以及没有坐标系的 LAS 需要；否则从文件读取）</translation>
+      <source>it is JSON but not GeoJSON (no FeatureCollection)</source>
+      <translation>它是 JSON，但不是 GeoJSON（没有 FeatureCollection）</translation>
+    </message>
+    <message>
+      <source>it is not UTF-8 text, so not GeoJSON</source>
+      <translation>它不是 UTF-8 文本，因此不是 GeoJSON</translation>
+    </message>
+    <message>
+      <source>it is not a TIFF file (it starts with {head!r})</source>
+      <translation>它不是 TIFF 文件（开头为 {head!r}）</translation>
+    </message>
+    <message>
+      <source>GDAL cannot open it ({error})</source>
+      <translation>GDAL 无法打开它（{error}）</translation>
+    </message>
+    <message>
+      <source>not a format it knows</source>
+      <translation>不是它认识的格式</translation>
+    </message>
+    <message>
+      <source>{name}: {path} exists but cannot be read as a layer: {why}. Check the file, or save it again from the program that made it.</source>
+      <translation>{name}：{path} 存在，但无法作为图层读取：{why}。请检查该文件，或用生成它的程序重新保存。</translation>
+    </message>
+    <message>
+      <source>it is not valid JSON ({error}); it may be cut short</source>
+      <translation>它不是有效的 JSON（{error}）；文件可能被截断</translation>
+    </message>
+    <message>
+      <source>GDAL cannot open it as a GeoPackage; {size:.0f} KiB</source>
+      <translation>GDAL 无法将其作为 GeoPackage 打开；{size:.0f} KiB</translation>
+    </message>
+    <message>
+      <source>it is on a read-only file system</source>
+      <translation>它位于只读文件系统上</translation>
+    </message>
+    <message>
+      <source>{output}: {folder} is a file, not a folder. Choose another file.</source>
+      <translation>{output}：{folder} 是文件而不是文件夹。请选择其他文件。</translation>
+    </message>
+    <message>
+      <source>{output}: the folder {folder} does not exist and cannot be created. Create it, or choose another file.</source>
+      <translation>{output}：文件夹 {folder} 不存在且无法创建。请先创建它，或选择其他文件。</translation>
+    </message>
+    <message>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>“{a}”和“{b}”都是 {path}：其中一个会替换另一个。请选择两个不同的文件。</translation>
+    </message>
+    <message>
+      <source>you may not write there ({reason})</source>
+      <translation>没有写入权限（{reason}）</translation>
+    </message>
+    <message>
+      <source>{output}: {path} cannot be written: {why}. Choose a folder you can write to.</source>
+      <translation>{output}：无法写入 {path}：{why}。请选择可写入的文件夹。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} 同时也是输入“{input}”。输入绝不会被覆盖：请选择其他文件。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} 不是数字；请给出一个有限值。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} 超出范围 {lo}–{hi}。</translation>
+    </message>
+    <message>
+      <source>{output}: another run ({holder}) is writing {path}; nothing was written. Wait for it to finish, or choose another file.</source>
+      <translation>{output}：另一个运行（{holder}）正在写入 {path}；未写入任何内容。请等待其完成，或选择其他文件。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} was not a valid GeoPackage ({why}), the leftover of an interrupted run; it is replaced.</source>
+      <translation>{output}：{path} 不是有效的 GeoPackage（{why}），是中断的运行留下的；将被替换。</translation>
+    </message>
+    <message>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} 已存在，未写出任何内容。请选择其他文件，或勾选“覆盖已有文件”（高级）以替换它。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} 不是可选值之一（{opts}）。</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -1684,12 +1768,48 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>保留的最高 Z（点云 Z 单位；留空：不限制）</translation>
     </message>
     <message>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>百分位数：“{token}”不是 0 到 100 之间的数。请给出以逗号分隔的百分位数，例如 5,50,95。</translation>
+    </message>
+    <message>
+      <source>Point cloud (.las, .laz or .ply)</source>
+      <translation>点云（.las、.laz 或 .ply）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
+      <translation>点云坐标系（PLY 以及没有坐标系的 LAS 需要；否则从文件读取）</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
+    </message>
+    <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
       <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d、工程文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json）</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>块（chunk）：Metashape 块（标签或索引）或 OpenSfM 重建索引（存在多个时需要）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>摄影测量工程：未给出（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：工程的坐标系未知（没有 *_wkt.prj 的 Pix4D 工程，或没有 GPS 的 OpenSfM 数据集）：请设置“工程坐标系”。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台相机未对齐，没有位姿：{names}</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名称字段（默认：要素 ID）</translation>
     </message>
     <message>
       <source>Heights of the ROI vertices</source>
@@ -1734,58 +1854,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
       <translation>高度来自属性：请选择感兴趣区图层的高度属性。</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名称字段（默认：要素 ID）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project: none given ({what}).</source>
-      <translation>摄影测量工程：未给出（{what}）。</translation>
-    </message>
-    <message>
-      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
-      <translation>{path}：工程的坐标系未知（没有 *_wkt.prj 的 Pix4D 工程，或没有 GPS 的 OpenSfM 数据集）：请设置“工程坐标系”。</translation>
-    </message>
-    <message>
-      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
-      <translation>{n} 台相机未对齐，没有位姿：{names}</translation>
-    </message>
-    <message>
-      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
-      <translation>百分位数：“{token}”不是 0 到 100 之间的数。请给出以逗号分隔的百分位数，例如 5,50,95。</translation>
-    </message>
-    <message>
-      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
-      <translation>“{a}”和“{b}”都是 {path}：其中一个会替换另一个。请选择两个不同的文件。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
-      <translation>{output}：{path} 已存在，未写出任何内容。请选择其他文件，或勾选“覆盖已有文件”（高级）以替换它。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
-      <translation>{output}：{path} 同时也是输入“{input}”。输入绝不会被覆盖：请选择其他文件。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not a number; give a finite value.</source>
-      <translation>{name}：{value} 不是数字；请给出一个有限值。</translation>
-    </message>
-    <message>
-      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
-      <translation>{name}：{value:g} 超出范围 {lo}–{hi}。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not one of the choices ({opts}).</source>
-      <translation>{name}：{value} 不是可选值之一（{opts}）。</translation>
-    </message>
-    <message>
-      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
-      <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
-    </message>
-    <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>分块索引（分块训练集的 tiles.json），当标注位于其分块上时</translation>
     </message>
   </context>
 </TS>

@@ -596,7 +596,7 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         raise EasyIDPError(f"Plot grid: {len(rings)} plots; the fit needs at least three (it "
                            "estimates the grid's rotation, spacing and shift from them).")
     if index == "auto":
-        if tif.kind in ("rgb", "rgba") or (bands is not None and len(bands) == 3):
+        if tif.kind in ("rgb", "rgba") or tif.is_colour or (bands is not None and len(bands) == 3):
             index = "exg"
         elif bands is not None and len(bands) == 2:
             index = "ndvi"

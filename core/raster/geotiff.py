@@ -74,6 +74,16 @@ class GeoTiff:
             return "rgb"
         return "single" if self.bands == 1 else "multiband"
 
+    @property
+    def is_colour(self) -> bool:
+        """Whether the first three bands are red, green and blue (photometric RGB, or JPEG
+        YCbCr decoded to RGB), whatever their sample type: a 16-bit or float RGB orthomosaic is
+        colour too, while :attr:`kind` is 'rgb' for 8-bit only (crops add an 8-bit alpha). Three
+        bands, or four with an alpha extra sample: RGB photometric with more bands (a
+        multispectral stack) is not taken for colour."""
+        return self.bands - (self.alpha_band is not None) == 3 and \
+            self.photometric in (PHOTOMETRIC_RGB, PHOTOMETRIC_YCBCR)
+
     # ---- pixel <-> map ----------------------------------------------------------------------
     def pixel_to_map(self, col, row):
         """Map (x, y) of pixel coordinates (col, row); (0.5, 0.5) is the first pixel's centre."""

@@ -10,7 +10,8 @@ from qgis.PyQt.QtGui import QIcon
 
 from .. import dependencies
 from ..compat import ProcessingParameterFlag
-from ..outputs import check_outputs, check_values
+from ..layer_files import unreadable_inputs_message
+from ..outputs import check_values, claim_outputs
 from ..resources import ICON, help_url
 
 
@@ -124,7 +125,10 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
                    isinstance(v, str) and os.path.isdir(v)}
         if folders:    # QGIS checks the rest; the folder itself is the reader's to judge
             parameters = {**parameters, **{n: os.path.abspath(__file__) for n in folders}}
-        return super().checkParameterValues(parameters, context)
+        ok, message = super().checkParameterValues(parameters, context)
+        if not ok:              # QGIS says '… not found' for a file it cannot read
+            message = unreadable_inputs_message(self, parameters, context) or message
+        return ok, message
 
     def processAlgorithm(self, parameters, context, feedback):  # noqa: N802 (QGIS API)
         items = dependencies.missing(self.NAME)  # the packages the table says this tool needs
@@ -138,9 +142,10 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         ok, message = check_values(self, parameters, context)   # also where QGIS did not ask
         if not ok:
             raise QgsProcessingException(message)
-        check_outputs(self, parameters, context, self.overwrite(parameters, context))
         try:
-            return self.run_tool(parameters, context, feedback)
+            with claim_outputs(self, parameters, context, self.overwrite(parameters, context),
+                               feedback):
+                return self.run_tool(parameters, context, feedback)
         except EasyIDPError as exc:
             raise QgsProcessingException(str(exc)) from None
         except ImportError as exc:  # a package the table does not list for this tool

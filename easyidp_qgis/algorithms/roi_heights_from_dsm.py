@@ -154,6 +154,11 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
                                       "units), {null} empty (NULL).").format(
                 what=what, n=len(per_feature), lo=min(values), hi=max(values),
                 null=len(per_feature) - len(values)))
+        elif missing:               # each ROI's reason is in the warnings above
+            reasons = sorted(set(missing.values()))
+            feedback.pushInfo(self.tr("Heights of {n} ROIs: all empty (NULL): {reason}.").format(
+                n=len(per_feature), reason=reasons[0] if len(reasons) == 1 else
+                self.tr("see the warnings above for each ROI")))
         else:
             feedback.pushInfo(self.tr("Heights of {n} ROIs: all empty (NULL): the DSM has no valid "
                                       "pixel under any of them.").format(n=len(per_feature)))

@@ -2,6 +2,7 @@
 of killed runs removed, folder problems reported before any work, cancel inside a large write."""
 import json
 import os
+import re
 import subprocess
 import sys
 import time
@@ -171,3 +172,63 @@ def test_demo_survey_never_replaces_a_users_file(tmp_path):
     assert sorted(os.listdir(tmp_path)) == ["orthomosaic.tif"]
     with pytest.raises(Cancelled):                 # asked to replace: it gets as far as writing
         make_demo_survey(str(tmp_path), overwrite=True, is_cancelled=lambda: True)
+
+
+def test_a_killed_runs_part_files_in_subfolders_are_removed(tmp_path):
+    """Back-projection writes crops/<roi>/<photo>.json through hidden .part files: a kill leaves
+    them one folder down, and the next run into crops/ removes them (issue 40)."""
+    pid = _dead_pid()
+    roi = tmp_path / "crops" / "A1"
+    roi.mkdir(parents=True)
+    stale = [roi / f".DJI_0001.{pid}-140000000000.part.json", roi / f".DJI_0001.{pid}-1.part.png"]
+    for p in stale:
+        p.write_bytes(b"{half")
+    (roi / "DJI_0001.png").write_bytes(b"a finished crop")
+    with OutputFolder(tmp_path / "crops", overwrite=True) as out:
+        assert sorted(out.leftovers) == sorted(stale)
+    assert sorted(os.listdir(roi)) == ["DJI_0001.png"]
+
+
+_HOLD = ("import sys, time\n"
+         "from easyidp_toolbox.core.files import LockHeld, hold_lock\n"
+         "while time.time() < float(sys.argv[2]): pass\n"
+         "try:\n"
+         "    lock = hold_lock(sys.argv[1])\n"
+         "except LockHeld as exc:\n"
+         "    print('refused', exc.holder_text(), flush=True); sys.exit(3)\n"
+         "print('held', flush=True)\n"
+         "time.sleep(float(sys.argv[3]))\n"
+         "lock.release()\n")
+
+
+def test_runs_started_together_get_one_lock(tmp_path):
+    """Six processes ask for one output's lock at the same instant: exactly one holds it, the
+    others are refused naming the holder. A check-then-create lock let several through."""
+    from easyidp_toolbox.core.files import file_lock_name
+    lock = file_lock_name(tmp_path / "fp.gpkg")
+    assert lock.name == ".fp.gpkg.easyidp.lock"
+    go = time.time() + 1.0
+    procs = [subprocess.Popen([sys.executable, "-c", _HOLD, str(lock), str(go), "1.5"],
+                              stdout=subprocess.PIPE, text=True) for _ in range(6)]
+    outs = [(p.wait(), p.stdout.read()) for p in procs]
+    assert sorted(rc for rc, _ in outs) == [0, 3, 3, 3, 3, 3], outs
+    assert all(re.match(r"refused process \d+ on ", o) for rc, o in outs if rc == 3), outs
+    assert not lock.exists()                        # released by its holder
+
+
+def test_a_killed_holders_lock_is_taken_over_and_threads_exclude_each_other(tmp_path):
+    from easyidp_toolbox.core.files import LockHeld, hold_lock
+    lock = tmp_path / ".x.easyidp.lock"
+    proc = subprocess.Popen([sys.executable, "-c", _HOLD, str(lock), "0", "60"],
+                            stdout=subprocess.PIPE, text=True)
+    assert proc.stdout.readline().strip() == "held"
+    with pytest.raises(LockHeld):
+        hold_lock(lock)
+    proc.kill()
+    proc.wait()
+    assert lock.exists()                            # the file stays, its lock went with the process
+    mine = hold_lock(lock)
+    with pytest.raises(LockHeld, match="x.easyidp.lock"):
+        hold_lock(lock)                             # a second run in this process (a task thread)
+    mine.release()
+    assert not lock.exists()
