@@ -50,11 +50,11 @@ FIELD_BEARING = 78.0          # degrees: the top edge, clockwise from grid north
 PLANTER_OFFSET = 0.06         # m
 MARGIN = 3.0                  # m of bare soil around the field in the orthomosaic
 EMPTY = ("1-03-04", "1-06-02", "2-02-08", "2-07-09")
-TRIAL = dict(rows=8, cols=10, size_x=3.0, size_y=1.6, gap_x=0.5, gap_y=0.0, blocks_x=2,
+TRIAL = dict(rows=8, cols=10, size_x=3.0, size_y=1.5, gap_x=0.5, gap_y=0.0, blocks_x=2,
              block_gap_x=1.5, order="serpentine", start="top-left", start_id=101,
              pattern="{block}-{row:02d}-{col:02d}")
 """The layout (plots touching across the rows), as ``core.plotgrid.create_plot_grid`` keywords."""
-TRIAL_WITH_ALLEYS = dict(TRIAL, gap_y=1.0)
+TRIAL_WITH_ALLEYS = dict(TRIAL, size_y=1.6, gap_y=1.0)
 """The layout with 1 m alleys between the ranges (``Hardness(touching=False)``)."""
 
 
@@ -263,21 +263,22 @@ def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False,
 
 def perturbed_start(rotation_deg: float = 2.0, shift=(0.3 * math.cos(0.5), 0.3 * math.sin(0.5)),
                     spacing: float = 1.02, T: dict = TRIAL):
-    """The fit's starting grid in the demo and the tests: the trial's layout made with its spacing
-    ``spacing`` × too large (plot sizes right), then turned by ``rotation_deg`` (degrees,
-    counter-clockwise) about its centre and shifted by ``shift`` (east, north in m; 0.30 m).
-    Returns (the grid as made, its corners turned and shifted: one (4, 2) array per plot)."""
-    T = dict(T)
-    px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
-    T["gap_x"] = px * spacing - T["size_x"]
-    T["gap_y"] = py * spacing - T["size_y"]
-    T["block_gap_x"] = T["block_gap_x"] + (spacing - 1) * px
+    """The fit's starting grid in the demo and the tests: the trial's layout (as
+    ``create_plot_grid`` makes it) with the plots' centres spread ``spacing`` × from the grid's
+    centre (plot sizes right; below 1 touching plots overlap), then the whole turned by
+    ``rotation_deg`` (degrees, counter-clockwise) about that centre and shifted by ``shift``
+    (east, north in m; 0.30 m). Returns (the grid as made, its corners moved: one (4, 2) array
+    per plot)."""
     grid, _ = create_plot_grid(f"EPSG:{EPSG}", origin=trial_corners(T)[0], bearing=FIELD_BEARING,
                                **T)
     c = grid.corners.reshape(-1, 2).mean(axis=0)
     t = math.radians(rotation_deg)
     R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
-    return grid, [(q - c) @ R.T + c + np.asarray(shift) for q in grid.corners]
+    out = []
+    for q in grid.corners:
+        m = q.mean(axis=0)
+        out.append((c + (m - c) * spacing + (q - m)) @ R.T + (c - c @ R.T) + np.asarray(shift))
+    return grid, out
 
 
 def start_grids(count: int = 8, seed: int = 0):
