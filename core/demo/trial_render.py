@@ -158,7 +158,7 @@ def render_field(shape: Tuple[int, int], gt, planted: np.ndarray, angle: float, 
     patch = rng.random((ny // 4 + 1, nx // 4 + 1))
     patch = np.repeat(np.repeat(patch, 4, 0), 4, 1)[:ny, :nx]
     grass = band & (patch < hard.grass_cover)
-    grass_rgb = _with_greenness(hard.grass_greenness)
+    grass_rgb = grass_colour(hard.grass_greenness)
     shade = (0.85 + 0.3 * rng.random((ny, nx))).astype(np.float32)
     for c in range(3):
         img[..., c] = np.where(grass, grass_rgb[c] * shade, img[..., c])
@@ -208,7 +208,7 @@ def render_field(shape: Tuple[int, int], gt, planted: np.ndarray, angle: float, 
     return np.clip(img, 0, 255).astype(np.uint8), feats
 
 
-def _with_greenness(ratio: float) -> np.ndarray:
+def grass_colour(ratio: float) -> np.ndarray:
     """The grass colour: soil and leaf mixed so that its ExG is ``ratio`` × the crop colour's."""
     def exg(c):
         return (2 * c[1] - c[0] - c[2]) / sum(c)

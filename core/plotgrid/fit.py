@@ -298,7 +298,6 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         a_best = a - (s / 2) * np.round(a / (s / 2))        # whole or half rows: the nearest
         parity = int(round((a_best - a) / (s / 2))) % 2     # 1: the plots' centres between rows
         pred = pred + (a_best + b * pv)[:, None] * A0[1]
-        m = measure(pred, A0, None)
         lengths = [float(np.median(m["span"][idx][good[idx]])) if good[idx].any() else None
                    for idx in groups]
         m = measure(pred, A0, lengths)

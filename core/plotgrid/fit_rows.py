@@ -22,6 +22,9 @@ from typing import Optional, Tuple
 import numpy as np
 
 BATCH_SAMPLES = 1_000_000      # lattice samples per batch of plots
+PER_PERIOD = 8                 # samples per row period across the rows
+END_SMOOTHING = 0.025          # m: sigma of the Gaussian along a row before its ends are found
+END_AGREEMENT = 0.015          # m: row-end estimates of a plot this close agree
 
 
 def rot(t: float) -> np.ndarray:
@@ -179,34 +182,31 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, pool, prog) -> 
     ``span`` (the median row length, m) and ``score`` (the share of the positive row signal of
     the window inside the crop's length, scaled so that an even spread gives 0 and all inside
     1)."""
+    from scipy.ndimage import gaussian_filter1d
     n = len(centres)
     step = min(img.px, img.py)
-    v = _across(s, 2 * half[1], step)
-    per1 = max(4, int(math.ceil(s / step)))
-    v1 = (np.arange(per1) + 0.5) * (s / per1) - s / 2
+    v = _across(s, 2 * half[1], max(step, s / PER_PERIOD))
+    v1 = (np.arange(PER_PERIOD) + 0.5) * (s / PER_PERIOD) - s / 2
     ext = half[0] + margin_u
     nu = max(int(math.ceil(2 * ext / step)), 4)
     u = (np.arange(nu) + 0.5) * (2 * ext / nu) - ext
     du = u[1] - u[0]
     ph = np.exp(-2j * np.pi * v / s)
     inner = np.abs(u) <= half[0]
-    sig = max(0.05 / du, 0.5)
-    kx = np.arange(-int(3 * sig) - 1, int(3 * sig) + 2)
-    kern = np.exp(-0.5 * (kx / sig) ** 2)
-    kern /= kern.sum()
+    sig = max(END_SMOOTHING / du, 0.5)
     K = int(math.floor(half[1] / s + 0.5))
     ks = np.arange(-K, K + 1)
     out = {k: np.zeros(n) for k in ("row", "amp", "ends", "span", "score")}
 
     def smooth(a):
-        return np.apply_along_axis(lambda r: np.convolve(r, kern, mode="same"), -1, a)
+        return gaussian_filter1d(a, sig, axis=-1, mode="constant")
 
     def batch(sl):
         prog.check()
         c = centres[sl]
-        S = img.sample_frame(c, axes, u, v).astype(np.float64)              # (m, nv, nu)
-        z = np.einsum("mvu,v->mu", S, ph)                                    # row component
-        zin = (z * inner).sum(1)
+        S = img.sample_frame(c, axes, u, v)                                   # (m, nv, nu)
+        z = np.einsum("mvu,v->mu", S, ph.astype(np.complex64))               # row component
+        zin = (z * inner).sum(1).astype(np.complex128)
         row = -np.angle(zin) * s / (2 * np.pi)
         out["row"][sl] = row
         out["amp"][sl] = np.abs(zin) / max(int(inner.sum()), 1) / len(v)
@@ -214,14 +214,15 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, pool, prog) -> 
         # each row on its own: one period across it, projected on its phase
         vk = row[:, None] + ks[None, :] * s                                  # (m, rows)
         ck = (c[:, None, :] + vk[..., None] * axes[1][None, None, :]).reshape(-1, 2)
-        S1 = img.sample_frame(ck, axes, u, v1).astype(np.float64)
-        ak = smooth(np.einsum("kvu,v->ku", S1, np.cos(2 * np.pi * v1 / s)) / per1)
+        S1 = img.sample_frame(ck, axes, u, v1)
+        ak = smooth(np.einsum("kvu,v->ku", S1, np.cos(2 * np.pi * v1 / s).astype(np.float32))
+                    / PER_PERIOD)
         ak = ak.reshape(len(c), len(ks), nu)
         for m, idx in enumerate(range(*sl.indices(n))):
             out["ends"][idx], out["span"][idx], out["score"][idx] = _plot_ends(
                 ak[m], np.abs(vk[m]) < half[1], total[m], u, inner, length)
 
-    b = max(1, BATCH_SAMPLES // max(len(u) * (len(v) + len(ks) * per1), 1))
+    b = max(1, BATCH_SAMPLES // max(len(u) * (len(v) + len(ks) * PER_PERIOD), 1))
     slices = [slice(i, min(n, i + b)) for i in range(0, n, b)]
     if pool is None or len(slices) < 2:
         for sl in slices:
@@ -269,7 +270,7 @@ def _row_ends(a: np.ndarray, u: np.ndarray, plateau: float) -> Optional[Tuple[fl
 
 def _plot_ends(ak, valid, total, u, inner, length) -> Tuple[float, float, float]:
     """(middle, span, score) of one plot from its rows' signals ``ak`` (rows, u)."""
-    plateaus = np.array([np.percentile(a[inner], 75) for a in ak])
+    plateaus = np.percentile(ak[:, inner], 75, axis=1)
     top = plateaus[valid].max() if valid.any() else 0.0
     if top <= 0:
         return 0.0, 0.0, 0.0
@@ -284,7 +285,7 @@ def _plot_ends(ak, valid, total, u, inner, length) -> Tuple[float, float, float]
         mid = float(np.median(0.5 * (lo + hi)))
     else:
         cand = np.concatenate([lo + length / 2, hi - length / 2])
-        tol = max(0.015, 0.75 * (u[1] - u[0]))
+        tol = max(END_AGREEMENT, 0.75 * (u[1] - u[0]))
         near = np.abs(cand[:, None] - cand[None, :]) <= tol
         count = near.sum(1) - 1e-3 * np.abs(cand - np.median(cand))
         mid = float(cand[near[int(np.argmax(count))]].mean())
