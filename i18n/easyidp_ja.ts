@@ -596,6 +596,10 @@ CRS はメートル単位の投影座標系でなければなりません：地�
       <translation>圃場の境界：レイヤ「{layer}」にポリゴンがありません。</translation>
     </message>
     <message>
+      <source>Origin '{value}' has no CRS: type it with its CRS in square brackets, e.g. '320000.0,3956100.0 [EPSG:32654]', or set the output CRS (the origin is then taken in it).</source>
+      <translation>原点 '{value}' に座標参照系がありません：角括弧で座標参照系を付けて入力してください（例：'320000.0,3956100.0 [EPSG:32654]'）。または出力の座標参照系を設定してください（原点はその座標参照系とみなされます）。</translation>
+    </message>
+    <message>
       <source>Crop point cloud by ROIs</source>
       <translation>ROI で点群を切り出し</translation>
     </message>
@@ -866,18 +870,18 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.
 
-From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
+It tells the crop from weeds, margin grass and soil by its rows, not by greenness alone. From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift from the plot block (all plots vote at once, so the field margins cannot pull it), then a per-plot shift, at most the bound, that centres each plot on its own rows: across them on the rows' positions, along them on the row ends. Plots keep their size and shape.
 
-Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
+Plots without rows (empty, bare soil), whose rows lie mostly outside them, or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the row signal around the plot lies within its crop's length than an even spread would put there) and cover (its rows' strength over the median plot's). Features without a polygon are named in the log and written out unchanged.
 
-The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
+The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. An orthomosaic with no vegetation under the plots is refused, and nothing is written. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
       <translation>プロットグリッドを、オルソモザイクに写る実際に播種された作物の位置へ移動します。
 
-植生指数（RGB オルソモザイクの ExG、またはマルチスペクトルの赤と近赤外バンドによる NDVI）から、まず作物の条の方向と条間（画像のスペクトル）を求め、次にグリッド全体の回転・間隔の倍率・移動（各プロットの作物の位置から）、最後に上限以内のプロットごとの移動を求めて、各プロットを播種された条の中心に合わせます。プロットのサイズと形は変わりません。
+緑の度合いだけでなく作物の条によって、作物を雑草・周縁の草・土壌と区別します。植生指数（RGB オルソモザイクの ExG、またはマルチスペクトルの赤と近赤外バンドによる NDVI）から、まず作物の条の方向と条間（画像のスペクトル）を求め、次にプロットの区画全体からグリッド全体の回転・間隔の倍率・移動を求め（すべてのプロットが同時に投票するので、圃場の周縁に引きずられません）、最後に上限以内のプロットごとの移動で、各プロットを自身の条の中心に合わせます：条に直交する向きは条の位置で、条に沿う向きは条の両端で合わせます。プロットのサイズと形は変わりません。
 
-裸地のプロット（土壌、欠株）、植生の大部分がプロットの外にあるプロット（雑草）、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（0–1：周囲の植生が、一様に広がった場合よりどれだけ多くプロット内にあるか）、cover（平均植生重み、0–1）が付きます。
+条のないプロット（空きプロット、裸地）、条の大部分がプロットの外にあるプロット、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（0–1：プロット周囲の条の信号が、一様に広がった場合よりどれだけ多く作物の長さの内側にあるか）、cover（条の強さのプロット中央値に対する比）が付きます。ポリゴンのない地物はログに名前が出され、そのまま書き出されます。
 
-ログには全体の補正と、しきい値より大きく移動したプロットの数が出ます。オルソモザイクはウィンドウごとに一度だけ読み込まれ（任意のサイズ。最大 1600 万画素に平均化）、実行はキャンセルできます。出力はオルソモザイクの CRS で、メートル単位の投影座標系でなければなりません。</translation>
+ログには全体の補正と、しきい値より大きく移動したプロットの数が出ます。オルソモザイクはウィンドウごとに一度だけ読み込まれ（任意のサイズ。最大 1600 万画素に平均化）、実行はキャンセルできます。プロットの下に植生のないオルソモザイクは拒否され、何も書き出されません。出力はオルソモザイクの CRS で、メートル単位の投影座標系でなければなりません。</translation>
     </message>
     <message>
       <source>Automatic (ExG for an RGB orthomosaic)</source>
@@ -940,12 +944,12 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>この値より大きく移動したプロットを報告（m）</translation>
     </message>
     <message>
-      <source>Search radius before the global correction (m; empty: 0.45 of the plot spacing)</source>
-      <translation>全体補正前の探索半径（m。空欄：プロット間隔の 0.45 倍）</translation>
+      <source>Search radius of the global correction (m; empty: 0.6 m + 9 % of the grid's half extent)</source>
+      <translation>全体補正の探索半径（m。空欄：0.6 m + グリッドの半幅の 9 %）</translation>
     </message>
     <message>
-      <source>Bare below this share of the median plot cover</source>
-      <translation>プロット被覆の中央値に対するこの割合未満を裸地とする</translation>
+      <source>Bare below this share of the median plot's row strength</source>
+      <translation>条の強さがプロットの中央値に対してこの割合未満なら裸地とする</translation>
     </message>
     <message>
       <source>Weak fit below this score</source>
@@ -954,6 +958,14 @@ The log gives the global correction and how many plots moved by more than the th
     <message>
       <source>{grid}: fitted to {ortho}</source>
       <translation>{grid}：{ortho} に合わせた</translation>
+    </message>
+    <message>
+      <source>Plot grid: {n} features have no polygon (NULL or empty geometry) and are skipped (written out unchanged, fit_flag '{flag}'): {names}.</source>
+      <translation>プロットグリッド：{n} 個の地物にポリゴンがありません（NULL または空のジオメトリ）。スキップします（そのまま書き出し、fit_flag は '{flag}'）：{names}。</translation>
+    </message>
+    <message>
+      <source>Plot grid: none of the {n} features has a polygon (all NULL or empty geometries).</source>
+      <translation>プロットグリッド：{n} 個の地物のどれにもポリゴンがありません（すべて NULL または空のジオメトリ）。</translation>
     </message>
     <message>
       <source>Plot '{name}' left in place: {reason}.</source>
@@ -1004,6 +1016,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>COCO images file that a COCO results list refers to</source>
       <translation>COCO 結果リストが参照する COCO 画像ファイル</translation>
+    </message>
+    <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -1214,10 +1230,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>逆投影</translation>
     </message>
     <message>
-      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
-      <translation>どの写真にも ROI が写っていません：ROI が測量範囲内にあり、正しい CRS であることを確認してください。</translation>
-    </message>
-    <message>
       <source>Mean</source>
       <translation>平均</translation>
     </message>
@@ -1228,10 +1240,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
     <message>
       <source>Standard deviation</source>
       <translation>標準偏差</translation>
-    </message>
-    <message>
-      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
-      <translation>{m} 枚の写真で {k} 組の ROI × 写真を計測中…</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -1326,12 +1334,12 @@ LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たない
       <translation>地面：各 ROI の Z の {ground_pct:g} パーセンタイル。</translation>
     </message>
     <message>
-      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
-      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
-    </message>
-    <message>
       <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
       <translation>{n_rois} 個の ROI のいずれにも点群の点が含まれていません。ROI と点群の CRS が正しいか（ファイルに CRS がないか誤っている場合は「点群の座標参照系」を設定してください）、および Z 範囲を確認してください。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
     </message>
     <message>
       <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
@@ -1664,16 +1672,28 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>終了ステータス {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
     </message>
     <message>
-      <source>Point cloud (.las, .laz or .ply)</source>
-      <translation>点群（.las、.laz または .ply）</translation>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -1684,12 +1704,48 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>残す最高 Z（点群の Z 単位、空欄：制限なし）</translation>
     </message>
     <message>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
+    </message>
+    <message>
+      <source>Point cloud (.las, .laz or .ply)</source>
+      <translation>点群（.las、.laz または .ply）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
+      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+    </message>
+    <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
       <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap フォルダまたは reconstruction.json）</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名前フィールド（既定：地物 ID）</translation>
     </message>
     <message>
       <source>Heights of the ROI vertices</source>
@@ -1734,58 +1790,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
       <translation>属性から高さを取得：ROI レイヤの高さの属性を選択してください。</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名前フィールド（既定：地物 ID）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project: none given ({what}).</source>
-      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
-    </message>
-    <message>
-      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
-      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
-    </message>
-    <message>
-      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
-      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
-    </message>
-    <message>
-      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
-      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
-    </message>
-    <message>
-      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
-      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
-      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
-      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not a number; give a finite value.</source>
-      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
-    </message>
-    <message>
-      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
-      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not one of the choices ({opts}).</source>
-      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
-    </message>
-    <message>
-      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
-      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
-    </message>
-    <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
     </message>
   </context>
 </TS>

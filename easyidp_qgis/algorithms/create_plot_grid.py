@@ -185,7 +185,7 @@ class CreatePlotGrid(EasyIDPAlgorithm):
     def checkParameterValues(self, parameters, context):  # noqa: N802 (QGIS API)
         """A field book given as a file that is empty, binary or damaged is named with what is
         wrong with it (QGIS would only say that the layer was not found)."""
-        from ...core.plotgrid.fieldbook import field_book_problem
+        from ...core.plotgrid import field_book_problem
         book = parameters.get(self.FIELD_BOOK)
         if isinstance(book, str) and book:
             path = book.split("|")[0]
