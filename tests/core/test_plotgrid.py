@@ -184,6 +184,48 @@ def test_field_book_join_reports_by_name(tmp_path):
                         book_col="c")
     with pytest.raises(PlotGridError, match="no column 'plot_id'.*its columns: r, c"):
         join_field_book(g2, [{"r": 1, "c": 2}])
+    # issue 40: empty ids are named as empty (not 'key '' on two rows'); blank rows are no rows
+    book = [{"plot_id": "1", "g": "a"}, {"plot_id": "", "g": "b"}, {"plot_id": " ", "g": "c"},
+            {"plot_id": "", "g": ""}, {"plot_id": "2", "g": "d"}]
+    with pytest.raises(PlotGridError, match=r"2 row\(s\) have no plot_id \(empty; rows 3, 4 "):
+        join_field_book(g2, book)
+    rep = join_field_book(g2, [book[0], book[3], book[4]])
+    assert rep.unmatched_rows == [] and g2.fields["g"] == ["a", "d", None, None]
+
+
+def test_field_book_files_that_are_not_text_tables(tmp_path):
+    """Issue 40: an empty, a binary and a workbook file named '.csv' get what is wrong."""
+    from easyidp_toolbox.core.errors import InputError
+    from easyidp_toolbox.core.plotgrid import field_book_problem
+    for name, data, needle in (("empty.csv", b"", "is empty (0 bytes)"),
+                               ("bin.csv", b"id\n" + bytes(range(256)), "NUL bytes from byte 3"),
+                               ("x.csv", b"PK\x03\x04\x14\x00\x06\x00", "Excel workbook"),
+                               ("ctl.csv", bytes(range(1, 32)) * 20, "control bytes")):
+        path = tmp_path / name
+        path.write_bytes(data)
+        assert needle in field_book_problem(str(path))
+        with pytest.raises(InputError, match="not a text table|is empty"):
+            read_field_book(str(path))
+    good = tmp_path / "good.csv"
+    good.write_text("plot_id,g\n1,a\n", encoding="utf-8")
+    assert field_book_problem(str(good)) is None
+
+
+def test_huge_layouts_and_unformattable_patterns_are_refused_before_allocating():
+    """Issue 40: 100,000 × 100,000 plots by origin and by corners (sizes solved) are refused by
+    their count; patterns that fail in str.format with any error get one message with the keys."""
+    from easyidp_toolbox.core.plotgrid import MAX_PLOTS
+    with pytest.raises(PlotGridError, match="10,000,000,000 plots; a grid holds at most 1,000,000"):
+        create_plot_grid(UTM, 100_000, 100_000, origin=(500000, 4000000), size_x=1, size_y=1,
+                         gap_x=0, gap_y=0)
+    with pytest.raises(PlotGridError, match="a grid holds at most"):
+        create_plot_grid(UTM, 100_000, 100_000, corners=[(500000, 4000000), (500100, 4000000),
+                                                           (500100, 3999900), (500000, 3999900)])
+    assert MAX_PLOTS == 1_000_000
+    for pattern in ("{row.foo}-{col}", "{row[0]}", "{plot_no:q}", "{nope}", "{", "{0}"):
+        with pytest.raises(PlotGridError, match=r"cannot be formatted .*use the keys \{plot_no\}"):
+            create_plot_grid(UTM, 2, 2, origin=(500000, 4000000), size_x=1, size_y=1, gap_x=1,
+                             gap_y=1, pattern=pattern)
 
 
 # ---- bad input -------------------------------------------------------------------------------
