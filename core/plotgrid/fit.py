@@ -10,13 +10,17 @@ alone: rows at the planted spacing along the known row direction (:mod:`.fit_row
 2. **Crop rows.** The strongest peak of the power spectrum of the field, among periods under
    half a plot, gives the rows' direction and spacing. The rows run along the nearest grid
    axis; the angle between them is the first rotation.
-3. **Global correction, from the plot block only.** (a) The row amplitude projected on each
-   grid axis is correlated with the plots' own projection over spacing scales 0.95–1.05 and
-   shifts within the search reach: all plots vote at once, and the margins, outside every plot,
-   cannot win. (b) Each plot is then measured on its rows (4.), and a least-squares similarity
-   (rotation, a spacing scale per axis, a shift) from the grid's plot centres to the measured
-   ones, with bare plots and outliers (3 × the median residual) left out, is the global
-   correction.
+3. **Global correction, from the plot block only.** (a) Along the rows, the row amplitude
+   (the rows' component, coherent over a metre along them, less the other frequencies, so that
+   grass, weeds and straight edges do not count) projected on that axis is correlated with the
+   plots' own projection over spacing scales 0.95–1.05 and shifts within the search reach: all
+   plots vote at once, and the margins, outside every plot, cannot win. Across the rows, where
+   touching plots show no boundary, the middle of the crop's extent gives the shift, and then
+   the phases of every plot's rows, by consensus (:func:`.fit_rows.row_consensus`), the offset
+   and spacing across to a fraction of a row. (b) Each plot is then measured on its rows (4.),
+   and a least-squares similarity (rotation, a spacing scale per axis, a shift) from the
+   grid's plot centres to the measured ones, with bare plots and outliers (3 × the median
+   residual) left out, is the global correction.
 4. **Per plot.** Around its globally corrected place, each plot is centred on its rows: across
    the rows, on the rows' positions (the phase of the row component over a whole number of
    periods; the plot's centre is on a row or midway between two, whichever the plots agree

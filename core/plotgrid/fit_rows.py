@@ -8,13 +8,14 @@ vegetation weights at the row frequency, over a whole number of periods across t
 constant or a slow change contributes exactly nothing there).
 
 * :func:`row_spectrum`: the rows' direction and spacing from the power spectrum of the field.
-* :func:`block_search`: the grid's spacing scale and shift along each axis, from the row
+* :func:`block_search`: the grid's spacing scale and shift along the rows, from the row
   amplitude projected on that axis and correlated with the plots' own projection (all plots at
-  once: a consensus that the margins, outside every plot, cannot win).
+  once: a consensus that the margins, outside every plot, cannot win), and its shift across.
+* :func:`row_consensus`: the offset and spacing across from every plot's row phase at once.
 * :func:`measure_plots`: each plot's rows: the phase of the row component across (the rows'
-  positions, hence the plot's centre across), and the row ends along (a box of the consensus
-  crop length balanced on the row signal), the row amplitude and how much of the row signal the
-  box holds.
+  positions, hence the plot's centre across), each row's own ends along (the plot's middle is
+  where most of its rows' ends agree, given the crop length the plots agree on), the row
+  amplitude and how much of the row signal lies within the crop's length.
 """
 import math
 from typing import Optional, Tuple
@@ -83,9 +84,14 @@ def block_search(img, centres, axes, half, s, reach, prog) -> Tuple[np.ndarray, 
     shift (m) along each frame axis that best lay the plots (``centres`` (n, 2), half sizes
     ``half`` (n, 2) along the axes) on the row amplitude within ``reach`` (m) of their place.
 
-    The row amplitude is the magnitude of the row component over one period across, on a
-    lattice over the plots' box grown by ``reach``; projected on each axis, it is correlated
-    with the projection of the plots laid at each scale (0.95–1.05) and shift, coarse then fine.
+    The row amplitude, on a lattice over the plots' box grown by ``reach``, is the magnitude of
+    the row component over two periods across (2 cycles per window) less those at 1 and 3
+    cycles (a straight edge has all three, rows only the second), each averaged as complex
+    numbers over a metre along the rows. Along the rows, its projection is correlated with
+    each plot's box laid at each scale (0.95–1.05) and shift, coarse then fine. Across, the
+    scale stays 1 and the shift lays the plots' middle on the middle of the crop's extent
+    (where the projection crosses half-way between the field and the outside); the phases of
+    the rows do the rest (:func:`row_consensus`).
     """
     c0 = centres.mean(axis=0)
     pu, pv = (centres - c0) @ axes[0], (centres - c0) @ axes[1]
