@@ -96,7 +96,9 @@ def read_vegetation(tif, bbox, kind: str, bands: Sequence[int], prog,
     vi = np.full((nrows, ncols), np.nan, np.float32)
     names = ["red", "green", "blue"] if kind == "exg" else ["red", "nir"]
     alpha, nodata = tif.alpha_band, tif.nodata
-    acc = np.uint32 if tif.dtype == np.uint8 else np.float64
+    # 8-bit sums of up to 16 × 16 pixels fit 16 bits: half the memory traffic of 32
+    acc = (np.uint16 if k <= 16 else np.uint32) if tif.dtype == np.uint8 else np.float64
+    all_bands = list(bands) == list(range(tif.bands))
 
     def cell_sums(buf):
         """Sums over k × k cells (strided adds: faster than a reshaped sum)."""
@@ -111,7 +113,7 @@ def read_vegetation(tif, bbox, kind: str, bands: Sequence[int], prog,
         return out
 
     def consume(i, arr):
-        data = arr[..., list(bands)]
+        data = arr if all_bands else arr[..., list(bands)]
         mask = None
         if alpha is not None:
             mask = arr[..., alpha] > 0
@@ -120,7 +122,7 @@ def read_vegetation(tif, bbox, kind: str, bands: Sequence[int], prog,
             mask = ~nd if mask is None else mask & ~nd
         if mask is not None:
             data = data * mask[..., None].astype(data.dtype)
-        sums = cell_sums(data).astype(np.float64)
+        sums = cell_sums(data)
         h, w = sums.shape[:2]
         vals = indices.compute(kind, sums.reshape(-1, len(bands)).T, names).reshape(h, w)
         if mask is not None:

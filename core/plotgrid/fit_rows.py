@@ -97,7 +97,7 @@ def block_search(img, centres, axes, half, s, reach, prog) -> Tuple[np.ndarray, 
     pu, pv = (centres - c0) @ axes[0], (centres - c0) @ axes[1]
     lo_u, hi_u = (pu - half[:, 0]).min() - reach, (pu + half[:, 0]).max() + reach
     lo_v, hi_v = (pv - half[:, 1]).min() - reach, (pv + half[:, 1]).max() + reach
-    du, per = max(img.px, s / 4), 16          # the windows across: two periods, 16 samples
+    du, per = max(img.px, s / 2), 16          # the windows across: two periods, 16 samples
     nb = max(1, int(round(min(1.0, float(np.median(half[:, 0]))) / du)))   # ≤ 1 m along
     dv = 2 * s / per
     u = np.arange(lo_u, hi_u, du)
