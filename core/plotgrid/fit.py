@@ -143,14 +143,12 @@ def _pitch(values: np.ndarray, tol: float) -> float:
     return float(d.min()) if d.size else math.inf
 
 
-
 def _groups(half: np.ndarray):
     """Indices of the plots of each size (half sizes to the millimetre)."""
     keys = {}
     for i, h in enumerate(np.round(half, 3)):
         keys.setdefault((h[0], h[1]), []).append(i)
     return [np.array(v) for v in keys.values()]
-
 
 
 def _similarity(nominal, measured, ok, c0, axes):
@@ -168,8 +166,6 @@ def _similarity(nominal, measured, ok, c0, axes):
     M = _rot(theta) @ G @ np.diag([su, sv]) @ G.T
     t = (Q - P @ M.T).mean(axis=0)
     return theta, (su, sv), t, M
-
-
 
 
 def _check_index(tif, index, bands):
