@@ -16,7 +16,10 @@
 The orthomosaic (1 cm, RGB, tiled 256, deflate) is generated once, deterministically, into
 bench_output/ and reused while its manifest matches: a field turned by 2° with up to 40 × 40
 plots (4.6 m apart) of crop rows (0.5 m apart), each planted up to 5 cm off the layout, 2 %
-of them empty.
+of them empty — as hard as the demo trial (``core.demo.trial_render``): margin grass 0.75 as
+green as the crop, weeds in 40 % of the plots and in the alleys, vigour uneven between and
+within plots, a missing row segment in every plot (half of them at a row end), shadows and a
+soil gradient.
 """
 import argparse
 import json
@@ -30,11 +33,12 @@ from pathlib import Path
 import numpy as np
 
 from .common import ratio, run_json_child, table, target
+from ..core.demo.trial_render import grass_colour
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 OUT = ROOT / "bench_output"
-GEN_VERSION = 2
+GEN_VERSION = 3
 SEED = 20251201
 EPSG = 32654
 PIXEL = 0.01
@@ -92,8 +96,24 @@ def write_raster(path: Path, size: int) -> None:
     sown = np.zeros((n, n), bool)
     offs[gr, gc] = off
     sown[gr, gc] = ~empty
-    soil = np.array([122, 96, 72], np.float32)
+    soil_a = np.array([122, 96, 72], np.float32)
+    soil_b = np.array([150, 122, 92], np.float32)
     leaf = np.array([58, 132, 46], np.float32)
+    weed = np.array([70, 140, 52], np.float32)
+    grass = np.array(grass_colour(0.75), np.float32)
+    rng = np.random.default_rng((SEED, 7))
+    vigour = (1 - 0.6 * rng.random((n, n))).astype(np.float32)          # between plots
+    wave = rng.uniform(0, 2 * np.pi, (n, n)).astype(np.float32)           # within
+    rows_k = int(np.floor(PLOT[1] / 2 / ROW_SPACING))
+    miss_row = rng.integers(-rows_k, rows_k + 1, (n, n))                  # one missing segment
+    miss_len = rng.uniform(0.2, 0.7, (n, n))
+    at_end = rng.random((n, n)) < 0.5
+    end = PLOT[0] / 2 - EDGE
+    miss_a = np.where(at_end, np.where(rng.random((n, n)) < 0.5, -end, end - miss_len),
+                      rng.uniform(-1.2, 1.2 - miss_len))
+    miss_b = miss_a + miss_len
+    weedy = rng.random((n, n)) < 0.4
+    field = n * PITCH
 
     def band(b):
         r0 = b * TILE
@@ -110,11 +130,31 @@ def write_raster(path: Path, size: int) -> None:
         ov = v - ri * PITCH - PLOT[1] / 2 - offs[rr, cc, 1]
         inside = ok & sown[rr, cc] & (np.abs(ou) < PLOT[0] / 2 - EDGE) & \
             (np.abs(ov) < PLOT[1] / 2 - EDGE)
+        vig = vigour[rr, cc] * (1 + 0.35 * np.sin(0.9 * ou + wave[rr, cc]))
         h = np.clip(np.cos(2 * np.pi * ov / ROW_SPACING), 0, None) ** 2 * \
-            (0.75 + 0.25 * np.cos(2 * np.pi * ou / PLANT)) * 0.5
-        w = np.where(inside, np.clip(h / 0.05, 0, 1), 0).astype(np.float32)[..., None]
-        noise = np.random.default_rng((SEED, b)).integers(-8, 9, (rows, size, 1)).astype(np.float32)
-        img = np.clip((soil + noise) * (1 - w) + leaf * w, 0, 255).astype(np.uint8)
+            (0.75 + 0.25 * np.cos(2 * np.pi * ou / PLANT))
+        cover = np.clip(2.2 * vig * h, 0, 1)
+        gone = (np.round(ov / ROW_SPACING) == miss_row[rr, cc]) & (ou >= miss_a[rr, cc]) & \
+            (ou <= miss_b[rr, cc])
+        w = np.where(inside & ~gone, cover, 0).astype(np.float32)[..., None]
+        noise = np.random.default_rng((SEED, b))
+        t = (x - ORIGIN[0]) / (size * PIXEL)
+        soil = soil_a + (soil_b - soil_a) * t[..., None].astype(np.float32)
+        soil = soil * (1 + 0.05 * noise.standard_normal((rows, size, 1)).astype(np.float32))
+        img = soil * (1 - w) + leaf * w
+        # margin grass: a 2.5 m band outside the field, patchy
+        out = np.maximum(np.maximum(-a, a - field), np.maximum(-v, v - field))
+        g = (out > 0.25) & (out < 2.75) & (noise.random((rows, size)) < 0.85)
+        img[g] = grass
+        # weeds: 8 cm squares in the weedy plots and in the alleys
+        cell = (np.floor(a / 0.08).astype(np.int64) * 1_000_003 + np.floor(v / 0.08).astype(np.int64))
+        hashed = (cell * 2654435761 % 2 ** 32) / 2 ** 32
+        wd = ok & (hashed < np.where(weedy[rr, cc] | ~inside, 0.012, 0.0))
+        img[wd] = weed
+        # shadows: soft blobs on a 25 m lattice
+        sh = np.sin(a / 4.1 + 1.3) * np.sin(v / 3.7 + 0.4) > 0.85
+        img[sh] *= 0.55
+        img = np.clip(img, 0, 255).astype(np.uint8)
         padded = np.zeros((TILE, -(-size // TILE) * TILE, 3), np.uint8)
         padded[:rows, :size] = img
         return [imagecodecs.zlib_encode(np.ascontiguousarray(padded[:, c:c + TILE]), level=6)

@@ -596,6 +596,10 @@ CRS はメートル単位の投影座標系でなければなりません：地�
       <translation>圃場の境界：レイヤ「{layer}」にポリゴンがありません。</translation>
     </message>
     <message>
+      <source>Origin '{value}' has no CRS: type it with its CRS in square brackets, e.g. '320000.0,3956100.0 [EPSG:32654]', or set the output CRS (the origin is then taken in it).</source>
+      <translation>原点 '{value}' に座標参照系がありません：角括弧で座標参照系を付けて入力してください（例：'320000.0,3956100.0 [EPSG:32654]'）。または出力の座標参照系を設定してください（原点はその座標参照系とみなされます）。</translation>
+    </message>
+    <message>
       <source>Crop point cloud by ROIs</source>
       <translation>ROI で点群を切り出し</translation>
     </message>
@@ -866,18 +870,18 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.
 
-From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
+It tells the crop from weeds, margin grass and soil by its rows, not by greenness alone. From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift from the plot block (all plots vote at once, so the field margins cannot pull it), then a per-plot shift, at most the bound, that centres each plot on its own rows: across them on the rows' positions, along them on the row ends. Plots keep their size and shape.
 
-Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
+Plots without rows (empty, bare soil), whose rows lie mostly outside them, or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the row signal around the plot lies within its crop's length than an even spread would put there) and cover (its rows' strength over the median plot's). Features without a polygon are named in the log and written out unchanged.
 
-The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
+The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. An orthomosaic with no vegetation under the plots is refused, and nothing is written. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
       <translation>プロットグリッドを、オルソモザイクに写る実際に播種された作物の位置へ移動します。
 
-植生指数（RGB オルソモザイクの ExG、またはマルチスペクトルの赤と近赤外バンドによる NDVI）から、まず作物の条の方向と条間（画像のスペクトル）を求め、次にグリッド全体の回転・間隔の倍率・移動（各プロットの作物の位置から）、最後に上限以内のプロットごとの移動を求めて、各プロットを播種された条の中心に合わせます。プロットのサイズと形は変わりません。
+緑の度合いだけでなく作物の条によって、作物を雑草・周縁の草・土壌と区別します。植生指数（RGB オルソモザイクの ExG、またはマルチスペクトルの赤と近赤外バンドによる NDVI）から、まず作物の条の方向と条間（画像のスペクトル）を求め、次にプロットの区画全体からグリッド全体の回転・間隔の倍率・移動を求め（すべてのプロットが同時に投票するので、圃場の周縁に引きずられません）、最後に上限以内のプロットごとの移動で、各プロットを自身の条の中心に合わせます：条に直交する向きは条の位置で、条に沿う向きは条の両端で合わせます。プロットのサイズと形は変わりません。
 
-裸地のプロット（土壌、欠株）、植生の大部分がプロットの外にあるプロット（雑草）、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（0–1：周囲の植生が、一様に広がった場合よりどれだけ多くプロット内にあるか）、cover（平均植生重み、0–1）が付きます。
+条のないプロット（空きプロット、裸地）、条の大部分がプロットの外にあるプロット、移動が上限を超えるプロットはその場に残されます：全体の補正だけを受け、moved = 0 で、理由は fit_flag に入ります。各プロットには shift_x、shift_y、shift_m（自身の移動量、m）、fit_score（0–1：プロット周囲の条の信号が、一様に広がった場合よりどれだけ多く作物の長さの内側にあるか）、cover（条の強さのプロット中央値に対する比）が付きます。ポリゴンのない地物はログに名前が出され、そのまま書き出されます。
 
-ログには全体の補正と、しきい値より大きく移動したプロットの数が出ます。オルソモザイクはウィンドウごとに一度だけ読み込まれ（任意のサイズ。最大 1600 万画素に平均化）、実行はキャンセルできます。出力はオルソモザイクの CRS で、メートル単位の投影座標系でなければなりません。</translation>
+ログには全体の補正と、しきい値より大きく移動したプロットの数が出ます。オルソモザイクはウィンドウごとに一度だけ読み込まれ（任意のサイズ。最大 1600 万画素に平均化）、実行はキャンセルできます。プロットの下に植生のないオルソモザイクは拒否され、何も書き出されません。出力はオルソモザイクの CRS で、メートル単位の投影座標系でなければなりません。</translation>
     </message>
     <message>
       <source>Automatic (ExG for an RGB orthomosaic)</source>
@@ -940,12 +944,12 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>この値より大きく移動したプロットを報告（m）</translation>
     </message>
     <message>
-      <source>Search radius before the global correction (m; empty: 0.45 of the plot spacing)</source>
-      <translation>全体補正前の探索半径（m。空欄：プロット間隔の 0.45 倍）</translation>
+      <source>Search radius of the global correction (m; empty: 0.6 m + 9 % of the grid's half extent)</source>
+      <translation>全体補正の探索半径（m。空欄：0.6 m + グリッドの半幅の 9 %）</translation>
     </message>
     <message>
-      <source>Bare below this share of the median plot cover</source>
-      <translation>プロット被覆の中央値に対するこの割合未満を裸地とする</translation>
+      <source>Bare below this share of the median plot's row strength</source>
+      <translation>条の強さがプロットの中央値に対してこの割合未満なら裸地とする</translation>
     </message>
     <message>
       <source>Weak fit below this score</source>
@@ -954,6 +958,14 @@ The log gives the global correction and how many plots moved by more than the th
     <message>
       <source>{grid}: fitted to {ortho}</source>
       <translation>{grid}：{ortho} に合わせた</translation>
+    </message>
+    <message>
+      <source>Plot grid: {n} features have no polygon (NULL or empty geometry) and are skipped (written out unchanged, fit_flag '{flag}'): {names}.</source>
+      <translation>プロットグリッド：{n} 個の地物にポリゴンがありません（NULL または空のジオメトリ）。スキップします（そのまま書き出し、fit_flag は '{flag}'）：{names}。</translation>
+    </message>
+    <message>
+      <source>Plot grid: none of the {n} features has a polygon (all NULL or empty geometries).</source>
+      <translation>プロットグリッド：{n} 個の地物のどれにもポリゴンがありません（すべて NULL または空のジオメトリ）。</translation>
     </message>
     <message>
       <source>Plot '{name}' left in place: {reason}.</source>

@@ -596,6 +596,10 @@ The CRS must be projected in metres: a geographic CRS is refused with the UTM zo
       <translation>田块边界：图层“{layer}”没有多边形。</translation>
     </message>
     <message>
+      <source>Origin '{value}' has no CRS: type it with its CRS in square brackets, e.g. '320000.0,3956100.0 [EPSG:32654]', or set the output CRS (the origin is then taken in it).</source>
+      <translation>原点 '{value}' 没有坐标参考系：请在方括号中写上其坐标参考系，例如 '320000.0,3956100.0 [EPSG:32654]'，或设置输出坐标参考系（原点即按其解释）。</translation>
+    </message>
+    <message>
       <source>Crop point cloud by ROIs</source>
       <translation>按感兴趣区裁剪点云</translation>
     </message>
@@ -866,18 +870,18 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.
 
-From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift (from where every plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its planted rows. Plots keep their size and shape.
+It tells the crop from weeds, margin grass and soil by its rows, not by greenness alone. From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with its red and NIR bands) it finds the direction and spacing of the crop rows (the image's spectrum), then the grid's global rotation, spacing scale and shift from the plot block (all plots vote at once, so the field margins cannot pull it), then a per-plot shift, at most the bound, that centres each plot on its own rows: across them on the rows' positions, along them on the row ends. Plots keep their size and shape.
 
-Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them (weeds), or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation around it lies inside it than an even spread would put there) and cover (its mean vegetation weight, 0–1).
+Plots without rows (empty, bare soil), whose rows lie mostly outside them, or whose shift would exceed the bound are left in place: they keep the global correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the row signal around the plot lies within its crop's length than an even spread would put there) and cover (its rows' strength over the median plot's). Features without a polygon are named in the log and written out unchanged.
 
-The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
-      <translation>把地块网格移到正射影像上实际播种的作物位置。
+The log gives the global correction and how many plots moved by more than the threshold. The orthomosaic is read in one pass by windows (any size; it is averaged to at most 16 million pixels), and the run can be cancelled. An orthomosaic with no vegetation under the plots is refused, and nothing is written. The output is in the orthomosaic's CRS, which must be projected in metres.</source>
+      <translation>将小区网格移动到正射影像所示的实际播种作物上。
 
-根据植被指数（RGB 正射影像的 ExG，或多光谱影像用红光和近红外波段计算的 NDVI），先求出作物行的方向和行距（影像的频谱），再求出网格的整体旋转、间隔缩放和平移（依据每个地块作物的位置），最后求出每个地块不超过上限的平移，使地块以其播种行为中心。地块保持尺寸和形状不变。
+它依据作物的行来区分作物与杂草、田边草地和土壤，而不仅仅依据绿度。根据植被指数（RGB 正射影像的 ExG，或多光谱影像红光与近红外波段的 NDVI），先求出作物行的方向和行距（影像的频谱），再从小区块求出网格的全局旋转、间距缩放和平移（所有小区同时投票，田边无法将其拉偏），最后求出每个小区不超过上限的平移，使其以自身的行为中心：垂直于行按行的位置，沿行按行的两端。小区的大小和形状保持不变。
 
-裸露的地块（土壤、缺苗）、植被大多在地块之外的地块（杂草）以及平移会超过上限的地块保持原位：它们只接受整体校正，moved = 0，原因写在 fit_flag 中。每个地块得到 shift_x、shift_y 和 shift_m（自身的平移，米）、fit_score（0–1：周围植被位于地块内的程度比均匀分布时高出多少）和 cover（平均植被权重，0–1）。
+没有行的小区（空小区、裸地）、行大部分在小区之外的小区，或平移将超过上限的小区保持原位：只接受全局校正，moved = 0，原因写入 fit_flag。每个小区都有 shift_x、shift_y 和 shift_m（自身的平移，m）、fit_score（0–1：小区周围的行信号落在其作物长度内的比例比均匀分布多出多少）以及 cover（其行强度相对于小区中位数的比值）。没有多边形的要素会在日志中列出，并按原样写出。
 
-日志给出整体校正以及平移超过阈值的地块数。正射影像按窗口一次读完（任意大小；平均到最多 1600 万像素），运行可以取消。输出使用正射影像的坐标参考系，它必须是以米为单位的投影坐标系。</translation>
+日志给出全局校正以及移动超过阈值的小区数。正射影像按窗口一次读取（任意大小；平均到最多 1600 万像素），运行可以取消。小区下方没有植被的正射影像会被拒绝，不写出任何内容。输出采用正射影像的坐标参考系，必须是以米为单位的投影坐标系。</translation>
     </message>
     <message>
       <source>Automatic (ExG for an RGB orthomosaic)</source>
@@ -940,12 +944,12 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>报告平移超过此值的地块（米）</translation>
     </message>
     <message>
-      <source>Search radius before the global correction (m; empty: 0.45 of the plot spacing)</source>
-      <translation>整体校正前的搜索半径（米；留空：地块间隔的 0.45 倍）</translation>
+      <source>Search radius of the global correction (m; empty: 0.6 m + 9 % of the grid's half extent)</source>
+      <translation>全局校正的搜索半径（m；留空：0.6 m + 网格半幅的 9 %）</translation>
     </message>
     <message>
-      <source>Bare below this share of the median plot cover</source>
-      <translation>覆盖度低于地块覆盖度中位数的此比例视为裸露</translation>
+      <source>Bare below this share of the median plot's row strength</source>
+      <translation>行强度低于小区中位数的此比例即视为裸地</translation>
     </message>
     <message>
       <source>Weak fit below this score</source>
@@ -954,6 +958,14 @@ The log gives the global correction and how many plots moved by more than the th
     <message>
       <source>{grid}: fitted to {ortho}</source>
       <translation>{grid}：已拟合到 {ortho}</translation>
+    </message>
+    <message>
+      <source>Plot grid: {n} features have no polygon (NULL or empty geometry) and are skipped (written out unchanged, fit_flag '{flag}'): {names}.</source>
+      <translation>小区网格：{n} 个要素没有多边形（NULL 或空几何），已跳过（按原样写出，fit_flag 为 '{flag}'）：{names}。</translation>
+    </message>
+    <message>
+      <source>Plot grid: none of the {n} features has a polygon (all NULL or empty geometries).</source>
+      <translation>小区网格：{n} 个要素都没有多边形（全部为 NULL 或空几何）。</translation>
     </message>
     <message>
       <source>Plot '{name}' left in place: {reason}.</source>

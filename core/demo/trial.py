@@ -4,28 +4,35 @@ The demo survey's plots (:mod:`.scene`) are each turned by their own random angl
 back-projection meets rotated ROIs), so no grid layout reproduces them. The trial is the field a
 plot-grid tool is for: :data:`TRIAL` rows × columns in two blocks (replicates), the field turned
 by :data:`FIELD_BEARING`, serpentine numbering, a field book, sown crop rows inside every plot
-(:func:`.field._plot_canopy`: rows along the plot's x axis, 0.5 m apart, plants every 0.15 m, a
-bare 0.1 m edge) and a few empty plots (bare soil, nothing sown).
+(rows along the plot's x axis, 0.5 m apart, plants every 0.15 m, a bare 0.1 m edge) and
+:data:`EMPTY` plots (bare soil, nothing sown). By default the plots touch their neighbours across
+the rows (no alley between ranges: :data:`TRIAL`'s ``gap_y`` is 0; ``Hardness(touching=False)``
+gives the 1 m alleys of :data:`TRIAL_WITH_ALLEYS`), and the field is as messy as a real one
+(:class:`.trial_render.Hardness`: margin grass, weeds in the plots and alleys, uneven vigour,
+missing row segments, lodging, shadows, a soil gradient).
 
 The *layout* plots are what ``core.plotgrid.create_plot_grid`` makes from the four field
-corners and :data:`TRIAL` (``plots.gpkg``). The *planted* plots are where the crop really is:
+corners and the layout (``plots.gpkg``). The *planted* plots are where the crop really is:
 the layout plot moved by a small planter offset (uniform in ±:data:`PLANTER_OFFSET` m along
 each grid axis; none for the empty plots, which stay where the layout puts them)
-(``planted.gpkg``). ``make_demo_trial(folder)`` writes::
+(``planted.gpkg``). The layout, the offsets and the empty plots are written by this module with
+loops and its own random stream, independently of ``core.plotgrid`` and of the rendering.
+``make_demo_trial(folder)`` writes::
 
     orthomosaic.tif   RGB, 2 cm, tiled 256, deflate (EPSG:32654)
     corners.geojson   the four field corners, as points, in a shuffled order
     field_book.csv    plot_id, genotype, rep, treatment
     plots.gpkg        the layout plots (plot_id, plot_no, row, col, block + the field book)
     planted.gpkg      the planted plots (same fields, and empty = 1 for the empty plots)
-    truth.json        the layout, the corners, the empty plots and every plot's offset
+    truth.json        the layout, the corners, the empty plots, every plot's offset, the
+                      hardness parameters and what was drawn in each plot (weeds, lodging, …)
 """
 import csv
 import io
 import math
 import os
 from dataclasses import dataclass
-from typing import Dict, List
+from typing import Dict, List, Optional
 
 import numpy as np
 
@@ -33,7 +40,8 @@ from ..files import OutputFolder, write_bytes, write_json
 from ..gpkg import GpkgTable, field_type, write_geopackage
 from ..plotgrid import create_plot_grid
 from ..raster import epsg_geo_tags, write_geotiff
-from .field import FieldLayout, _plot_canopy, plot_window
+from .field import FieldLayout
+from .trial_render import Hardness, render_field
 
 EPSG = 32654
 PIXEL = 0.02
@@ -42,12 +50,17 @@ FIELD_BEARING = 78.0          # degrees: the top edge, clockwise from grid north
 PLANTER_OFFSET = 0.06         # m
 MARGIN = 3.0                  # m of bare soil around the field in the orthomosaic
 EMPTY = ("1-03-04", "1-06-02", "2-02-08", "2-07-09")
-TRIAL = dict(rows=8, cols=10, size_x=3.0, size_y=1.6, gap_x=0.5, gap_y=1.0, blocks_x=2,
+TRIAL = dict(rows=8, cols=10, size_x=3.0, size_y=1.5, gap_x=0.5, gap_y=0.0, blocks_x=2,
              block_gap_x=1.5, order="serpentine", start="top-left", start_id=101,
              pattern="{block}-{row:02d}-{col:02d}")
-"""The layout, as ``core.plotgrid.create_plot_grid`` keywords."""
-SOIL_RGB = (122.0, 96.0, 72.0)
-LEAF_RGB = (58.0, 132.0, 46.0)
+"""The layout (plots touching across the rows), as ``core.plotgrid.create_plot_grid`` keywords."""
+TRIAL_WITH_ALLEYS = dict(TRIAL, size_y=1.6, gap_y=1.0)
+"""The layout with 1 m alleys between the ranges (``Hardness(touching=False)``)."""
+
+
+def trial_layout(hardness: Optional[Hardness] = None) -> dict:
+    """The layout of a trial of this hardness (default: :data:`TRIAL`)."""
+    return TRIAL if hardness is None or hardness.touching else TRIAL_WITH_ALLEYS
 ENTRIES = ("orthomosaic.tif", "corners.geojson", "field_book.csv", "plots.gpkg", "planted.gpkg",
            "truth.json")
 
@@ -71,9 +84,8 @@ def _frame():
     return np.array(UPPER_LEFT), ux, np.array([ux[1], -ux[0]])
 
 
-def _starts():
+def _starts(T: dict = TRIAL):
     """Offsets of the plots' near edges along x (columns) and y (rows), and the field size."""
-    T = TRIAL
     per_block = T["cols"] // T["blocks_x"]
     xs = [c * T["size_x"] + c * T["gap_x"] + (c // per_block) * (T["block_gap_x"] - T["gap_x"])
           for c in range(T["cols"])]
@@ -81,20 +93,19 @@ def _starts():
     return xs, ys, (xs[-1] + T["size_x"], ys[-1] + T["size_y"])
 
 
-def trial_corners() -> np.ndarray:
+def trial_corners(T: dict = TRIAL) -> np.ndarray:
     """(4, 2) field corners: upper-left, upper-right, lower-right, lower-left."""
     o, ux, uy = _frame()
-    _, _, (w, h) = _starts()
+    _, _, (w, h) = _starts(T)
     return np.array([o, o + w * ux, o + w * ux + h * uy, o + h * uy])
 
 
-def layout_plots() -> List[dict]:
+def layout_plots(T: dict = TRIAL) -> List[dict]:
     """The layout's plots in numbering order, written out from :data:`TRIAL` with loops (not
     with ``core.plotgrid``, which the tests check against them): serpentine rows from the
     upper-left corner, corners clockwise from each plot's upper-left one."""
-    T = TRIAL
     o, ux, uy = _frame()
-    xs, ys, _ = _starts()
+    xs, ys, _ = _starts(T)
     per_block = T["cols"] // T["blocks_x"]
     plots, no = [], T["start_id"]
     for r in range(T["rows"]):
@@ -151,9 +162,9 @@ def field_book_rows(grid, seed: int = 0) -> List[dict]:
     return rows
 
 
-def layout_grid(seed: int = 0) -> _Layout:
+def layout_grid(seed: int = 0, T: dict = TRIAL) -> _Layout:
     """The layout plots with the field book (what ``plots.gpkg`` holds)."""
-    plots = _Layout(layout_plots(), None)
+    plots = _Layout(layout_plots(T), None)
     return _Layout(plots.plots, field_book_rows(plots, seed))
 
 
@@ -171,9 +182,11 @@ def planted_corners(grid, offsets) -> np.ndarray:
                      for i, p in enumerate(grid.plot_id)])
 
 
-def render_orthomosaic(grid, offsets, seed: int = 0):
-    """(RGB uint8 image, geotransform) of the trial."""
-    corners = trial_corners()
+def render_orthomosaic(grid, offsets, seed: int = 0, hardness: Optional[Hardness] = None,
+                       T: dict = TRIAL):
+    """(RGB uint8 image, geotransform, what was drawn in each plot) of the trial."""
+    hardness = hardness or Hardness()
+    corners = trial_corners(T)
     x0 = math.floor((corners[:, 0].min() - MARGIN) / PIXEL) * PIXEL
     x1 = math.ceil((corners[:, 0].max() + MARGIN) / PIXEL) * PIXEL
     y0 = math.floor((corners[:, 1].min() - MARGIN) / PIXEL) * PIXEL
@@ -181,25 +194,11 @@ def render_orthomosaic(grid, offsets, seed: int = 0):
     lay = FieldLayout(origin=(x0, y1), size=(x1 - x0, y1 - y0), epsg=EPSG)
     _, ux, _ = _frame()
     angle = math.atan2(ux[1], ux[0])
-    rng = np.random.default_rng([seed, 27])
-    pc = planted_corners(grid, offsets)
-    ny, nx = lay.grid_shape(PIXEL)
-    height = np.zeros((ny, nx))
-    for i, pid in enumerate(grid.plot_id):
-        if pid in EMPTY:
-            continue
-        p = {"centre": tuple(pc[i].mean(axis=0)), "angle": angle,
-             "size": (TRIAL["size_x"], TRIAL["size_y"]), "height": rng.uniform(0.25, 0.7)}
-        (i0, i1, j0, j1), x, y = plot_window(lay, p, PIXEL)
-        inside, val = _plot_canopy(p, x, y)
-        height[i0:i1, j0:j1] = np.where(inside, np.maximum(height[i0:i1, j0:j1], val),
-                                        height[i0:i1, j0:j1])
-    shade = 1 + 0.05 * rng.standard_normal((ny, nx))
-    leaf = np.clip(height / 0.05, 0, 1)[..., None]
-    soil = np.array(SOIL_RGB) * shade[..., None] + rng.integers(-8, 9, (ny, nx, 1))
-    green = np.array(LEAF_RGB) * (0.75 + 0.45 * np.clip(height / 0.7, 0, 1))[..., None]
-    img = np.clip(soil * (1 - leaf) + green * leaf, 0, 255).astype(np.uint8)
-    return img, lay.geotransform(PIXEL)
+    gt = lay.geotransform(PIXEL)
+    img, feats = render_field(lay.grid_shape(PIXEL), gt, planted_corners(grid, offsets), angle,
+                              (T["size_x"], T["size_y"]), list(grid.plot_id),
+                              [p in EMPTY for p in grid.plot_id], corners, hardness, seed)
+    return img, gt, feats
 
 
 def _csv_text(rows: List[dict]) -> bytes:
@@ -210,17 +209,21 @@ def _csv_text(rows: List[dict]) -> bytes:
     return buf.getvalue().encode("utf-8")
 
 
-def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False) -> DemoTrial:
-    """Write the demo trial into ``folder`` (see the module docstring)."""
+def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False,
+                    hardness: Optional[Hardness] = None) -> DemoTrial:
+    """Write the demo trial into ``folder`` (see the module docstring); ``hardness``: how messy
+    the field is (default: :class:`.trial_render.Hardness`'s hard levels)."""
+    hardness = hardness or Hardness()
+    T = trial_layout(hardness)
     with OutputFolder(folder, overwrite=overwrite, what="Demo trial folder") as out:
         out.claim(ENTRIES)
         folder = str(out.folder)
-        grid = layout_grid(seed)
+        grid = layout_grid(seed, T)
         offsets = planted_offsets(grid, seed)
-        img, gt = render_orthomosaic(grid, offsets, seed)
+        img, gt, feats = render_orthomosaic(grid, offsets, seed, hardness, T)
         paths = {k: os.path.join(folder, k) for k in ENTRIES}
         write_geotiff(paths["orthomosaic.tif"], img, gt, epsg_geo_tags(EPSG), rgb=True, tile=256)
-        corners = trial_corners()
+        corners = trial_corners(T)
         order = [2, 0, 3, 1]                             # shuffled: the tool sorts them
         write_json(paths["corners.geojson"], {
             "type": "FeatureCollection", "name": "corners",
@@ -243,14 +246,15 @@ def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False) -> Demo
         write_json(paths["truth.json"], {
             "format": "easyidp-demo-trial-truth", "version": 1, "seed": seed,
             "crs": f"EPSG:{EPSG}", "pixel": PIXEL,
-            "layout": TRIAL, "field_bearing": FIELD_BEARING,
+            "layout": T, "field_bearing": FIELD_BEARING, "hardness": hardness.as_dict(),
             "corners": {"order": ["upper-left", "upper-right", "lower-right", "lower-left"],
                         "xy": corners.tolist()},
             "empty_plots": list(EMPTY),
             "planter_offsets": "metres along the grid's x axis (top edge) and y axis (down the "
                                "left edge); planted plot = layout plot + offset",
             "plots": {p: {"offset": offsets[p], "layout": grid.corners[i].tolist(),
-                          "planted": pc[i].tolist()} for i, p in enumerate(grid.plot_id)}},
+                          "planted": pc[i].tolist(), "drawn": feats[p]}
+                      for i, p in enumerate(grid.plot_id)}},
             indent=None)
         return DemoTrial(folder, paths["orthomosaic.tif"], paths["corners.geojson"],
                          paths["field_book.csv"], paths["plots.gpkg"], paths["planted.gpkg"],
@@ -258,19 +262,40 @@ def make_demo_trial(folder: str, seed: int = 0, overwrite: bool = False) -> Demo
 
 
 def perturbed_start(rotation_deg: float = 2.0, shift=(0.3 * math.cos(0.5), 0.3 * math.sin(0.5)),
-                    spacing: float = 1.02):
-    """The fit's starting grid in the demo and the tests: the trial's layout made with its spacing
-    ``spacing`` × too large (plot sizes right), then turned by ``rotation_deg`` (degrees,
-    counter-clockwise) about its centre and shifted by ``shift`` (east, north in m; 0.30 m).
-    Returns (the grid as made, its corners turned and shifted: one (4, 2) array per plot)."""
-    T = dict(TRIAL)
-    px, py = T["size_x"] + T["gap_x"], T["size_y"] + T["gap_y"]
-    T["gap_x"] = px * spacing - T["size_x"]
-    T["gap_y"] = py * spacing - T["size_y"]
-    T["block_gap_x"] = T["block_gap_x"] + (spacing - 1) * px
-    grid, _ = create_plot_grid(f"EPSG:{EPSG}", origin=trial_corners()[0], bearing=FIELD_BEARING,
+                    spacing: float = 1.02, T: dict = TRIAL):
+    """The fit's starting grid in the demo and the tests: the trial's layout (as
+    ``create_plot_grid`` makes it) with the plots' centres spread ``spacing`` × from the grid's
+    centre (plot sizes right; below 1 touching plots overlap), then the whole turned by
+    ``rotation_deg`` (degrees, counter-clockwise) about that centre and shifted by ``shift``
+    (east, north in m; 0.30 m). Returns (the grid as made, its corners moved: one (4, 2) array
+    per plot)."""
+    grid, _ = create_plot_grid(f"EPSG:{EPSG}", origin=trial_corners(T)[0], bearing=FIELD_BEARING,
                                **T)
     c = grid.corners.reshape(-1, 2).mean(axis=0)
     t = math.radians(rotation_deg)
     R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])
-    return grid, [(q - c) @ R.T + c + np.asarray(shift) for q in grid.corners]
+    out = []
+    for q in grid.corners:
+        m = q.mean(axis=0)
+        out.append((c + (m - c) * spacing + (q - m)) @ R.T + (c - c @ R.T) + np.asarray(shift))
+    return grid, out
+
+
+def start_grids(count: int = 8, seed: int = 0):
+    """``count`` start grids for the fit, spread over seeds: rotation up to ±3°, shift up to
+    0.5 m, spacing ±3 % (the corners first at the extremes, then random). Returns
+    [((rotation°, (dx, dy) m, spacing), (grid, corners))]."""
+    rng = np.random.default_rng([seed, 32])
+    out = []
+    for k in range(count):
+        if k < 4:
+            rot = (3.0, -3.0, 3.0, -3.0)[k]
+            sp = (1.03, 0.97, 0.97, 1.03)[k]
+            ang = k * math.pi / 2 + 0.4
+            shift = (0.5 * math.cos(ang), 0.5 * math.sin(ang))
+        else:
+            rot, sp = float(rng.uniform(-3, 3)), float(rng.uniform(0.97, 1.03))
+            r, ang = 0.5 * math.sqrt(rng.random()), rng.uniform(0, 2 * math.pi)
+            shift = (r * math.cos(ang), r * math.sin(ang))
+        out.append(((rot, shift, sp), perturbed_start(rot, shift, sp)))
+    return out

@@ -36,10 +36,37 @@ class JoinReport:
         return out
 
 
+def field_book_problem(path: str) -> Optional[str]:
+    """What is wrong with a field-book file as a text table, or None: missing, empty, binary
+    (NUL bytes, as in a spreadsheet workbook or a damaged file) or not text at all."""
+    if not os.path.isfile(path):
+        return f"Field book {path!r}: no such file."
+    with open(path, "rb") as fh:
+        head = fh.read(65536)
+    if not head.strip():
+        return (f"Field book {path!r} is empty ({os.path.getsize(path)} bytes): export the sheet "
+                "again as CSV, with a header line and one row per plot.")
+    kind = ("an Excel workbook (.xlsx)" if head.startswith(b"PK\x03\x04") else
+            "an Excel 97 workbook (.xls)" if head.startswith(b"\xd0\xcf\x11\xe0") else
+            "binary or damaged")
+    nul = head.find(b"\x00")
+    if nul >= 0 and not head.startswith((b"\xff\xfe", b"\xfe\xff")):
+        return (f"Field book {path!r} is not a text table: it is {kind} (NUL bytes from byte "
+                f"{nul}). Save the sheet as CSV (UTF-8, comma-separated) and "
+                "give that file.")
+    control = sum(1 for b in head if b < 32 and b not in (9, 10, 13))
+    if control > max(8, len(head) // 100):
+        return (f"Field book {path!r} is not a text table: {control} control bytes in its first "
+                f"{len(head)} bytes (binary or damaged). Save the sheet as CSV (UTF-8) and give "
+                "that file.")
+    return None
+
+
 def read_field_book(path: str) -> List[dict]:
     """The rows of a CSV field book (UTF-8, a BOM allowed; comma, semicolon or tab)."""
-    if not os.path.isfile(path):
-        raise InputError(f"Field book {path!r}: no such file.")
+    problem = field_book_problem(path)
+    if problem:
+        raise InputError(problem)
     with open(path, "rb") as fh:
         raw = fh.read()
     try:
@@ -117,12 +144,24 @@ def join_field_book(grid: PlotGrid, rows: Sequence[dict], by: str = "plot_id",
         raise PlotGridError(f"Field book: no column {', '.join(map(repr, missing))} (its columns: "
                             f"{', '.join(columns)}). Name the column that holds the "
                             + ("plot id." if by != "row_col" else "row and the column."))
+    # rows with nothing in them (blank lines of a spreadsheet) are not rows of the book
+    numbered = [(i, r) for i, r in enumerate(rows)
+                if any(v is not None and str(v).strip() != "" for v in r.values())]
+    empty = [i + 2 for i, r in numbered if any(_key(r.get(k)) == "" for k in keys)]
+    if empty:
+        shown = ", ".join(map(str, empty[:10])) + (" …" if len(empty) > 10 else "")
+        raise PlotGridError(f"Field book: {len(empty)} row(s) have no {' or '.join(keys)} (empty; "
+                            f"rows {shown} of the file, the header being row 1). Fill them in or "
+                            "remove those rows.")
+    positions = [i for i, _ in numbered]
+    rows = [r for _, r in numbered]
     book_keys = ["/".join(_key(r.get(k)) for k in keys) for r in rows]
     index: Dict[str, int] = {}
     for i, k in enumerate(book_keys):
         if k in index:
             raise PlotGridError(f"Field book: the key {k!r} ({'/'.join(keys)}) is on two rows "
-                                f"({index[k] + 2} and {i + 2} of the file). Each plot needs one row.")
+                                f"({positions[index[k]] + 2} and {positions[i] + 2} of the file). "
+                                "Each plot needs one row.")
         index[k] = i
     plot_index = {k: i for i, k in enumerate(plot_keys)}
     report = JoinReport()

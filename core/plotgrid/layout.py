@@ -39,6 +39,7 @@ START_CORNERS = ("top-left", "top-right", "bottom-left", "bottom-right")
 ORDERS = ("row-major", "serpentine", "column-major", "serpentine-columns")
 DEFAULT_PATTERN = "{plot_no}"
 DEFAULT_TOLERANCE = 0.25      # m: how far four corners may be from a rectangle
+MAX_PLOTS = 1_000_000         # plots in one grid (checked before anything is allocated)
 
 
 class PlotGridError(EasyIDPError):
@@ -346,11 +347,17 @@ class Numbering:
                                 f"{', '.join(START_CORNERS)}.")
         try:
             self.pattern.format(**_name_keys(1, 1, 1, 1, 1, 1))
-        except (KeyError, IndexError, ValueError) as exc:
-            keys = ", ".join("{" + k + "}" for k in _name_keys(1, 1, 1, 1, 1, 1))
-            raise PlotGridError(f"Name pattern {self.pattern!r}: {type(exc).__name__} {exc}; "
-                                f"use the keys {keys}, e.g. '{{block}}-{{row:02d}}-{{col:02d}}'."
-                                ) from None
+        except Exception as exc:        # any error of str.format: KeyError, AttributeError, …
+            raise pattern_error(self.pattern, exc) from None
+
+
+def pattern_error(pattern: str, exc: Exception) -> PlotGridError:
+    """The one message for a name pattern that cannot be formatted: the pattern, the error and
+    the keys."""
+    keys = ", ".join("{" + k + "}" for k in _name_keys(1, 1, 1, 1, 1, 1))
+    return PlotGridError(f"Name pattern {pattern!r} cannot be formatted ({type(exc).__name__}: "
+                         f"{exc}); use the keys {keys} with format specs such as :02d, e.g. "
+                         "'{block}-{row:02d}-{col:02d}'.")
 
 
 def row_letter(row: int) -> str:
@@ -435,6 +442,10 @@ def make_plot_grid(frame: GridFrame, x: Axis, y: Axis, numbering: Numbering = No
                     f"gaps take {a.length - 2 * a.margin:.3f} m but the field is {e:.3f} m "
                     f"({-2 * a.margin:.3f} m too long). Lower the plot size or the gaps.")
     nc, nr = ax.count, ay.count
+    if nc * nr > MAX_PLOTS:
+        raise PlotGridError(f"{nr:,} rows × {nc:,} columns make {nc * nr:,} plots; a grid holds at "
+                            f"most {MAX_PLOTS:,}. Check the numbers of rows and columns, or make "
+                            "the field in parts.")
     a0 = ax.starts() - buffer
     b0 = ay.starts() - buffer
     wa, hb = ax.size + 2 * buffer, ay.size + 2 * buffer
@@ -467,9 +478,12 @@ def make_plot_grid(frame: GridFrame, x: Axis, y: Axis, numbering: Numbering = No
     corners = frame.to_map(A, B)
     no = numbering.start_id + np.arange(len(order))
     pattern = numbering.pattern
-    names = [pattern.format(**_name_keys(int(n), int(rr) + 1, int(cc) + 1, int(bb), int(br) + 1,
-                                         int(bc) + 1))
-             for n, rr, cc, bb, br, bc in zip(no, r, c, block, brow, bcol)]
+    try:
+        names = [pattern.format(**_name_keys(int(n), int(rr) + 1, int(cc) + 1, int(bb),
+                                             int(br) + 1, int(bc) + 1))
+                 for n, rr, cc, bb, br, bc in zip(no, r, c, block, brow, bcol)]
+    except Exception as exc:            # a pattern that formats for plot 1 but not for all
+        raise pattern_error(pattern, exc) from None
     dup = _duplicates(names)
     if dup:
         raise PlotGridError(f"Name pattern {pattern!r} gives the same name to several plots "

@@ -1,4 +1,6 @@
 """Processing tool: Create plot grid (easyidp:createplotgrid)."""
+import os
+
 from qgis.core import (QgsCoordinateTransform, QgsFeature,
                        QgsField, QgsFields, QgsPointXY, QgsProcessingException, QgsProcessingParameterCrs,
                        QgsProcessingParameterEnum,
@@ -180,6 +182,19 @@ class CreatePlotGrid(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT, self.tr("Plot grid"), ProcessingSourceType.VectorPolygon))
 
+    def checkParameterValues(self, parameters, context):  # noqa: N802 (QGIS API)
+        """A field book given as a file that is empty, binary or damaged is named with what is
+        wrong with it (QGIS would only say that the layer was not found)."""
+        from ...core.plotgrid import field_book_problem
+        book = parameters.get(self.FIELD_BOOK)
+        if isinstance(book, str) and book:
+            path = book.split("|")[0]
+            if os.path.isfile(path):
+                problem = field_book_problem(path)
+                if problem:
+                    return False, problem
+        return super().checkParameterValues(parameters, context)
+
     # ---- reading the anchor -----------------------------------------------------------------
 
     def _anchor(self, parameters, context):
@@ -193,6 +208,13 @@ class CreatePlotGrid(EasyIDPAlgorithm):
             src_crs = self.parameterAsPointCrs(parameters, self.ORIGIN, context)
             if not src_crs.isValid():
                 src_crs = context.project().crs() if context.project() else src_crs
+            if not src_crs.isValid():
+                if not target.isValid():
+                    raise QgsProcessingException(self.tr(
+                        "Origin '{value}' has no CRS: type it with its CRS in square brackets, "
+                        "e.g. '320000.0,3956100.0 [EPSG:32654]', or set the output CRS (the "
+                        "origin is then taken in it).").format(value=parameters.get(self.ORIGIN)))
+                src_crs = target
             pt = self.parameterAsPoint(parameters, self.ORIGIN, context)
             points = [(pt.x(), pt.y())]
         else:

@@ -24,6 +24,7 @@ INDICES = [("auto", translatable("Automatic (ExG for an RGB orthomosaic)")),
 NEW_FIELDS = (("shift_x", FieldType.Double), ("shift_y", FieldType.Double),
               ("shift_m", FieldType.Double), ("fit_score", FieldType.Double),
               ("cover", FieldType.Double), ("moved", FieldType.Int), ("fit_flag", FieldType.QString))
+NO_GEOMETRY = "no polygon (NULL or empty geometry): skipped"
 
 
 class FitPlotGrid(EasyIDPAlgorithm):
@@ -48,20 +49,24 @@ class FitPlotGrid(EasyIDPAlgorithm):
     GROUP_ID = "rois"
     HELP = (
         "Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.\n\n"
-        "From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral one with "
-        "its red and NIR bands) it finds the direction and spacing of the crop rows (the image's "
-        "spectrum), then the grid's global rotation, spacing scale and shift (from where every "
-        "plot's crop is), then a per-plot shift, at most the bound, that centres each plot on its "
-        "planted rows. Plots keep their size and shape.\n\n"
-        "Plots that are bare (soil, missing plants), whose vegetation lies mostly outside them "
-        "(weeds), or whose shift would exceed the bound are left in place: they keep the global "
-        "correction only, with moved = 0 and the reason in fit_flag. Every plot gets shift_x, "
-        "shift_y and shift_m (its own shift, m), fit_score (0–1: how much more of the vegetation "
-        "around it lies inside it than an even spread would put there) and cover (its mean "
-        "vegetation weight, 0–1).\n\n"
+        "It tells the crop from weeds, margin grass and soil by its rows, not by greenness "
+        "alone. From a vegetation index (ExG of an RGB orthomosaic, or NDVI of a multispectral "
+        "one with its red and NIR bands) it finds the direction and spacing of the crop rows (the "
+        "image's spectrum), then the grid's global rotation, spacing scale and shift from the "
+        "plot block (all plots vote at once, so the field margins cannot pull it), then a "
+        "per-plot shift, at most the bound, that centres each plot on its own rows: across them "
+        "on the rows' positions, along them on the row ends. Plots keep their size and shape.\n\n"
+        "Plots without rows (empty, bare soil), whose rows lie mostly outside them, or whose "
+        "shift would exceed the bound are left in place: they keep the global correction only, "
+        "with moved = 0 and the reason in fit_flag. Every plot gets shift_x, shift_y and shift_m "
+        "(its own shift, m), fit_score (0–1: how much more of the row signal around the plot "
+        "lies within its crop's length than an even spread would put there) and cover (its rows' "
+        "strength over the median plot's). Features without a polygon are named in the log and "
+        "written out unchanged.\n\n"
         "The log gives the global correction and how many plots moved by more than the "
         "threshold. The orthomosaic is read in one pass by windows (any size; it is averaged "
-        "to at most 16 million pixels), and the run can be cancelled. The output is in the "
+        "to at most 16 million pixels), and the run can be cancelled. An orthomosaic with no "
+        "vegetation under the plots is refused, and nothing is written. The output is in the "
         "orthomosaic's CRS, which must be projected in metres.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
@@ -90,11 +95,11 @@ class FitPlotGrid(EasyIDPAlgorithm):
             advanced.append(QgsProcessingParameterBand(
                 name, self.tr(text), default, self.ORTHOMOSAIC, optional=True))
         advanced.append(self.decimals(QgsProcessingParameterNumber(
-            self.SEARCH, self.tr("Search radius before the global correction (m; empty: 0.45 of "
-                                 "the plot spacing)"),
+            self.SEARCH, self.tr("Search radius of the global correction (m; empty: 0.6 m + 9 % "
+                                 "of the grid's half extent)"),
             ProcessingNumberParameterType.Double, optional=True, minValue=0.0), 3))
         advanced.append(self.decimals(QgsProcessingParameterNumber(
-            self.MIN_COVER, self.tr("Bare below this share of the median plot cover"),
+            self.MIN_COVER, self.tr("Bare below this share of the median plot's row strength"),
             ProcessingNumberParameterType.Double, defaultValue=0.3, minValue=0.0, maxValue=1.0), 2))
         advanced.append(self.decimals(QgsProcessingParameterNumber(
             self.MIN_SCORE, self.tr("Weak fit below this score"),
@@ -121,7 +126,22 @@ class FitPlotGrid(EasyIDPAlgorithm):
                                           layer.crs(), context)
         if not rois.rois:
             raise QgsProcessingException(self.tr("Plot grid: the layer has no plots."))
-        centre = rois.rois[0].parts[0][0].mean(axis=0)
+        # features without a polygon (NULL or empty geometry) are named, skipped, and written
+        # out unchanged with the reason
+        kept = [i for i, r in enumerate(rois) if r.parts and len(r.parts[0]) and
+                len(r.parts[0][0]) >= 3]
+        skipped = [rois.rois[i].name for i in range(len(rois.rois)) if i not in set(kept)]
+        if skipped:
+            feedback.pushWarning(self.tr(
+                "Plot grid: {n} features have no polygon (NULL or empty geometry) and are skipped "
+                "(written out unchanged, fit_flag '{flag}'): {names}.").format(
+                    n=len(skipped), flag=NO_GEOMETRY, names=", ".join(skipped[:20]) +
+                    (" …" if len(skipped) > 20 else "")))
+        if not kept:
+            raise QgsProcessingException(self.tr(
+                "Plot grid: none of the {n} features has a polygon (all NULL or empty "
+                "geometries).").format(n=len(rois.rois)))
+        centre = rois.rois[kept[0]].parts[0][0].mean(axis=0)
         check_metric_crs(tif.crs, centre, self.tr("Orthomosaic"))
         index = INDICES[self.parameterAsEnum(parameters, self.INDEX, context)][0]
         band = lambda n: self.parameterAsInt(parameters, n, context)  # noqa: E731
@@ -131,22 +151,25 @@ class FitPlotGrid(EasyIDPAlgorithm):
         elif index == "exg" or parameters.get(self.RED) not in (None, ""):
             bands = (band(self.RED), band(self.GREEN), band(self.BLUE))
         return CoreStep(fit_plot_grid, dict(
-            rings=[r.parts[0][0] for r in rois], orthomosaic=tif, index=index, bands=bands,
+            rings=[rois.rois[i].parts[0][0] for i in kept], orthomosaic=tif, index=index,
+            bands=bands,
             max_shift=self.parameterAsDouble(parameters, self.MAX_SHIFT, context),
             search=optional_number(self, parameters, self.SEARCH, context),
             min_cover=self.parameterAsDouble(parameters, self.MIN_COVER, context),
             min_score=self.parameterAsDouble(parameters, self.MIN_SCORE, context),
             progress=feedback_progress(feedback, 5, 95), is_cancelled=feedback.isCanceled),
-            dict(layer=layer, source=source, features=features, rois=rois, name_field=name_field))
+            dict(layer=layer, source=source, features=features, rois=rois, name_field=name_field,
+                 kept=kept))
 
     def write_outputs(self, parameters, context, feedback, step, result):
-        layer, source, features, rois, name_field = (step.inputs[k] for k in (
-            "layer", "source", "features", "rois", "name_field"))
+        layer, source, features, rois, name_field, kept = (step.inputs[k] for k in (
+            "layer", "source", "features", "rois", "name_field", "kept"))
+        fitted = {i: j for j, i in enumerate(kept)}           # feature → plot of the fit
         threshold = self.parameterAsDouble(parameters, self.THRESHOLD, context)
         for note in result.notes:
             feedback.pushInfo(note)
         feedback.pushInfo(result.summary(threshold))
-        left = [(roi.name, flag) for roi, flag in zip(rois, result.flag) if flag]
+        left = [(rois.rois[i].name, flag) for i, flag in zip(kept, result.flag) if flag]
         for name, flag in left[:50]:
             feedback.pushWarning(self.tr("Plot '{name}' left in place: {reason}.").format(
                 name=name, reason=flag))
@@ -163,18 +186,26 @@ class FitPlotGrid(EasyIDPAlgorithm):
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
         shift_m = result.shift_m
-        for i, (feat, roi) in enumerate(zip(features, rois)):
-            values = {"shift_x": float(result.shift[i, 0]), "shift_y": float(result.shift[i, 1]),
-                      "shift_m": float(shift_m[i]), "fit_score": float(result.score[i]),
-                      "cover": float(result.cover[i]), "moved": int(result.moved[i]),
-                      "fit_flag": result.flag[i]}
+        for k, (feat, roi) in enumerate(zip(features, rois)):
+            i = fitted.get(k)
+            if i is None:
+                values = {"shift_x": None, "shift_y": None, "shift_m": None, "fit_score": None,
+                          "cover": None, "moved": 0, "fit_flag": NO_GEOMETRY}
+            else:
+                values = {"shift_x": float(result.shift[i, 0]),
+                          "shift_y": float(result.shift[i, 1]), "shift_m": float(shift_m[i]),
+                          "fit_score": float(result.score[i]), "cover": float(result.cover[i]),
+                          "moved": int(result.moved[i]), "fit_flag": result.flag[i]}
             attrs = list(feat.attributes()) + [None] * (fields.count() - len(feat.attributes()))
             for name, _ in NEW_FIELDS:
                 attrs[fields.indexFromName(name)] = values[name]
             out = QgsFeature(fields)
             out.setAttributes(attrs)
-            out.setGeometry(multipolygon([[result.move(i, ring) for ring in part]
-                                          for part in roi.parts]))
+            if i is None:
+                out.setGeometry(feat.geometry())
+            else:
+                out.setGeometry(multipolygon([[result.move(i, ring) for ring in part]
+                                              for part in roi.parts]))
             sink.addFeature(out, FeatureSinkFlag.FastInsert)
         close_sink(sink)
         label = f'"{name_field}"' if name_field else None

@@ -184,6 +184,48 @@ def test_field_book_join_reports_by_name(tmp_path):
                         book_col="c")
     with pytest.raises(PlotGridError, match="no column 'plot_id'.*its columns: r, c"):
         join_field_book(g2, [{"r": 1, "c": 2}])
+    # issue 40: empty ids are named as empty (not 'key '' on two rows'); blank rows are no rows
+    book = [{"plot_id": "1", "g": "a"}, {"plot_id": "", "g": "b"}, {"plot_id": " ", "g": "c"},
+            {"plot_id": "", "g": ""}, {"plot_id": "2", "g": "d"}]
+    with pytest.raises(PlotGridError, match=r"2 row\(s\) have no plot_id \(empty; rows 3, 4 "):
+        join_field_book(g2, book)
+    rep = join_field_book(g2, [book[0], book[3], book[4]])
+    assert rep.unmatched_rows == [] and g2.fields["g"] == ["a", "d", None, None]
+
+
+def test_field_book_files_that_are_not_text_tables(tmp_path):
+    """Issue 40: an empty, a binary and a workbook file named '.csv' get what is wrong."""
+    from easyidp_toolbox.core.errors import InputError
+    from easyidp_toolbox.core.plotgrid import field_book_problem
+    for name, data, needle in (("empty.csv", b"", "is empty (0 bytes)"),
+                               ("bin.csv", b"id\n" + bytes(range(256)), "NUL bytes from byte 3"),
+                               ("x.csv", b"PK\x03\x04\x14\x00\x06\x00", "Excel workbook"),
+                               ("ctl.csv", bytes(range(1, 32)) * 20, "control bytes")):
+        path = tmp_path / name
+        path.write_bytes(data)
+        assert needle in field_book_problem(str(path))
+        with pytest.raises(InputError, match="not a text table|is empty"):
+            read_field_book(str(path))
+    good = tmp_path / "good.csv"
+    good.write_text("plot_id,g\n1,a\n", encoding="utf-8")
+    assert field_book_problem(str(good)) is None
+
+
+def test_huge_layouts_and_unformattable_patterns_are_refused_before_allocating():
+    """Issue 40: 100,000 × 100,000 plots by origin and by corners (sizes solved) are refused by
+    their count; patterns that fail in str.format with any error get one message with the keys."""
+    from easyidp_toolbox.core.plotgrid import MAX_PLOTS
+    with pytest.raises(PlotGridError, match="10,000,000,000 plots; a grid holds at most 1,000,000"):
+        create_plot_grid(UTM, 100_000, 100_000, origin=(500000, 4000000), size_x=1, size_y=1,
+                         gap_x=0, gap_y=0)
+    with pytest.raises(PlotGridError, match="a grid holds at most"):
+        create_plot_grid(UTM, 100_000, 100_000, corners=[(500000, 4000000), (500100, 4000000),
+                                                           (500100, 3999900), (500000, 3999900)])
+    assert MAX_PLOTS == 1_000_000
+    for pattern in ("{row.foo}-{col}", "{row[0]}", "{plot_no:q}", "{nope}", "{", "{0}"):
+        with pytest.raises(PlotGridError, match=r"cannot be formatted .*use the keys \{plot_no\}"):
+            create_plot_grid(UTM, 2, 2, origin=(500000, 4000000), size_x=1, size_y=1, gap_x=1,
+                             gap_y=1, pattern=pattern)
 
 
 # ---- bad input -------------------------------------------------------------------------------
@@ -256,33 +298,115 @@ def test_ten_thousand_plots_quickly():
     assert time.perf_counter() - t < 5      # the bench's target is 1 s; shared test machines
 
 
+# ---- the hard trial (truth: its generator's parameters, checked on the pixels here) ----------
+
+def _exg(img):
+    f = img.astype(np.float64)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (2 * f[..., 1] - f[..., 0] - f[..., 2]) / f.sum(-1)
+
+
+def _frame_coords(trial, img_shape):
+    """Map coordinates of the pixel centres and the grid-frame (u along the top edge, v down)."""
+    from easyidp_toolbox.core.raster.geotiff import open_geotiff
+    gt = open_geotiff(trial.orthomosaic).geotransform
+    ny, nx = img_shape
+    x = gt[0] + (np.arange(nx) + 0.5) * gt[1]
+    y = gt[3] + (np.arange(ny) + 0.5) * gt[5]
+    t = math.radians(FIELD_BEARING)
+    ux, uy = np.array([math.sin(t), math.cos(t)]), np.array([math.cos(t), -math.sin(t)])
+    o = trial_corners()[0]
+    u = (x[None, :] - o[0]) * ux[0] + (y[:, None] - o[1]) * ux[1]
+    v = (x[None, :] - o[0]) * uy[0] + (y[:, None] - o[1]) * uy[1]
+    return u, v
+
+
+def test_the_hard_trial_has_what_real_fields_have(trial):
+    """Truth: the levels of issue 32, measured on the orthomosaic's pixels and the truth file:
+    margin grass at least half as green as the crop (mean ExG of the green pixels), weeds in a
+    third of the plots and in the alleys, uneven vigour, missing row segments (some at row
+    ends), at least 3 empty plots, lodging, shadows, a soil gradient and plots that touch."""
+    import tifffile
+    doc = _load(trial.truth)
+    img = tifffile.imread(trial.orthomosaic)
+    exg = _exg(img)
+    u, v = _frame_coords(trial, exg.shape)
+    w, h = (trial_corners()[1] - trial_corners()[0]), (trial_corners()[3] - trial_corners()[0])
+    W, H = float(np.hypot(*w)), float(np.hypot(*h))
+    outside = np.maximum(np.maximum(-u, u - W), np.maximum(-v, v - H))
+    grass = (outside > 0.5) & (outside < 2.5) & (exg > 0.1)
+    plots = doc["plots"]
+    # crop: the middle row of every planted plot, at the plot's centre ±1 m
+    crop = np.zeros_like(grass)
+    for p in plots.values():
+        q = np.array(p["layout"]) - trial_corners()[0]
+        cu = float(np.mean(q @ (w / W))) + p["offset"][0]
+        cv = float(np.mean(q @ (h / H))) + p["offset"][1]
+        crop |= (np.abs(u - cu) < 1.0) & (np.abs(v - cv) < 0.05)
+    crop &= exg > 0.1
+    assert grass.sum() > 10_000 and crop.sum() > 10_000
+    assert np.nanmean(exg[grass]) >= 0.5 * np.nanmean(exg[crop])
+    drawn = [p["drawn"] for p in plots.values()]
+    assert sum(bool(d["weeds"]) for d in drawn) >= len(drawn) / 3
+    # weeds in the alley between the two blocks (1.5 m wide): green pixels where no plot is
+    xs = [c * (TRIAL["size_x"] + TRIAL["gap_x"]) for c in range(TRIAL["cols"])]
+    gap0 = xs[4] + TRIAL["size_x"]
+    alley = (u > gap0 + 0.2) & (u < gap0 + TRIAL["block_gap_x"] - 0.2) & (v > 0) & (v < H)
+    assert (exg[alley] > 0.2).sum() > 50
+    vig = np.array([d["vigour"] for d in drawn])
+    assert vig.max() - vig.min() > 0.4 and doc["hardness"]["vigour_within"] >= 0.3
+    missing = [seg for d in drawn for seg in d["missing"]]
+    assert len(missing) >= len(drawn) / 2
+    assert sum(abs(seg[1]) > 1.39 or abs(seg[2]) > 1.39 for seg in missing) >= 10    # row ends
+    assert len(doc["empty_plots"]) >= 3
+    assert sum(d["lodged"] is not None for d in drawn) >= 5
+    assert doc["hardness"]["shadows"] >= 3
+    # soil: the bare corners of the raster, west against east
+    soil = exg < 0.02
+    west, east = img[:, :200][soil[:, :200]], img[:, -200:][soil[:, -200:]]
+    assert east.mean(axis=0)[0] - west.mean(axis=0)[0] > 15
+    assert doc["layout"]["gap_y"] == 0.0                                    # touching plots
+
+
 # ---- the fit (truth) -------------------------------------------------------------------------
 
-def test_fit_recovers_the_planted_plots(trial):
-    """Truth: from the grid turned by 2°, shifted by 0.30 m and with its spacing 2 % off, every
-    plot's fitted outline is within 5 cm of where the crop was planted (median ≤ 2 cm); the
-    empty plots are flagged and not moved by a per-plot shift."""
+def _errors(truth, grid_ids, rings):
+    return np.concatenate([np.hypot(*(r - np.array(truth["plots"][p]["planted"])).T)
+                           for r, p in zip(rings, grid_ids)])
+
+
+def test_fit_from_eight_start_grids_on_the_hard_trial(trial):
+    """Truth (independent: the generator's planted plots): from 8 start grids (rotation up to
+    ±3°, shift up to 0.5 m, spacing ±3 %), the fitted vertices are within a median of 1 cm and
+    a max of 3 cm of the planted plots, and only the empty plots are flagged."""
+    from easyidp_toolbox.core.demo.trial import start_grids
     truth = _load(trial.truth)
-    grid, start = perturbed_start()
-    before = np.array([np.hypot(*(s - np.array(truth["plots"][p]["planted"])).T)
-                       for s, p in zip(start, grid.plot_id)])
-    assert np.median(before) > 0.3                       # the start is far off
-    res = fit_plot_grid(start, trial.orthomosaic)
-    err = np.array([np.hypot(*(r - np.array(truth["plots"][p]["planted"])).T)
-                    for r, p in zip(res.rings, grid.plot_id)])
-    assert np.median(err) <= 0.02 and err.max() <= 0.05, (np.median(err), err.max())
-    assert abs(res.rotation + 2.0) < 0.1
-    assert all(abs(s - 1 / 1.02) < 0.005 for s in res.scale)
-    assert abs(res.row_spacing - 0.5) < 0.03
-    assert abs((res.row_bearing - FIELD_BEARING + 90) % 180 - 90) < 0.5
-    empty = [i for i, p in enumerate(grid.plot_id) if p in EMPTY]
-    assert sorted(grid.plot_id[i] for i in range(len(grid)) if res.flag[i]) == sorted(EMPTY)
-    for i in empty:
-        assert not res.moved[i] and np.all(res.shift[i] == 0) and res.flag[i] == "bare soil or missing"
-    planted = [i for i in range(len(grid)) if i not in empty]
-    assert res.moved[planted].all() and res.score[planted].min() > 0.9
-    # the per-plot shifts are the planter offsets (up to 6 cm each way)
-    assert res.moved_over(0.02) > 20
+    figures = []
+    for (rot, shift, spacing), (grid, start) in start_grids(8):
+        before = _errors(truth, grid.plot_id, start)
+        assert np.median(before) > 0.2
+        res = fit_plot_grid(start, trial.orthomosaic)
+        err = _errors(truth, grid.plot_id, res.rings)
+        figures.append((rot, spacing, np.median(err), err.max()))
+        assert np.median(err) <= 0.01 and err.max() <= 0.03, figures[-1]
+        assert sorted(p for p, f in zip(grid.plot_id, res.flag) if f) == sorted(EMPTY)
+        for i, p in enumerate(grid.plot_id):
+            if p in EMPTY:
+                assert not res.moved[i] and res.flag[i] == "bare soil or missing"
+        assert abs(res.row_spacing - 0.5) < 0.01
+        assert abs((res.row_bearing - FIELD_BEARING + 90) % 180 - 90) < 0.3
+    assert {round(f[0]) for f in figures} >= {-3, 3}
+
+
+def test_fit_leaves_the_true_grid_in_place(trial):
+    """Truth: fitting the planted plots themselves moves no plot by more than 1 cm."""
+    truth = _load(trial.truth)
+    ids = list(truth["plots"])
+    planted = [np.array(truth["plots"][p]["planted"]) for p in ids]
+    res = fit_plot_grid(planted, trial.orthomosaic)
+    moved = np.array([np.hypot(*(r - q).T).max() for r, q in zip(res.rings, planted)])
+    assert moved.max() <= 0.01, (ids[int(moved.argmax())], moved.max())
+    assert sorted(p for p, f in zip(ids, res.flag) if f) == sorted(EMPTY)
     assert "Global correction: rotation" in res.summary()
 
 
@@ -308,71 +432,68 @@ def test_fit_bad_input(trial):
         fit_plot_grid(start, trial.orthomosaic, bands=(1, 2, 5))
 
 
-def _fit_errors(trial, raster, **kw):
-    truth = _load(trial.truth)
+def _write_like(trial, path, img, **kw):
+    from easyidp_toolbox.core.raster.geotiff import open_geotiff
+    from easyidp_toolbox.core.raster.geotiff_write import epsg_geo_tags, write_geotiff
+    write_geotiff(path, img, open_geotiff(trial.orthomosaic).geotransform, epsg_geo_tags(32654),
+                  **kw)
+    return path
+
+
+def test_fit_on_bare_soil_says_there_is_no_vegetation(trial, tmp_path):
+    """Issue 40: an all-soil orthomosaic (the trial's soil colour with noise, and a flat one)
+    is refused with 'no vegetation to fit to', not a numpy error."""
+    import tifffile
+    shape = tifffile.imread(trial.orthomosaic).shape
+    rng = np.random.default_rng(3)
+    soil = np.clip(np.array([122, 96, 72]) * (1 + 0.05 * rng.standard_normal(shape[:2]))[..., None]
+                   + rng.integers(-8, 9, shape), 0, 255).astype(np.uint8)
+    flat = np.full(shape, (122, 96, 72), np.uint8)
     grid, start = perturbed_start()
-    res = fit_plot_grid(start, raster, **kw)
-    err = np.array([np.hypot(*(r - np.array(truth["plots"][p]["planted"])).T)
-                    for r, p in zip(res.rings, grid.plot_id)])
-    flagged = sorted(p for p, f in zip(grid.plot_id, res.flag) if f)
-    return err, flagged, res
+    for name, img in (("soil", soil), ("flat", flat)):
+        path = _write_like(trial, str(tmp_path / f"{name}.tif"), img, rgb=True, tile=256)
+        with pytest.raises(Exception, match="no vegetation on the orthomosaic under the plots "
+                                            "to fit the grid to"):
+            fit_plot_grid(start, path)
 
 
 def test_fit_multispectral_ndvi_and_the_other_reading_paths(trial, tmp_path, monkeypatch):
     """Truth: the trial as a 4-band uint16 multispectral raster (NIR from the green band, with
-    a nodata value), fitted on NDVI; and the RGB trial read in strips and in tiles with 2 × 2
-    cells (the general and the tile-aligned reading): the same errors and flags."""
+    a nodata value), fitted on NDVI; and the RGB trial read in strips and with 2 × 2 cells:
+    the plots within 3 cm of the planted plots, only the empty ones flagged."""
     import tifffile
-    from easyidp_toolbox.core.raster.geotiff import open_geotiff
-    from easyidp_toolbox.core.raster.geotiff_write import epsg_geo_tags, write_geotiff
-    from easyidp_toolbox.core.plotgrid import fit as fit_module
+    from easyidp_toolbox.core.plotgrid import fit_image
+    truth = _load(trial.truth)
     rgb = tifffile.imread(trial.orthomosaic).astype(np.uint16)
-    gt = open_geotiff(trial.orthomosaic).geotransform
     ms = np.stack([rgb[..., 2] * 10, rgb[..., 1] * 10, rgb[..., 0] * 10, rgb[..., 1] * 30], -1)
     ms[:5] = 0                                           # a nodata strip along the top
-    path = str(tmp_path / "ms.tif")
-    write_geotiff(path, ms.astype(np.uint16), gt, epsg_geo_tags(32654), nodata_text="0", tile=256)
-    err, flagged, res = _fit_errors(trial, path, index="ndvi", bands=(3, 4))
-    assert np.median(err) <= 0.02 and err.max() <= 0.05 and flagged == sorted(EMPTY)
-    assert "NDVI" in res.notes[0]
-    strips = str(tmp_path / "strips.tif")
-    write_geotiff(strips, tifffile.imread(trial.orthomosaic), gt, epsg_geo_tags(32654), rgb=True,
-                  rowsperstrip=7)
-    monkeypatch.setattr(fit_module, "MAX_WORK_PIXELS", 1_000_000)      # cells of 2 × 2 pixels
+    path = _write_like(trial, str(tmp_path / "ms.tif"), ms.astype(np.uint16), nodata_text="0",
+                       tile=256)
+    grid, start = perturbed_start()
+
+    def check(raster, **kw):
+        res = fit_plot_grid(start, raster, **kw)
+        err = _errors(truth, grid.plot_id, res.rings)
+        assert np.median(err) <= 0.01 and err.max() <= 0.03, (np.median(err), err.max())
+        assert sorted(p for p, f in zip(grid.plot_id, res.flag) if f) == sorted(EMPTY)
+        return res
+    assert "NDVI" in check(path, index="ndvi", bands=(3, 4)).notes[0]
+    strips = _write_like(trial, str(tmp_path / "strips.tif"), tifffile.imread(trial.orthomosaic),
+                         rgb=True, rowsperstrip=7)
+    monkeypatch.setattr(fit_image, "MAX_WORK_PIXELS", 1_000_000)      # cells of 2 × 2 pixels
     for raster in (strips, trial.orthomosaic):
-        err, flagged, res = _fit_errors(trial, raster)
-        assert abs(res.work_pixel - 0.04) < 1e-9
-        assert np.median(err) <= 0.02 and err.max() <= 0.05 and flagged == sorted(EMPTY)
+        assert abs(check(raster).work_pixel - 0.04) < 1e-9
     with pytest.raises(Exception, match="not RGB: choose the NDVI index"):
-        fit_plot_grid(perturbed_start()[1], path)
+        fit_plot_grid(start, path)
 
 
-def test_fit_flags_a_weedy_plot_and_keeps_a_shift_within_the_bound(trial, tmp_path):
-    """Truth: weeds (vegetation blobs) sown over one plot and its surroundings make it 'weak'
-    and left in place; with a bound of 1 cm the plots planted further off are left in place."""
-    import tifffile
-    from easyidp_toolbox.core.raster.geotiff import open_geotiff
-    from easyidp_toolbox.core.raster.geotiff_write import epsg_geo_tags, write_geotiff
+def test_fit_keeps_a_shift_within_the_bound(trial):
+    """Truth: with a bound of 1 cm the plots planted further off are left in place, flagged."""
     truth = _load(trial.truth)
-    img = tifffile.imread(trial.orthomosaic).copy()
-    info = open_geotiff(trial.orthomosaic)
-    weedy = "1-05-03"
-    c = np.array(truth["plots"][weedy]["planted"]).mean(axis=0)
-    col, row = info.map_to_pixel(c[0], c[1])
-    rng = np.random.default_rng(5)
-    for _ in range(400):                                # blobs over a 5 × 4 m area
-        r0 = int(row + rng.uniform(-100, 100))
-        c0 = int(col + rng.uniform(-125, 125))
-        img[max(r0 - 8, 0):r0 + 8, max(c0 - 8, 0):c0 + 8] = (60, 140, 48)
-    path = str(tmp_path / "weedy.tif")
-    write_geotiff(path, img, info.geotransform, epsg_geo_tags(32654), rgb=True, tile=256)
-    err, flagged, res = _fit_errors(trial, path)
-    grid, _ = perturbed_start()
-    i = grid.plot_id.index(weedy)
-    assert res.flag[i] and not res.moved[i], res.flag[i]
+    grid, start = perturbed_start()
     offsets = {p: np.hypot(*truth["plots"][p]["offset"]) for p in grid.plot_id}
-    err, flagged, res = _fit_errors(trial, trial.orthomosaic, max_shift=0.01)
+    res = fit_plot_grid(start, trial.orthomosaic, max_shift=0.01)
     for p, f, m, s in zip(grid.plot_id, res.flag, res.moved, res.shift_m):
         assert s <= 0.01
-        if offsets[p] > 0.02 and p not in EMPTY:
+        if offsets[p] > 0.03 and p not in EMPTY:
             assert f == "shift beyond the bound" and not m
