@@ -13,6 +13,7 @@
 #   make bench  benchmarks against easyidp 2.0.4 and GDAL (minutes; not part of test)
 #   make package  dist/easyidp_toolbox-<version>.zip for Install from ZIP and plugins.qgis.org
 #               (STRICT=1: refuse metadata placeholders, for a release upload)
+#   make docs   the documentation site (docs/, mkdocs.yml) into site/, warnings as errors
 #   make screenshots  the README's pictures of the QGIS desktop (docs/desktop_*.png): a session
 #               with the tools on the demo survey, in the real desktop under Xvfb
 SHELL := /bin/bash
@@ -53,6 +54,8 @@ env-qgis: apt $(VENV)/.done
 # xvfb, xauth: the QGIS desktop in tests/qgis/test_install_from_zip.py, test_desktop.py and
 # make screenshots (it refuses to start offscreen)
 APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip xvfb xauth
+# chromium: the documentation site opened in a real browser (tests/qgis/test_docs_site.py)
+APT_PACKAGES += chromium
 
 # Debian packages: installed when any is missing (checked on every run; takes a moment).
 .PHONY: apt
@@ -164,6 +167,22 @@ demo: env-qgis env-ref
 
 bench: env env-ref env-exactextract
 	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
+
+# The documentation site: MkDocs in a venv of its own (.venv-docs, requirements/docs.txt), strict:
+# a warning (broken link, missing page or anchor, unreadable docstring) fails the build. make test
+# builds it first: tests/qgis/test_docs_site.py opens the built pages in Chromium.
+VENV_DOCS := $(ROOT)/.venv-docs
+.PHONY: docs
+docs: $(VENV_DOCS)/.done | $(PLUGINS)/easyidp_toolbox
+	cd $(ROOT) && NO_MKDOCS_2_WARNING=1 $(VENV_DOCS)/bin/mkdocs build --strict --quiet --site-dir $(ROOT)/site
+
+$(VENV_DOCS)/.done: requirements/docs.txt | apt
+	@echo "== creating $(VENV_DOCS) (MkDocs, for make docs)"
+	@test -x $(VENV_DOCS)/bin/python || $(PY_SYS) -m venv $(VENV_DOCS)
+	$(VENV_DOCS)/bin/pip install -q --disable-pip-version-check -r requirements/docs.txt
+	touch $@
+
+test: docs
 
 screenshots: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.qgis_desktop --screenshots $(ROOT)/docs

@@ -6,7 +6,7 @@ and the command that installs them. To add a package, add a row: the import name
 requirement (lower bounds: the oldest versions the tests ran with, see ARCHITECTURE.md), and the
 tools that need it (algorithm ``NAME`` values; ``ALL`` for the plugin itself; ``()`` for the
 script-only extras of ``easyidp_toolbox.core``, installed with the others but never blocking
-anything); e.g. ``Dependency("skimage", "scikit-image>=0.22", ("seasonmetrics",))``. Also add it to
+anything); e.g. ``Dependency("skimage", "scikit-image>=0.22", ("seasontraits",))``. Also add it to
 ``requirements/qgis.txt`` (the test environment; a test checks both, and that every package the
 code imports has a row).
 

@@ -1,4 +1,5 @@
-"""The :class:`Reconstruction` type shared by the Metashape and Pix4D readers.
+"""The :class:`Reconstruction` type shared by the five project readers (Metashape, Pix4D, OPF,
+OpenDroneMap and OpenSfM; :func:`open_reconstruction` picks one).
 
 Cameras are kept in the reconstruction's *model frame* (see :mod:`.geodesy`): a Cartesian
 frame in metres where a camera with rotation ``R`` and centre ``C`` sees a point ``X`` at

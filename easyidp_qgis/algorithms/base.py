@@ -61,8 +61,8 @@ class CoreStep(NamedTuple):
 class EasyIDPAlgorithm(QgsProcessingAlgorithm):
     """Subclasses set NAME, DISPLAY, GROUP, GROUP_ID, HELP and implement ``core_step`` (the
     parameters → the core call, testable without running it, as the GDAL provider's
-    ``getConsoleCommands``) and ``write_outputs`` (the result → the outputs); a tool not split
-    so yet implements ``run_tool``."""
+    ``getConsoleCommands``) and ``write_outputs`` (the result → the outputs); ``run_tool``
+    chains the two (all 14 tools are split so)."""
 
     NAME = ""
     DISPLAY = ""
