@@ -142,6 +142,21 @@ def plot_visibility(scene: Scene, camera: CameraModel, shots: List[Shot]) -> Dic
     return out
 
 
+def camera_doc(camera: CameraModel) -> dict:
+    """The camera as truth.json states it, in the Metashape manual's frame-camera terms, so that
+    code other than ``core.reconstruction`` can compute the truth pixels from it."""
+    c = camera.calibration
+    return {
+        "model": "Metashape frame camera (manual, appendix C): Xc = rotation * (X - centre) with X "
+                 "and centre in map coordinates (x right, y down, z forward); x = Xc/Zc, y = Yc/Zc; "
+                 "r2 = x^2 + y^2; x' = x(1 + k1 r2 + k2 r2^2 + k3 r2^3 + k4 r2^4) + p1(r2 + 2x^2) "
+                 "+ 2 p2 x y; y' = y(1 + ...) + p2(r2 + 2y^2) + 2 p1 x y; u = width/2 + cx + x' f "
+                 "+ x' b1 + y' b2; v = height/2 + cy + y' f (pixels as 'pixels' says)",
+        "width": camera.width, "height": camera.height,
+        **{k: float(getattr(c, k)) for k in ("f", "b1", "b2", "k1", "k2", "k3", "k4", "p1", "p2")},
+        "cx": float(c.cx - camera.width / 2), "cy": float(c.cy - camera.height / 2)}
+
+
 def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shots: List[Shot],
                 meta: dict) -> str:
     """The truth as JSON (see the module docstring for the conventions it states)."""
@@ -155,8 +170,10 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
         "seen": "in front of the camera, inside the frame [0, width] x [0, height], and the "
                 "segment to the camera centre does not pass under the DSM surface",
         "image_size": [camera.width, camera.height],
+        "camera": camera_doc(camera),
         "photos": {s.label: {"file": f"photos/{s.filename}", "line": s.line,
                              "centre": (s.C + scene.offset).tolist(),
+                             "rotation": s.R.tolist(),
                              **({"rolling_shutter": readout_motion.describe(s)}
                                 if s.motion is not None else {})}
                    for s in shots},
