@@ -1,15 +1,22 @@
 """The demo survey: generated once per session (small), checked against its own truth file.
 
-- every truth point projects to its true pixel (0.01 px) through the generated Metashape and
-  Pix4D projects as our readers open them (and through the pmatrix + Inpho .cam alone), and
-  through the OpenDroneMap project once the skew term OpenSfM cannot hold is accounted for;
+Truth kinds, said per test: *independent* checks compare with pixels computed by
+``tests/support/independent_camera.py`` (OpenCV and the Metashape manual's formulas, from the
+camera truth.json states; no ``core`` code) or by other software (easyidp 2.0.4, GDAL, a
+winding-number count); *consistency only* checks compare our code with our code (the generator
+renders photos and writes projects with the production camera model).
+
+- independent: every truth point projects to its independent pixel (0.01 px) through the
+  generated Metashape and Pix4D projects as our readers open them (and through the pmatrix +
+  Inpho .cam alone), and through the OpenDroneMap project;
 - camera footprints on the DSM contain the truth points each photo sees;
-- the rendered photos match the orthomosaic at the projected points, and show the crop where
+- the rendered photos match the orthomosaic at the independent pixels, and show the crop where
   the truth says a point is hidden;
-- LabelMe vertices: their true map coordinates are on the DSM and project back to the clicks;
+- LabelMe vertices: their true map coordinates are on the DSM and project back to the clicks
+  (independent, and through our readers);
 - plots (GeoJSON, GeoPackage), point clouds (LAZ, PLY) agree with the DSM;
 - same seed → identical files; generation time (printed);
-- realism: easyidp 2.0.4, in its own environment, reproduces the truth pixels (< 0.5 px).
+- realism: easyidp 2.0.4, in its own environment, reproduces the independent pixels (< 0.5 px).
 """
 import hashlib
 import json
@@ -26,6 +33,7 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.reconstruction import INSIDE
 from easyidp_toolbox.scripts.reference import REF_PYTHON
+from easyidp_toolbox.tests.support import independent_camera
 
 @pytest.fixture(scope="session")
 def survey(tmp_path_factory):
@@ -46,7 +54,7 @@ def truth(survey):
     obs = t["observations"]
     t["obs_point"] = np.array(obs["point"])
     t["obs_photo"] = obs["photo"]
-    t["obs_pixel"] = np.array(obs["pixel"])
+    t["obs_pixel"] = independent_camera.observation_pixels(t)     # the independent truth
     return t
 
 
@@ -85,6 +93,8 @@ def _check_projection(recon, truth, label_of, crs="EPSG:32654"):
 
 
 def test_truth_points_project_through_metashape(survey, truth):
+    """Independent: the truth points through our Metashape reader land on the independent
+    pixels; so do the markers' pinned pixels the generator wrote."""
     recon = open_reconstruction(survey.metashape_project)
     assert recon.software == "metashape" and recon.crs.to_epsg() == 4326
     assert len(recon.aligned_cameras) == 36
@@ -108,6 +118,7 @@ def test_truth_points_project_through_metashape(survey, truth):
 
 
 def test_truth_points_project_through_pix4d(survey, truth):
+    """Independent: the truth points through our Pix4D reader land on the independent pixels."""
     recon = open_reconstruction(survey.pix4d_project)
     assert recon.software == "pix4d" and recon.crs.to_epsg() == 32654
     assert len(recon.aligned_cameras) == 36 and len(recon.sensors) == 1
@@ -119,7 +130,8 @@ def test_truth_points_project_through_pix4d(survey, truth):
 
 
 def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, tmp_path):
-    """Without the calibrated camera parameters: pmatrix (6 decimals) + Inpho-style .cam."""
+    """Independent: without the calibrated camera parameters, pmatrix (6 decimals) + Inpho-style
+    .cam, on the independent pixels."""
     params = Path(survey.pix4d_params)
     for suffix in ("offset.xyz", "pmatrix.txt", "calibrated_internal_camera_parameters.cam",
                    "wkt.prj"):
@@ -131,6 +143,8 @@ def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, t
 
 @pytest.mark.parametrize("project", ["metashape", "pix4d", "odm", "opf"])
 def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, project):
+    """Truth points (seen pairs: the generator's ray marching) inside the footprints; the
+    border margin from the independent pixels."""
     from easyidp_toolbox.core.geometry import points_in_rings
     from easyidp_toolbox.core.raster import DSM
     from easyidp_toolbox.core.projection import camera_footprints
@@ -170,8 +184,10 @@ def _photo_pixels(path, uv):
 
 
 def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth):
-    """Colour of the photo pixel holding each truth pixel vs the orthomosaic around the point
-    (4 cm × 4 cm, about the photo's ground resolution) on a sample of observations."""
+    """Independent pixels: colour of the photo pixel holding each independent truth pixel vs the
+    orthomosaic around the point (4 cm × 4 cm, about the photo's ground resolution) on a sample
+    of observations (the photos are rendered with the production model: this shows that the
+    rendering agrees with the independent camera)."""
     import tifffile
     ortho = tifffile.imread(survey.orthomosaic).astype(float)
     rng = np.random.default_rng(5)
@@ -207,6 +223,8 @@ def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth
 
 
 def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
+    """Independent: the LabelMe truth's map points (cast by the generator) project, by the
+    independent camera, onto the clicks; our readers do too (0.01 px)."""
     from easyidp_toolbox.core.raster import DSM
     assert len(survey.labelme) == 4
     ms = open_reconstruction(survey.metashape_project)
@@ -229,6 +247,8 @@ def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
             assert np.allclose(uv, st["pixels"])
             # the true map point is on the DSM surface and projects back to the clicked pixel
             assert np.allclose(DSM(survey.dsm).heights(xyz[:, 0], xyz[:, 1]), xyz[:, 2], atol=2e-4)
+            ind, framed = independent_camera.photo_pixels(truth, t["photo"], xyz)
+            assert framed.all() and np.abs(ind - uv).max() < 0.01
             for recon, name in ((ms, t["photo"]), (p4, t["photo"] + ".JPG")):
                 back = recon.project_points(xyz, "EPSG:32654", cameras=[name]).pixels[0]
                 assert np.abs(back - uv).max() < 0.01
@@ -322,8 +342,9 @@ def test_plots_geopackage_reads_back_with_gdal(survey):
 
 
 def test_easyidp_204_agrees_with_the_truth(survey, truth, tmp_path):
-    """Realism: easyidp 2.0.4 (its own environment) opens both projects and projects the truth
-    points (its public back2raw_crs) to within 0.5 px of the truth."""
+    """Independent (other software, other truth code): easyidp 2.0.4 (its own environment) opens
+    both projects and projects the truth points (its public back2raw_crs) to within 0.5 px of the
+    independent pixels."""
     assert REF_PYTHON.exists(), (f"reference environment with easyidp 2.0.4 not found at "
                                  f"{REF_PYTHON}: make env-ref creates it")
     script, out = tmp_path / "easyidp_check.py", tmp_path / "easyidp.json"
@@ -349,14 +370,12 @@ def test_easyidp_204_agrees_with_the_truth(survey, truth, tmp_path):
 
 
 def test_hidden_pairs_show_the_crop_in_front_of_the_soil(survey, truth):
-    """A truth point on soil that the truth says is hidden in a photo shows up as crop there;
-    one it says is seen shows up as soil."""
+    """Independent pixels: a truth point on soil that the truth says is hidden in a photo shows
+    up as crop at its independent pixel there; one it says is seen shows up as soil."""
     import tifffile
     hid = truth["hidden"]
     assert 0 < len(hid["point"]) < len(truth["obs_point"]) / 10
     ortho = tifffile.imread(survey.orthomosaic).astype(float)
-    recon = open_reconstruction(survey.metashape_project)
-
     def green(points, photos):
         """(G − R) of the orthomosaic under each point and of the photo pixel holding it."""
         xyz = truth["xyz"][points]
@@ -364,7 +383,7 @@ def test_hidden_pairs_show_the_crop_in_front_of_the_soil(survey, truth):
         p = np.empty_like(o)
         for name in sorted(set(photos)):
             sel = photos == name
-            uv = recon.project_points(xyz[sel], "EPSG:32654", cameras=[name]).pixels[0]
+            uv = independent_camera.photo_pixels(truth, name, xyz[sel])[0]
             p[sel] = _photo_pixels(os.path.join(survey.photo_folder, name + ".JPG"), uv)
         return o[:, 1] - o[:, 0], p[:, 1] - p[:, 0]
 
@@ -425,8 +444,8 @@ def _odm_check(recon, truth, survey):
 
 
 def test_truth_points_project_through_the_odm_project(survey, truth):
-    """The ODM project folder: OpenSfM's topocentric file is read (mapped exactly with pyproj);
-    photos come from images/; the truth pixels are met to 0.01 px."""
+    """Independent: the ODM project folder: OpenSfM's topocentric file is read (mapped exactly
+    with pyproj); photos come from images/; the independent pixels are met to 0.01 px."""
     recon = open_reconstruction(survey.odm_project)
     assert recon.software == "odm" and recon.crs.to_epsg() == 32654
     assert len(recon.aligned_cameras) == 36 and not recon.unaligned_cameras
@@ -442,7 +461,8 @@ def test_truth_points_project_through_the_odm_project(survey, truth):
 
 def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_path):
     """Without reconstruction.topocentric.json (as in some ODM downloads), reconstruction.json is
-    ODM's map-coordinate export: told from shots.geojson, else from the photos' GPS positions."""
+    ODM's map-coordinate export: told from shots.geojson, else from the photos' GPS positions
+    (independent pixels)."""
     from easyidp_toolbox.core import InputError
     odm = tmp_path / "odm"
     shutil.copytree(survey.odm_project, odm, ignore=shutil.ignore_patterns("*.tif", "images"))
@@ -464,8 +484,8 @@ def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_pa
 
 
 def test_plots_back_projected_through_the_three_projects_land_on_the_same_pixels(survey, truth):
-    """The plot corners (on the DSM surface) through the Metashape, Pix4D and ODM projects of
-    the demo: the same pixels, to 0.01 px."""
+    """Consistency only (our readers against each other): the plot corners (on the DSM surface)
+    through the Metashape, Pix4D and ODM projects of the demo: the same pixels, to 0.01 px."""
     corners = np.array([c for p in truth["plots"].values() for c in p["corners"]])
     px = {}
     for name, path in (("metashape", survey.metashape_project), ("pix4d", survey.pix4d_project),
