@@ -33,12 +33,13 @@ truth's ``ortho_defects``); the photos, and everything else, are those of the de
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import List, Optional
 
 import numpy as np
 
-from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
+from .field import (DOM_PIXEL, DSM_PIXEL, TOUCHING_BLOCK, _inside_plot, plot_corners,
+                    write_plots_geojson)
 from ..errors import InputError
 from ..files import OutputFolder, write_bytes
 from ..gpkg import GpkgTable, write_geopackage
@@ -64,6 +65,25 @@ __all__ = ["make_demo_survey", "DemoSurvey", "SIZES"]
 DEFECTS_NOTE = (f"orthomosaic.tif only (the photos see the true texture): 'ghosting' plots are a "
                 f"50/50 blend with the texture {GHOST_OFFSET[0]:g} m east, {-GHOST_OFFSET[1]:g} m "
                 f"south; 'blur' plots a Gaussian blur of sigma {BLUR_SIGMA:g} m")
+
+
+MESS_NOTE = ("what real fields have (core/demo/field.py FieldMess): margin grass, weeds in plots "
+             "and alleys, uneven vigour, missing row segments, empty plots, lodged patches, cast "
+             "shadows, a soil-colour gradient, rows that hide the soil between them obliquely, a "
+             "block of plots without alleys; per plot under plots.<id>.field")
+
+
+def field_features(scene) -> dict:
+    """Per plot id: which of the field's features it has (for truth.json)."""
+    out = {}
+    weeds = scene.weeds if scene.weeds is not None else np.zeros((0, 4))
+    for p in scene.plots:
+        inside = _inside_plot(p, weeds[:, 0], weeds[:, 1]) if len(weeds) else np.zeros(0, bool)
+        out[p["plot_id"]] = {"empty": bool(p.get("empty", False)), "weeds": int(inside.sum()),
+                             "gaps": len(p.get("gaps", ())), "lodged": "lodged" in p,
+                             "no_alley": bool(scene.mess.touching and p["row"] in TOUCHING_BLOCK[0]
+                                              and p["col"] in TOUCHING_BLOCK[1])}
+    return out
 
 
 @dataclass
@@ -173,6 +193,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
             truth, ms, p4d = _truth_and_projects(folder, scene, camera, shots, photos, rng)
             for pid, colour in plot_colour_truth(scene, seed).items():
                 truth.plots[pid].update(colour)
+            for pid, feats in field_features(scene).items():
+                truth.plots[pid]["field"] = feats
             prog.set(25)
             for k, job in enumerate(as_completed(jobs)):
                 job.result()
@@ -188,7 +210,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     opf = None if rolling_shutter else \
         write_opf(os.path.join(folder, "opf"), camera, shots, scene.offset, photos, lay.epsg)
     # last, so that a truth file means a complete survey
-    meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"]}
+    meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"],
+            "field_mess": {**asdict(scene.mess), "description": MESS_NOTE}}
     if rolling_shutter:
         meta["rolling_shutter"] = True
     if defects is not None:

@@ -217,9 +217,11 @@ def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth
     assert np.median(diff) < 8
     assert np.percentile(diff.max(axis=1), 90) < 40
     assert corr > 0.9
-    # the test has power: 6 px off (about 22 cm) the agreement collapses
+    # the test has power: 6 px off (about 22 cm) the agreement collapses. Tolerance: 0.3 before
+    # the field had margin grass (issue 32); the grass strip is green at any shift, which keeps
+    # about 0.8 of the correlation (0.78 measured with seed 0), so the drop asked is 0.15
     off = photo_colours(np.array([6.0, 0.0]))
-    assert np.corrcoef(green(off), green(ref))[0, 1] < corr - 0.3
+    assert np.corrcoef(green(off), green(ref))[0, 1] < corr - 0.15
 
 
 def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
