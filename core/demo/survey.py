@@ -38,7 +38,7 @@ from typing import List, Optional
 
 import numpy as np
 
-from .field import (DOM_PIXEL, DSM_PIXEL, TOUCHING_BLOCK, _inside_plot, plot_corners,
+from .field import (DOM_PIXEL, DSM_PIXEL, EDGE, TOUCHING_BLOCK, _inside_plot, plot_corners,
                     write_plots_geojson)
 from ..errors import InputError
 from ..files import OutputFolder, write_bytes
@@ -80,7 +80,11 @@ def field_features(scene) -> dict:
     for p in scene.plots:
         inside = _inside_plot(p, weeds[:, 0], weeds[:, 1]) if len(weeds) else np.zeros(0, bool)
         out[p["plot_id"]] = {"empty": bool(p.get("empty", False)), "weeds": int(inside.sum()),
-                             "gaps": len(p.get("gaps", ())), "lodged": "lodged" in p,
+                             "gaps": len(p.get("gaps", ())),
+                             "gaps_at_row_end": sum(abs(u0) >= end or abs(u1) >= end
+                                                    for _, u0, u1 in p.get("gaps", ())
+                                                    for end in [p["size"][0] / 2 - EDGE - 1e-9]),
+                             "lodged": "lodged" in p,
                              "no_alley": bool(scene.mess.touching and p["row"] in TOUCHING_BLOCK[0]
                                               and p["col"] in TOUCHING_BLOCK[1])}
     return out
