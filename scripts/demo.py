@@ -140,6 +140,11 @@ def main(out: str) -> int:
     print("  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
           "metashape_/pix4d_/odm_/opf_ cameras and footprints (.gpkg)")
     print(f"  picture:     {png}")
+    feats = [p["field"] for p in truth["plots"].values()]
+    print(f"  field:       {sum(f['empty'] for f in feats)} empty plots, {sum(f['weeds'] > 0 for f in feats)} "
+          f"with weeds, {sum(f['gaps'] > 0 for f in feats)} with missing row segments, "
+          f"{sum(f['lodged'] for f in feats)} lodged, {sum(f['no_alley'] for f in feats)} without "
+          f"alleys; margin grass, alley weeds, shadows, soil gradient (truth.json field_mess)")
     print("  raw photos:  plots_in_photos.gpkg (photo pixels: x = column, y = -row), "
           "plots_best_photo.gpkg, back2raw.json, crops_photos/, previews/")
     print("  statistics:  plots_photo_statistics.gpkg (per plot, across views), "

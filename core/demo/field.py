@@ -5,6 +5,8 @@ sloped bare soil with 24 slightly rotated plots (4 rows × 6 columns, 4 m × 2.5
 some decimetres tall. The orthomosaic is RGB at 1 cm, tiled 256, deflate; the DSM is float32 at
 2 cm with nodata -9999 (heights in metres above the ellipsoid, the truth being
 ``ground + canopy``). :class:`FieldLayout` describes other fields (the demo survey uses one).
+:class:`FieldMess` and :func:`add_field_mess`, :func:`make_weeds` give a field what real ones have
+(the demo survey's default; plots without those keys keep the tidy rows).
 """
 from dataclasses import dataclass
 from typing import List, Tuple

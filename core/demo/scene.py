@@ -8,6 +8,12 @@ map coordinates minus ``offset`` (the Pix4D ``offset.xyz``), x east, y north, z 
 The *surface* is the DSM raster interpolated bilinearly between pixel centres (as
 ``core.raster.DSM.heights``); where the DSM has no data or outside it, the bare-ground
 plane. Truth heights and ray intersections all refer to that surface.
+
+The vegetation (:func:`make_scene`, ``mess``: :class:`.field.FieldMess`) is the plots' crop
+(``field._plot_canopy``), the weeds (``field.make_weeds``) and the margin grass
+(:func:`_margin_grass`); the DSM holds the tallest of them, the orthomosaic colours each texel by
+the kind that is tallest there, with the soil's colour gradient (:func:`soil_colour`) and the
+crop's cast shadows (:func:`shadow_factor`).
 """
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass

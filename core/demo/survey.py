@@ -16,7 +16,15 @@
     labelme/DJI_xxxx.json LabelMe polygons around plots on four photos
     truth.json            truth points and their pixels in every photo that sees them, the
                           photos that see each plot whole, the map coordinates of the LabelMe
-                          vertices (see ``truth.py`` for the conventions)
+                          vertices, the camera and every photo's pose (see ``truth.py`` for the
+                          conventions; ``tests/support/independent_camera.py`` recomputes the
+                          pixels from them without ``core`` code)
+
+The field is as messy as real ones (``field_mess``, :class:`.field.FieldMess`, every feature with
+its parameter, drawn from the seed): margin grass at least half as green as the crop, weeds in
+the plots and the alleys, uneven vigour, missing row segments, empty plots, lodged patches, cast
+shadows, a soil-colour gradient, rows that hide the soil between them in oblique views, and a
+block of plots without alleys. ``field_mess=NO_MESS`` gives the tidy field of earlier versions.
 
 Same seed and size → identical files (in one software environment). Pixels have their origin
 at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
@@ -38,7 +46,7 @@ from typing import List, Optional
 
 import numpy as np
 
-from .field import (DOM_PIXEL, DSM_PIXEL, EDGE, TOUCHING_BLOCK, _inside_plot, plot_corners,
+from .field import (DOM_PIXEL, DSM_PIXEL, EDGE, TOUCHING_BLOCK, FieldMess, _inside_plot, plot_corners,
                     write_plots_geojson)
 from ..errors import InputError
 from ..files import OutputFolder, write_bytes
@@ -132,7 +140,7 @@ SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "
 
 def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite: bool = False,
                      progress=None, is_cancelled=None, rolling_shutter: bool = False,
-                     ortho_defects: bool = False) -> DemoSurvey:
+                     ortho_defects: bool = False, field_mess: FieldMess = FieldMess()) -> DemoSurvey:
     """Write the demo survey into ``folder`` (created if needed) and return its paths.
 
     ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
@@ -142,18 +150,19 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite:
     :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey (every
     file in it complete). ``rolling_shutter``: photos taken while the drone moves (see the
     module docstring). ``ortho_defects``: ghosting and blur in the written orthomosaic over
-    some plots (see the module docstring).
+    some plots (see the module docstring). ``field_mess``: what the field has (weeds, grass,
+    …; see the module docstring).
     """
     if size not in SIZES:
         raise InputError(f"Demo survey size {size!r}: choose one of {', '.join(SIZES)}.")
     with OutputFolder(folder, overwrite=overwrite, what="Demo survey folder") as out:
         out.claim(SURVEY_ENTRIES)
         return _write_survey(str(out.folder), seed, size, as_progress(progress, is_cancelled),
-                             rolling_shutter, ortho_defects)
+                             rolling_shutter, ortho_defects, field_mess)
 
 
 def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool,
-                  ortho_defects: bool = False) -> DemoSurvey:
+                  ortho_defects: bool = False, field_mess: FieldMess = FieldMess()) -> DemoSurvey:
     t0 = time.perf_counter()
     prog.check()
     camera = make_camera(size)
@@ -161,7 +170,7 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     os.makedirs(photo_dir, exist_ok=True)
     rng = np.random.default_rng([seed, 1])
 
-    scene = make_scene(seed)
+    scene = make_scene(seed, mess=field_mess)
     lay = scene.layout
     shots = plan_flight(scene, rng)
     if rolling_shutter:                    # own random stream: everything else stays the same

@@ -59,7 +59,8 @@ def metashape(survey):
 # --- demo survey truth ----------------------------------------------------------------------------
 @pytest.mark.parametrize("project", ["metashape", "pix4d"])
 def test_whole_only_photo_sets_equal_the_truth(survey, truth, plots, project):
-    """Truth kind: the demo survey's own truth (every 10 cm of the plot inside the frame)."""
+    """Consistency only (the generator computes photos_whole with the production camera): the
+    demo truth's photo sets, every 10 cm of each plot's outline on the surface inside the frame."""
     recon = open_reconstruction(survey.metashape_project if project == "metashape"
                                 else survey.pix4d_project)
     res = back_project(plots, recon, heights=DSM(survey.dsm), clip=False, min_visible=0)
