@@ -21,7 +21,7 @@ from typing import List
 
 import numpy as np
 
-from .field import (DOM_PIXEL, DSM_PIXEL, NODATA, FieldLayout, FieldMess, add_field_mess,
+from .field import (DOM_PIXEL, DSM_PIXEL, NO_MESS, NODATA, FieldLayout, FieldMess, add_field_mess,
                     canopy_grid, make_plots, make_weeds, plot_corners, weed_grid)
 
 SURVEY_FIELD = FieldLayout(origin=(319800.0, 3956050.0), size=(60.0, 40.0), rows=5, cols=8,
@@ -122,10 +122,12 @@ class Scene:
         return (col >= lay.nodata_cols + 1 + m) & (col <= nx - 1 - m) & (row >= 1 + m) & (row <= ny - 1 - m)
 
 
-def make_scene(seed: int, layout: FieldLayout = SURVEY_FIELD, mess: FieldMess = FieldMess()) -> Scene:
+def make_scene(seed: int, layout: FieldLayout = SURVEY_FIELD, mess: FieldMess = NO_MESS) -> Scene:
     """Plots, DSM and orthomosaic from ``seed`` (deterministic, whatever the thread timing), with
     what real fields have (``mess``, :class:`.field.FieldMess`; its features drawn from their
-    own random streams of the seed: weeds, grass, vigour, gaps, lodging, shadows, soil colour)."""
+    own random streams of the seed: weeds, grass, vigour, gaps, lodging, shadows, soil colour).
+    The default is the tidy field; :func:`.survey.make_demo_survey` passes its own (its default
+    is the messy ``FieldMess()``; ``DemoSurvey.field_mess`` says which a survey has)."""
     rng = np.random.default_rng(seed)
     plots = add_field_mess(make_plots(layout, rng), mess, np.random.default_rng([seed, 30]))
     weeds = make_weeds(layout, plots, mess, np.random.default_rng([seed, 31]))

@@ -130,6 +130,7 @@ class DemoSurvey:
     odm_project: Optional[str] = ""
     rolling_shutter: bool = False
     opf_project: Optional[str] = ""
+    field_mess: FieldMess = FieldMess()
 
 
 SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "pointcloud.laz",
@@ -242,7 +243,7 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
         labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
         plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0,
         odm_project=odm and odm["project"], rolling_shutter=rolling_shutter,
-        opf_project=opf and opf["project"])
+        opf_project=opf and opf["project"], field_mess=scene.mess)
 
 
 def _write_plots(folder: str, scene):
