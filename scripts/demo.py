@@ -1,7 +1,12 @@
 """``make demo``: create the demo survey and run every EasyIDP tool on it through qgis_process.
 
-Prints what was produced, how long each step took, and the errors against the survey's truth;
-writes an overview picture (orthomosaic, plots, camera footprints) drawn by QGIS.
+Prints what was produced, how long each step took, and the errors against the survey's truth,
+each line marked [independent] (the truth is not made by the code it checks: pixels by
+``tests/support/independent_camera.py``, OpenCV and the Metashape manual's formulas; heights,
+colours and plot layouts from the generator's parameters and closed-form models; other
+software) or [consistency only] (our code against our code: the generator computes that truth
+with the production camera model); writes an overview picture (orthomosaic, plots, camera
+footprints) drawn by QGIS.
 Usage: python -m easyidp_toolbox.scripts.demo OUTPUT_FOLDER
 """
 import json
@@ -18,6 +23,9 @@ from .demo_plot_grid import run_plot_grid_demo
 from .demo_round_trip import run_round_trip_demo
 from .demo_season import SEASON_DATES, run_season_demo
 from .qgis_process import qgis_process_env, run_algorithm
+from ..tests.support.independent_camera import observation_lookup, observation_pixels, photo_pixels
+
+IND, CONS = "[independent]", "[consistency only]"
 
 
 class Steps:
@@ -113,6 +121,8 @@ def main(out: str) -> int:
     g = {f["plot_id"]: f["height"] for f in _features(ground["OUTPUT"])}
     dsm_err = np.array([(t[k] - g[k]) - crop_h[k] for k in crop_h])
     pc_err = np.array([f["h_p99"] - crop_h[f["plot_id"]] for f in _features(stats["OUTPUT"])])
+    truth_check = float(np.abs(observation_pixels(truth)
+                               - np.array(truth["observations"]["pixel"])).max())
     proj = _projection_errors(s, truth)
     plots_apart = _plots_apart(s, truth)
     inside = _footprint_coverage(ms["OUTPUT_FOOTPRINTS"], truth)
@@ -130,36 +140,49 @@ def main(out: str) -> int:
     print("  layers:      plots_top.gpkg, plots_ground.gpkg, plots_pointcloud_stats.gpkg, "
           "metashape_/pix4d_/odm_/opf_ cameras and footprints (.gpkg)")
     print(f"  picture:     {png}")
+    feats = [p["field"] for p in truth["plots"].values()]
+    print(f"  field:       {sum(f['empty'] for f in feats)} empty plots, {sum(f['weeds'] > 0 for f in feats)} "
+          f"with weeds, {sum(f['gaps'] > 0 for f in feats)} with missing row segments, "
+          f"{sum(f['lodged'] for f in feats)} lodged, {sum(f['no_alley'] for f in feats)} without "
+          f"alleys; margin grass, alley weeds, shadows, soil gradient (truth.json field_mess)")
     print("  raw photos:  plots_in_photos.gpkg (photo pixels: x = column, y = -row), "
           "plots_best_photo.gpkg, back2raw.json, crops_photos/, previews/")
     print("  statistics:  plots_photo_statistics.gpkg (per plot, across views), "
           "plots_photo_views.gpkg (every plot × photo), previews_statistics/")
-    print("Errors against the truth")
-    print(f"  plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "
+    print("Errors against the truth ([independent]: the truth is not made by the code it checks; "
+          "[consistency only]: our code against our code)")
+    print(f"  {IND} plot crop height, DSM p95 − ground:   mean {100 * np.mean(np.abs(dsm_err)):.1f} cm, "
           f"max {100 * np.max(np.abs(dsm_err)):.1f} cm over {len(dsm_err)} plots")
-    print(f"  plot crop height, cloud p99 − ground: mean {100 * np.mean(np.abs(pc_err)):.1f} cm, "
+    print(f"  {IND} plot crop height, cloud p99 − ground: mean {100 * np.mean(np.abs(pc_err)):.1f} cm, "
           f"max {100 * np.max(np.abs(pc_err)):.1f} cm")
+    print(f"  {IND} the generator's truth pixels (production camera model) vs the independent "
+          f"camera (OpenCV + the Metashape terms): max {truth_check:.1e} px")
     for name, err in proj.items():
-        print(f"  truth points → photo pixels, {name}: max {err:.1e} px over "
-              f"{len(truth['observations']['point'])} observations")
-    print(f"  plot corners back-projected through Metashape, Pix4D and ODM: at most "
+        print(f"  {IND} truth points → photo pixels, {name}: max {err:.1e} px from the independent "
+              f"camera over {len(truth['observations']['point'])} observations")
+    print(f"  {CONS} plot corners back-projected through Metashape, Pix4D and ODM: at most "
           f"{plots_apart:.2f} px apart")
-    print(f"  truth points inside the footprint of each photo that sees them: {100 * inside:.1f} % "
-          f"(Metashape), {100 * inside_opf:.1f} % (OPF)")
-    print(f"  season, {SEASON_DATES} dates × 40 plots: height max {100 * season['height']:.1f} cm "
+    print(f"  {CONS} truth points inside the footprint of each photo that sees them (seen pairs "
+          f"by the generator's camera): {100 * inside:.1f} % (Metashape), {100 * inside_opf:.1f} % "
+          f"(OPF)")
+    print(f"  {IND} season, {SEASON_DATES} dates × 40 plots: height max {100 * season['height']:.1f} cm "
           f"(DSM), {100 * season['cloud']:.1f} cm (cloud); cover max {100 * season['cover']:.1f} %")
     for line in _backward_errors(back, s, truth):
         print(f"  {line}")
     for line in forward:
         print(line)
+    print(f"  {IND} plot colour truth from the generator's closed-form model "
+          f"(next lines); the round trip's object visibility: {CONS} (generator's camera):")
     for line in photo_stats:
         print(line)
+    print(f"  {IND} plot grid against the generator's plot layout:")
     for line in plot_grid:
         print(line)
     total = sum(sec for _, sec in steps.times)
     print(f"Summary: {len(steps.times)} tool runs in {total:.0f} s; {dom['CROPPED']} plots cropped "
-          f"from orthomosaic, DSM and point cloud; projections agree with the truth to "
-          f"{max(proj.values()):.0e} px; plot heights within {100 * np.mean(np.abs(dsm_err)):.0f} cm.")
+          f"from orthomosaic, DSM and point cloud; projections agree with the independent truth "
+          f"to {max(proj.values()):.0e} px; plot heights within {100 * np.mean(np.abs(dsm_err)):.0f} "
+          f"cm (mean; independent).")
     return 0
 
 
@@ -202,9 +225,7 @@ def _backward_errors(back, s, truth):
     fractions of clipped plots (dense ground sampling), occlusion of the kept pairs."""
     from ..core import open_reconstruction
     from ..core.reconstruction import INSIDE
-    ids = truth["points"]["id"]
-    obs = truth["observations"]
-    pix = {(ids[p], ph): uv for p, ph, uv in zip(obs["point"], obs["photo"], obs["pixel"])}
+    pix = observation_lookup(truth)             # the independent truth
     same, worst = _whole_against_truth(back["whole"], truth, pix)
     # OPF has one focal length: the demo camera's affinity b1 is mapped out of the truth exactly
     cal, b1 = _opf_calibration(s, truth)
@@ -228,14 +249,19 @@ def _backward_errors(back, s, truth):
     best = _features(back["best"]["OUTPUT"])
     occ = np.array([f["occluded_fraction"] for f in best])
     crops = sum(len(files) for _, _, files in os.walk(back["best"]["CROPS_FOLDER"]))
-    return [f"plots → photos, whole plots only (Pix4D): photo sets equal the truth for {same} of "
-            f"{len(truth['plots'])} plots; corners within {worst:.1e} px",
-            f"plots → photos, whole plots only (OPF): photo sets equal the truth for {same_opf} of "
-            f"{len(truth['plots'])} plots; corners within {worst_opf:.1e} px of the truth without "
-            f"the affinity b1 = {b1:g} px OPF cannot hold ({raw_opf:.2f} px of the truth itself)",
-            f"plots → photos, clipped (Metashape): visible fraction within "
-            f"{max(vis_err):.4f} of a dense ground count over {len(vis_err)} clipped plot × photo pairs",
-            f"best 4 photos per plot: {len(best)} pairs, occluded share of the plot surface median "
+    return [f"{CONS} plots → photos, whole plots only (Pix4D): photo sets equal the generator's "
+            f"for {same} of {len(truth['plots'])} plots",
+            f"{IND} plots → photos, whole plots only (Pix4D): corners within {worst:.1e} px",
+            f"{CONS} plots → photos, whole plots only (OPF): photo sets equal the generator's for "
+            f"{same_opf} of {len(truth['plots'])} plots",
+            f"{IND} plots → photos, whole plots only (OPF): corners within {worst_opf:.1e} px of the "
+            f"truth without the affinity b1 = {b1:g} px OPF cannot hold ({raw_opf:.2f} px of the "
+            f"truth itself)",
+            f"{CONS} plots → photos, clipped (Metashape): visible fraction within "
+            f"{max(vis_err):.4f} of a dense ground count (projected by our reader) over "
+            f"{len(vis_err)} clipped plot × photo pairs",
+            f"[no truth] best 4 photos per plot: {len(best)} pairs, occluded share of the plot "
+            f"surface median "
             f"{np.median(occ):.2f}, max {occ.max():.2f} (soil between crop rows); "
             f"{crops // 2} crops and their JSON written"]
 
@@ -291,14 +317,17 @@ def _forward_projection(steps, s, truth, out) -> list:
             true_area = 0.5 * abs(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
             area.append(abs(f["area_m2"] - true_area) / true_area)
         e = np.concatenate(errors)
-        lines.append(f"  LabelMe vertices on the map, {name}: median {np.median(e) * 1000:.3f} mm, "
+        lines.append(f"  {IND} LabelMe vertices on the map, {name}: median {np.median(e) * 1000:.3f} mm, "
                      f"max {e.max() * 1000:.3f} mm over {len(e)} vertices (DSM cell 20 mm); "
                      f"areas within {100 * max(area):.3f} %")
     steps.run("forward-project LabelMe polygons, merged across photos (union)",
               "easyidp:forwardprojectpolygons",
               {"INPUT_FOLDER": labelme, "PROJECT": s["METASHAPE_PROJECT"], "DSM": s["DSM"],
                "MERGE": 1, "OUTPUT": os.path.join(out, "labelme_on_map_merged.gpkg")})
-    lines.append("  raw → map, ray–DSM vs easyidp 2.0.4 homography, truth points in plots:")
+    lines.append(f"  {IND} LabelMe truth (map points cast by the generator) → the clicks by the "
+                 f"independent camera: max {_labelme_truth_check(truth):.1e} px")
+    lines.append(f"  {IND} raw → map, ray–DSM vs easyidp 2.0.4 homography, truth points in plots "
+                 f"(at their independent pixels):")
     lines.append(report(compare(s["OUTPUT_FOLDER"])))
     best = steps.run("orthorectify plots from their best raw photo (native resolution)",
                      "easyidp:orthorectifyrois",
@@ -309,7 +338,8 @@ def _forward_projection(steps, s, truth, out) -> list:
                       {"ROIS": s["PLOTS"], "NAME_FIELD": "plot_id", "PROJECT": s["PIX4D_PROJECT"],
                        "DSM": s["DSM"], "GSD": 0.02, "OUTPUT_FOLDER": os.path.join(out, "ortho_2cm")})
     off = np.array([_ncc_offset(f, s["ORTHOMOSAIC"]) for f in check["OUTPUT_FILES"]])
-    lines.append(f"  orthorectified plots: {best['WRITTEN']} images from the best photos; against "
+    lines.append(f"  {CONS} orthorectified plots (the photos are rendered with our camera model): "
+                 f"{best['WRITTEN']} images from the best photos; against "
                  f"the orthomosaic (NCC peak, 2 cm images): offset mean "
                  f"{np.hypot(*off.T).mean():.2f}, max {np.hypot(*off.T).max():.2f} DSM cells")
     return lines
@@ -356,11 +386,24 @@ def _overview(png: str, raster: str, vectors) -> str:
     return png
 
 
+def _labelme_truth_check(truth) -> float:
+    """Max distance (px) between the LabelMe clicks and their true map points projected by the
+    independent camera: the forward-projection truth checked without core code."""
+    worst = 0.0
+    for doc in truth["labelme"].values():
+        for shape in doc["shapes"]:
+            uv = photo_pixels(truth, doc["photo"], np.array(shape["map"]))[0]
+            worst = max(worst, float(np.abs(uv - np.array(shape["pixels"])).max()))
+    return worst
+
+
 def _projection_errors(s, truth) -> dict:
-    """Max pixel error of the truth observations projected through the four projects (core)."""
+    """Max pixel error of the truth points projected through the four projects (core) against
+    the independent truth (``tests/support/independent_camera.py``)."""
     from ..core import open_reconstruction
     xyz = np.array(truth["points"]["xyz"])
     obs = truth["observations"]
+    want_all = observation_pixels(truth)
     out = {}
     for name, path, suffix in (("Metashape", s["METASHAPE_PROJECT"], ""),
                                ("Pix4D", s["PIX4D_PROJECT"], ".JPG"),
@@ -369,12 +412,12 @@ def _projection_errors(s, truth) -> dict:
         index = {lab: i for i, lab in enumerate(p.camera_labels)}
         cam = np.array([index[lab + suffix] for lab in obs["photo"]])
         uv = p.pixels[cam, np.array(obs["point"])]
-        out[name] = float(np.abs(uv - np.array(obs["pixel"])).max())
+        out[name] = float(np.abs(uv - want_all).max())
     cal, b1 = _opf_calibration(s, truth)
     p = open_reconstruction(s["OPF_PROJECT"]).project_points(xyz, truth["crs"])
     index = {lab: i for i, lab in enumerate(p.camera_labels)}
     uv = p.pixels[np.array([index[lab + ".JPG"] for lab in obs["photo"]]), np.array(obs["point"])]
-    want = np.array(obs["pixel"], dtype=np.float64)
+    want = want_all.copy()
     want[:, 0] = cal.cx + (want[:, 0] - cal.cx) * cal.f / (cal.f + b1)
     out["OPF (the truth without b1)"] = float(np.abs(uv - want).max())
     return out

@@ -2,7 +2,7 @@
 and size, for the deep-learning round trip (training sets out, detections back).
 
 The objects are *not* drawn in the orthomosaic or the photos (every survey file stays as it
-was): they are a truth list derived deterministically from the survey's plot corners
+was; the field's own weeds, ``field.make_weeds``, are another thing, drawn in every file): they are a truth list derived deterministically from the survey's plot corners
 (``truth.json``) and a seed. ``plant`` discs (radius 0.20–0.28 m) sit centred on crop rows,
 ``weed`` discs (radius 0.12–0.16 m) in the furrows between rows, where the rows beside them
 hide them from oblique views. Map coordinates in the survey's CRS (EPSG:32654), metres.

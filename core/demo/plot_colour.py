@@ -2,11 +2,14 @@
 
 **Truth** (:func:`plot_colour_truth`), derived from the scene generator's closed-form model, not
 from any raster: over each plot rectangle, on a 5 mm grid in the plot's own axes, the crop height
-``h`` (``field._plot_canopy``: rows along the long axis, plants along the rows, a bare edge), the
-noise-free texel colour ``soil·s·(1 − w) + leaf·k·w`` with the leaf weight ``w = min(h / 5 cm, 1)``,
+``h`` (``field._plot_canopy``: rows along the long axis, plants along the rows, a bare edge, the
+plot's vigour, gaps and lodging; the weeds of ``field.weed_height`` where they are taller, in
+their own leaf colour), the noise-free texel colour ``soil·s·(1 − w) + leaf·k·w`` with the soil
+colour of ``scene.soil_colour`` (its west–east gradient), the leaf weight ``w = min(h / 5 cm, 1)``,
 the leaf shade ``k = 0.75 + 0.45·min(h / 0.7 m, 1)`` and the soil's moisture shade
 ``s = 1 + 0.07·moisture(x, y)`` (the generator's smooth field; its zero-mean grain and clods are
-left out: they cancel in ExG's numerator and average out over a plot). Per plot:
+left out: they cancel in ExG's numerator and average out over a plot; the cast shadows scale a
+texel's three bands alike, which changes neither ExG nor cover). Per plot:
 
 * ``exg``: the mean over the rectangle of the texels' ExG (2G − R − B)/(R + G + B);
 * ``cover``: the share of the rectangle whose texels are mostly leaf (w ≥ ½, i.e. h ≥ 2.5 cm).
@@ -24,8 +27,8 @@ from typing import Dict, List, Tuple
 
 import numpy as np
 
-from .field import DOM_PIXEL, _plot_canopy, plot_corners
-from .scene import LEAF_FULL, LEAF_RGB, MOISTURE, SOIL_RGB, Scene, _moisture_grid
+from .field import DOM_PIXEL, _plot_canopy, plot_corners, weed_height
+from .scene import LEAF_FULL, LEAF_RGB, MOISTURE, WEED_RGB, Scene, _moisture_grid, soil_colour
 
 TRUTH_STEP = 0.005          # m, grid of the truth integration
 GHOST_COLUMN, BLUR_COLUMN = 3, 6
@@ -48,8 +51,9 @@ def moisture(scene: Scene, seed: int, x, y) -> np.ndarray:
 
 def plot_colour_truth(scene: Scene, seed: int, step: float = TRUTH_STEP) -> Dict[str, dict]:
     """{plot id: {"exg": mean ExG, "cover": share with w ≥ ½}} (see the module docstring)."""
-    soil = np.array(SOIL_RGB, np.float64)
     leaf = np.array(LEAF_RGB, np.float64)
+    weed_leaf = np.array(WEED_RGB, np.float64)
+    weeds = scene.weeds if scene.weeds is not None else np.zeros((0, 4))
     out = {}
     for p in scene.plots:
         w, h = p["size"]
@@ -61,10 +65,15 @@ def plot_colour_truth(scene: Scene, seed: int, step: float = TRUTH_STEP) -> Dict
         y = p["centre"][1] + uu * sa + vv * ca
         inside, height = _plot_canopy(p, x, y)
         height = np.where(inside, height, 0.0)
+        near = np.hypot(weeds[:, 0] - p["centre"][0], weeds[:, 1] - p["centre"][1]) < np.hypot(w, h)
+        weed = weed_height(weeds[near], x, y)
+        is_weed = (weed > 0) & (weed >= height)
+        height = np.maximum(height, weed)
         wgt = np.clip(height / LEAF_FULL, 0, 1)[:, None]
         k = (0.75 + 0.45 * np.clip(height / 0.7, 0, 1))[:, None]
         s = (1 + MOISTURE * moisture(scene, seed, x, y))[:, None]
-        rgb = soil * s * (1 - wgt) + leaf * k * wgt
+        rgb = soil_colour(scene.layout, scene.mess, x) * s * (1 - wgt) \
+            + np.where(is_weed[:, None], weed_leaf, leaf) * k * wgt
         exg = (2 * rgb[:, 1] - rgb[:, 0] - rgb[:, 2]) / rgb.sum(axis=1)
         out[p["plot_id"]] = {"exg": float(exg.mean()), "cover": float(np.mean(wgt[:, 0] >= 0.5))}
     return out

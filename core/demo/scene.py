@@ -8,6 +8,12 @@ map coordinates minus ``offset`` (the Pix4D ``offset.xyz``), x east, y north, z 
 The *surface* is the DSM raster interpolated bilinearly between pixel centres (as
 ``core.raster.DSM.heights``); where the DSM has no data or outside it, the bare-ground
 plane. Truth heights and ray intersections all refer to that surface.
+
+The vegetation (:func:`make_scene`, ``mess``: :class:`.field.FieldMess`) is the plots' crop
+(``field._plot_canopy``), the weeds (``field.make_weeds``) and the margin grass
+(:func:`_margin_grass`); the DSM holds the tallest of them, the orthomosaic colours each texel by
+the kind that is tallest there, with the soil's colour gradient (:func:`soil_colour`) and the
+crop's cast shadows (:func:`shadow_factor`).
 """
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
@@ -15,7 +21,8 @@ from typing import List
 
 import numpy as np
 
-from .field import DOM_PIXEL, DSM_PIXEL, NODATA, FieldLayout, canopy_grid, make_plots
+from .field import (DOM_PIXEL, DSM_PIXEL, NO_MESS, NODATA, FieldLayout, FieldMess, add_field_mess,
+                    canopy_grid, make_plots, make_weeds, plot_corners, weed_grid)
 
 SURVEY_FIELD = FieldLayout(origin=(319800.0, 3956050.0), size=(60.0, 40.0), rows=5, cols=8,
                            plot_size=(4.0, 2.5), first_plot=(5.0, 4.5), pitch=(7.0, 7.5),
@@ -30,6 +37,11 @@ SOIL_RGB = (122, 96, 72)       # orthomosaic soil colour (times the moisture sha
 LEAF_RGB = (58, 132, 46)       # leaf colour (times 0.75 + 0.45 · min(height / 0.7 m, 1))
 LEAF_FULL = 0.05    # m of crop height at which a texel is all leaf (blended towards soil below)
 MOISTURE = 0.07     # relative soil brightness change per unit of the smooth moisture field
+WEED_RGB = (72, 128, 50)       # weed leaf colour (times the same height shade as the crop's)
+DRY_GRASS_RGB = (150, 140, 88)  # the margin grass is a mix of this and the crop leaf colour
+SOIL_TREND = (1.0, 0.55, 0.35)  # per band: how the soil colour gradient changes R, G, B
+SUN = (1.0, 1.0)               # (columns, rows) per step towards the sun (south-east), DSM grid
+GRASS_GCP_CLEAR = 0.6          # m around a ground control target kept free of grass
 
 
 def bilinear_grid(a: np.ndarray, fx: np.ndarray, fy: np.ndarray) -> np.ndarray:
@@ -68,6 +80,8 @@ class Scene:
     rel_max: float
     bare_max: float           # highest ``rel`` where there is no crop (m)
     top_blocks: np.ndarray    # float32: highest ``rel`` per CROP_BLOCK² DSM pixels, grown by CROP_GROW
+    mess: FieldMess = FieldMess()
+    weeds: np.ndarray = None  # (n, 4) map x, y, radius, height (m): :func:`.field.make_weeds`
 
     # --- geometry in the local frame -------------------------------------------------------------
     def ground_local(self, x, y):
@@ -108,17 +122,26 @@ class Scene:
         return (col >= lay.nodata_cols + 1 + m) & (col <= nx - 1 - m) & (row >= 1 + m) & (row <= ny - 1 - m)
 
 
-def make_scene(seed: int, layout: FieldLayout = SURVEY_FIELD) -> Scene:
-    """Plots, DSM and orthomosaic from ``seed`` (deterministic, whatever the thread timing)."""
+def make_scene(seed: int, layout: FieldLayout = SURVEY_FIELD, mess: FieldMess = NO_MESS) -> Scene:
+    """Plots, DSM and orthomosaic from ``seed`` (deterministic, whatever the thread timing), with
+    what real fields have (``mess``, :class:`.field.FieldMess`; its features drawn from their
+    own random streams of the seed: weeds, grass, vigour, gaps, lodging, shadows, soil colour).
+    The default is the tidy field; :func:`.survey.make_demo_survey` passes its own (its default
+    is the messy ``FieldMess()``; ``DemoSurvey.field_mess`` says which a survey has)."""
     rng = np.random.default_rng(seed)
-    plots = make_plots(layout, rng)
+    plots = add_field_mess(make_plots(layout, rng), mess, np.random.default_rng([seed, 30]))
+    weeds = make_weeds(layout, plots, mess, np.random.default_rng([seed, 31]))
     x0, y0 = layout.origin
     w, h = layout.size
     centre_g = layout.ground_height(x0 + w / 2, y0 - h / 2)
     offset = np.array([round(x0 + w / 2), round(y0 - h / 2), round(centre_g)], dtype=np.float64)
 
     ny, nx = layout.grid_shape(DSM_PIXEL)
-    canopy = canopy_grid(layout, plots, DSM_PIXEL)
+    crop = canopy_grid(layout, plots, DSM_PIXEL)
+    weed = weed_grid(layout, weeds, DSM_PIXEL)
+    grass = _margin_grass(layout, plots, mess, seed)
+    canopy = np.maximum.reduce([crop, weed, grass])
+    kind = np.select([canopy <= 0, grass >= canopy, weed >= canopy], [0, 3, 2], 1).astype(np.uint8)
     noise = rng.normal(0.0, 0.004, (ny, nx))
     y = y0 - (np.arange(ny) + 0.5)[:, None] * DSM_PIXEL
     x = x0 + (np.arange(nx) + 0.5)[None, :] * DSM_PIXEL
@@ -129,11 +152,11 @@ def make_scene(seed: int, layout: FieldLayout = SURVEY_FIELD) -> Scene:
     rel[1:-1, 1:layout.nodata_cols + 1] = 0.0
 
     gcps = np.array([[x0 + dx, y0 - dy, 0.0] for dx, dy in GCP_PLACES])
-    ortho = _orthomosaic(layout, canopy, gcps[:, :2], seed)
+    ortho = _orthomosaic(layout, canopy, kind, gcps[:, :2], seed, mess)
     bare_max = float(rel[1:-1, 1:-1][canopy == 0].max())
     scene = Scene(layout, plots, offset, dsm, ortho, rel, gcps,
                   [f"GCP{i + 1}" for i in range(len(gcps))],
-                  float(rel.min()), float(rel.max()), bare_max, _top_blocks(rel))
+                  float(rel.min()), float(rel.max()), bare_max, _top_blocks(rel), mess, weeds)
     loc = gcps - offset
     scene.gcps[:, 2] = scene.surface_local(loc[:, 0], loc[:, 1]) + offset[2]
     return scene
@@ -158,16 +181,77 @@ def _top_blocks(rel: np.ndarray) -> np.ndarray:
     return out
 
 
+def _margin_grass(layout: FieldLayout, plots, mess: FieldMess, seed: int) -> np.ndarray:
+    """Grass height (m) on the DSM grid: ``grass_cover`` of the cells beyond ``margin`` m outside
+    the plot block's bounding box (not on the ground control targets), 2–7 cm tall."""
+    shape = layout.grid_shape(DSM_PIXEL)
+    if not mess.margin_grass or not plots:
+        return np.zeros(shape)
+    rng = np.random.default_rng([seed, 32])
+    c = np.vstack([plot_corners(p) for p in plots])
+    (x0, y0), (x1, y1) = c.min(axis=0) - mess.margin, c.max(axis=0) + mess.margin
+    x = layout.origin[0] + (np.arange(shape[1]) + 0.5)[None, :] * DSM_PIXEL
+    y = layout.origin[1] - (np.arange(shape[0]) + 0.5)[:, None] * DSM_PIXEL
+    margin = ~((x > x0) & (x < x1) & (y > y0) & (y < y1))
+    for gx, gy in GCP_PLACES:
+        gx, gy = layout.origin[0] + gx, layout.origin[1] - gy
+        margin &= ~((np.abs(x - gx) < GRASS_GCP_CLEAR) & (np.abs(y - gy) < GRASS_GCP_CLEAR))
+    grass = margin & (rng.uniform(size=shape) < mess.grass_cover)
+    return np.where(grass, rng.uniform(0.02, 0.07, shape), 0.0)
+
+
+def grass_rgb(share: float) -> np.ndarray:
+    """The margin grass colour: the mix of DRY_GRASS_RGB and LEAF_RGB whose ExG is ``share`` ×
+    the crop leaf's (bisection on the mix)."""
+    exg = lambda c: (2 * c[1] - c[0] - c[2]) / c.sum()           # noqa: E731
+    dry, leaf = np.array(DRY_GRASS_RGB, float), np.array(LEAF_RGB, float)
+    lo, hi = 0.0, 1.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if exg(dry + mid * (leaf - dry)) < share * exg(leaf) else (lo, mid)
+    return dry + lo * (leaf - dry)
+
+
+def soil_colour(layout: FieldLayout, mess: FieldMess, x) -> np.ndarray:
+    """Soil colour (…, 3) before the moisture shade at map x: SOIL_RGB, changed from the west
+    edge to the east edge by ``soil_gradient`` (SOIL_TREND per band)."""
+    t = (np.asarray(x, np.float64) - layout.origin[0]) / layout.size[0] - 0.5
+    return np.array(SOIL_RGB) * (1 + mess.soil_gradient * t[..., None] * np.array(SOIL_TREND))
+
+
+def shadow_factor(canopy: np.ndarray, mess: FieldMess) -> np.ndarray:
+    """Brightness factor (DSM grid, float32) of the crop's cast shadows: 1 − ``shadow`` where
+    vegetation towards the sun (SUN steps, 45° elevation) rises above the line to the sun."""
+    out = np.ones(canopy.shape, np.float32)
+    if not mess.shadow:
+        return out
+    ny, nx = canopy.shape
+    lit = np.ones(canopy.shape, bool)
+    step = DSM_PIXEL * np.hypot(*SUN)
+    for k in range(1, int(np.ceil(canopy.max() / step)) + 1):
+        dc, dr = int(SUN[0] * k), int(SUN[1] * k)
+        if dc >= nx or dr >= ny:
+            break
+        lit[:ny - dr, :nx - dc] &= canopy[dr:, dc:] <= canopy[:ny - dr, :nx - dc] + k * step
+    out[~lit] = 1 - mess.shadow
+    return out
+
+
 # --- orthomosaic texture ------------------------------------------------------------------------
-def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, gcp_xy: np.ndarray, seed: int) -> np.ndarray:
-    """RGB uint8 at 1 cm: soil (smooth moisture on 1 m, clods on 4 cm, grain on 1 cm), leaves
-    coloured by crop height, checkerboard ground control targets. Rows are textured in bands on
-    two threads; each band has its own random stream, so the result does not depend on timing."""
+def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, kind: np.ndarray, gcp_xy: np.ndarray,
+                 seed: int, mess: FieldMess = FieldMess()) -> np.ndarray:
+    """RGB uint8 at 1 cm: soil (smooth moisture on 1 m, clods on 4 cm, grain on 1 cm, the colour
+    gradient), leaves coloured by height and ``kind`` (1 crop, 2 weed, 3 grass), cast shadows,
+    checkerboard ground control targets. Rows are textured in bands on two threads; each band
+    has its own random stream, so the result does not depend on timing."""
     ny, nx = layout.grid_shape(DOM_PIXEL)
     out = np.empty((ny, nx, 3), np.uint8)
     g = _moisture_grid(layout, seed)
-    soil_rgb = np.array(SOIL_RGB, np.float32)
-    leaf_rgb = np.array(LEAF_RGB, np.float32)
+    x = layout.origin[0] + (np.arange(nx) + 0.5) * DOM_PIXEL
+    soil_cols = soil_colour(layout, mess, x).astype(np.float32)          # (nx, 3)
+    leaf_rgb = np.array([[0, 0, 0], LEAF_RGB, WEED_RGB, grass_rgb(mess.margin_grass or 0.5)],
+                        np.float32)
+    sun = shadow_factor(canopy, mess)
     ratio = round(DSM_PIXEL / DOM_PIXEL)
 
     def band(b0: int):
@@ -185,21 +269,26 @@ def _orthomosaic(layout: FieldLayout, canopy: np.ndarray, gcp_xy: np.ndarray, se
         shade = np.repeat(np.repeat(shade4, 4, 0), 4, 1)[b0 - (b0 // 4) * 4:][:rows, :nx]
         grain = rng.integers(-9, 10, (rows, nx), dtype=np.int8)
         tmp = np.empty((rows, nx), np.float32)
+        up = lambda a: np.repeat(np.repeat(a[b0 // ratio:-(-b1 // ratio)], ratio, 0), ratio, 1)[  # noqa: E731
+            b0 - (b0 // ratio) * ratio:][:rows]
+        sun_b = up(sun)
         for k in range(3):
-            np.multiply(shade, soil_rgb[k], out=tmp)
+            np.multiply(shade, soil_cols[:, k], out=tmp)
             tmp += grain
+            tmp *= sun_b
             np.clip(tmp, 0, 255, out=tmp)
             out[b0:b1, :, k] = tmp
-        # leaves where the crop is: blend towards green by height
-        h2 = canopy[b0 // ratio:-(-b1 // ratio)]
-        h = np.repeat(np.repeat(h2, ratio, 0), ratio, 1)[b0 - (b0 // ratio) * ratio:][:rows]
+        # leaves where the vegetation is: blend towards green by height (grass: all leaf)
+        h = up(canopy)
         rr, cc = np.nonzero(h > 0)
         hv = h[rr, cc].astype(np.float32)
-        leaf = np.clip(hv / LEAF_FULL, 0, 1)[:, None]
+        kv = up(kind)[rr, cc]
+        leaf = np.where(kv == 3, 1.0, np.clip(hv / LEAF_FULL, 0, 1)).astype(np.float32)[:, None]
         gr = grain[rr, cc].astype(np.float32)[:, None]
-        soil = soil_rgb * shade[rr, cc][:, None] + gr
-        green = leaf_rgb * (0.75 + 0.45 * np.clip(hv / 0.7, 0, 1))[:, None] + 1.3 * gr
-        out[b0 + rr, cc] = np.clip(soil * (1 - leaf) + green * leaf, 0, 255).astype(np.uint8)
+        soil = soil_cols[cc] * shade[rr, cc][:, None] + gr
+        green = leaf_rgb[kv] * (0.75 + 0.45 * np.clip(hv / 0.7, 0, 1))[:, None] + 1.3 * gr
+        out[b0 + rr, cc] = np.clip((soil * (1 - leaf) + green * leaf) * sun_b[rr, cc][:, None],
+                                   0, 255).astype(np.uint8)
 
     with ThreadPoolExecutor(2) as pool:
         list(pool.map(band, range(0, ny, BAND_ROWS)))

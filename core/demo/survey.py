@@ -16,7 +16,15 @@
     labelme/DJI_xxxx.json LabelMe polygons around plots on four photos
     truth.json            truth points and their pixels in every photo that sees them, the
                           photos that see each plot whole, the map coordinates of the LabelMe
-                          vertices (see ``truth.py`` for the conventions)
+                          vertices, the camera and every photo's pose (see ``truth.py`` for the
+                          conventions; ``tests/support/independent_camera.py`` recomputes the
+                          pixels from them without ``core`` code)
+
+The field is as messy as real ones (``field_mess``, :class:`.field.FieldMess`, every feature with
+its parameter, drawn from the seed): margin grass at least half as green as the crop, weeds in
+the plots and the alleys, uneven vigour, missing row segments, empty plots, lodged patches, cast
+shadows, a soil-colour gradient, rows that hide the soil between them in oblique views, and a
+block of plots without alleys. ``field_mess=NO_MESS`` gives the tidy field of earlier versions.
 
 Same seed and size → identical files (in one software environment). Pixels have their origin
 at the top-left image corner; the centre of the top-left pixel is (0.5, 0.5).
@@ -33,12 +41,13 @@ truth's ``ortho_defects``); the photos, and everything else, are those of the de
 import os
 import time
 from concurrent.futures import ThreadPoolExecutor, as_completed
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import List, Optional
 
 import numpy as np
 
-from .field import DOM_PIXEL, DSM_PIXEL, plot_corners, write_plots_geojson
+from .field import (DOM_PIXEL, DSM_PIXEL, EDGE, TOUCHING_BLOCK, FieldMess, _inside_plot, plot_corners,
+                    write_plots_geojson)
 from ..errors import InputError
 from ..files import OutputFolder, write_bytes
 from ..gpkg import GpkgTable, write_geopackage
@@ -64,6 +73,29 @@ __all__ = ["make_demo_survey", "DemoSurvey", "SIZES"]
 DEFECTS_NOTE = (f"orthomosaic.tif only (the photos see the true texture): 'ghosting' plots are a "
                 f"50/50 blend with the texture {GHOST_OFFSET[0]:g} m east, {-GHOST_OFFSET[1]:g} m "
                 f"south; 'blur' plots a Gaussian blur of sigma {BLUR_SIGMA:g} m")
+
+
+MESS_NOTE = ("what real fields have (core/demo/field.py FieldMess): margin grass, weeds in plots "
+             "and alleys, uneven vigour, missing row segments, empty plots, lodged patches, cast "
+             "shadows, a soil-colour gradient, rows that hide the soil between them obliquely, a "
+             "block of plots without alleys; per plot under plots.<id>.field")
+
+
+def field_features(scene) -> dict:
+    """Per plot id: which of the field's features it has (for truth.json)."""
+    out = {}
+    weeds = scene.weeds if scene.weeds is not None else np.zeros((0, 4))
+    for p in scene.plots:
+        inside = _inside_plot(p, weeds[:, 0], weeds[:, 1]) if len(weeds) else np.zeros(0, bool)
+        out[p["plot_id"]] = {"empty": bool(p.get("empty", False)), "weeds": int(inside.sum()),
+                             "gaps": len(p.get("gaps", ())),
+                             "gaps_at_row_end": sum(abs(u0) >= end or abs(u1) >= end
+                                                    for _, u0, u1 in p.get("gaps", ())
+                                                    for end in [p["size"][0] / 2 - EDGE - 1e-9]),
+                             "lodged": "lodged" in p,
+                             "no_alley": bool(scene.mess.touching and p["row"] in TOUCHING_BLOCK[0]
+                                              and p["col"] in TOUCHING_BLOCK[1])}
+    return out
 
 
 @dataclass
@@ -98,6 +130,7 @@ class DemoSurvey:
     odm_project: Optional[str] = ""
     rolling_shutter: bool = False
     opf_project: Optional[str] = ""
+    field_mess: FieldMess = FieldMess()
 
 
 SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "pointcloud.laz",
@@ -108,7 +141,7 @@ SURVEY_ENTRIES = ("orthomosaic.tif", "dsm.tif", "plots.geojson", "plots.gpkg", "
 
 def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite: bool = False,
                      progress=None, is_cancelled=None, rolling_shutter: bool = False,
-                     ortho_defects: bool = False) -> DemoSurvey:
+                     ortho_defects: bool = False, field_mess: FieldMess = FieldMess()) -> DemoSurvey:
     """Write the demo survey into ``folder`` (created if needed) and return its paths.
 
     ``size``: "small" (36 photos of 800×600) or "medium" (36 photos of 1600×1200); the field,
@@ -118,18 +151,19 @@ def make_demo_survey(folder: str, seed: int = 0, size: str = "small", overwrite:
     :class:`core.errors.Cancelled` is raised and the folder may hold a partial survey (every
     file in it complete). ``rolling_shutter``: photos taken while the drone moves (see the
     module docstring). ``ortho_defects``: ghosting and blur in the written orthomosaic over
-    some plots (see the module docstring).
+    some plots (see the module docstring). ``field_mess``: what the field has (weeds, grass,
+    …; see the module docstring).
     """
     if size not in SIZES:
         raise InputError(f"Demo survey size {size!r}: choose one of {', '.join(SIZES)}.")
     with OutputFolder(folder, overwrite=overwrite, what="Demo survey folder") as out:
         out.claim(SURVEY_ENTRIES)
         return _write_survey(str(out.folder), seed, size, as_progress(progress, is_cancelled),
-                             rolling_shutter, ortho_defects)
+                             rolling_shutter, ortho_defects, field_mess)
 
 
 def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool,
-                  ortho_defects: bool = False) -> DemoSurvey:
+                  ortho_defects: bool = False, field_mess: FieldMess = FieldMess()) -> DemoSurvey:
     t0 = time.perf_counter()
     prog.check()
     camera = make_camera(size)
@@ -137,7 +171,7 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     os.makedirs(photo_dir, exist_ok=True)
     rng = np.random.default_rng([seed, 1])
 
-    scene = make_scene(seed)
+    scene = make_scene(seed, mess=field_mess)
     lay = scene.layout
     shots = plan_flight(scene, rng)
     if rolling_shutter:                    # own random stream: everything else stays the same
@@ -173,6 +207,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
             truth, ms, p4d = _truth_and_projects(folder, scene, camera, shots, photos, rng)
             for pid, colour in plot_colour_truth(scene, seed).items():
                 truth.plots[pid].update(colour)
+            for pid, feats in field_features(scene).items():
+                truth.plots[pid]["field"] = feats
             prog.set(25)
             for k, job in enumerate(as_completed(jobs)):
                 job.result()
@@ -188,7 +224,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     opf = None if rolling_shutter else \
         write_opf(os.path.join(folder, "opf"), camera, shots, scene.offset, photos, lay.epsg)
     # last, so that a truth file means a complete survey
-    meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"]}
+    meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"],
+            "field_mess": {**asdict(scene.mess), "description": MESS_NOTE}}
     if rolling_shutter:
         meta["rolling_shutter"] = True
     if defects is not None:
@@ -206,7 +243,7 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
         labelme=[os.path.join(folder, k) for k in truth.labelme], truth=truth_path,
         plot_ids=[p["plot_id"] for p in scene.plots], seconds=time.perf_counter() - t0,
         odm_project=odm and odm["project"], rolling_shutter=rolling_shutter,
-        opf_project=opf and opf["project"])
+        opf_project=opf and opf["project"], field_mess=scene.mess)
 
 
 def _write_plots(folder: str, scene):

@@ -2,7 +2,10 @@
 
 Everything is computed with the true poses in the local frame and the camera model of
 ``core.reconstruction.frame_model`` (pixels: origin at the top-left image corner, centre of the
-top-left pixel at (0.5, 0.5)). A point is *seen* by a photo when it is in front of the camera,
+top-left pixel at (0.5, 0.5)), so the pixels written here agree with the core by construction.
+truth.json therefore also states the camera (``camera``, in the Metashape manual's terms) and
+every photo's pose (``rotation``, ``centre``), from which ``tests/support/independent_camera.py``
+recomputes the pixels with OpenCV and no ``core`` code: the checks compare with those. A point is *seen* by a photo when it is in front of the camera,
 inside the frame [0, w] × [0, h] and the segment from the point to the camera centre does not
 pass under the surface (the DSM, bilinear between pixel centres).
 """
@@ -22,7 +25,7 @@ from .scene import Scene
 N_RANDOM_POINTS = 1500
 OCCLUSION_STEP = 0.005     # m, horizontal sampling of the point → camera segment
 OCCLUSION_START = 0.015    # m from the point before the surface may hide it
-PLOT_GRID = 0.1            # m, spacing of the samples that must be in the frame ("seen whole")
+PLOT_GRID = 0.1            # m, spacing of the outline samples that must be in the frame ("whole")
 TRUTH_FORMAT = "easyidp-demo-survey-truth"
 
 
@@ -115,8 +118,9 @@ def observations(scene: Scene, camera: CameraModel, shots: List[Shot], pts: np.n
 
 
 def plot_visibility(scene: Scene, camera: CameraModel, shots: List[Shot]) -> Dict[str, dict]:
-    """Per plot: photos that see it whole (every surface sample of the rectangle on a
-    ``PLOT_GRID`` grid, crop included, is in the frame) and photos whose frame holds its four
+    """Per plot: photos that see it whole (every sample of its outline, every ``PLOT_GRID`` m on
+    the surface, is in the frame: the outline of a ROI, as back-projection draws it; the crop
+    inside, up to 0.7 m tall, may reach beyond the frame) and photos whose frame holds its four
     corners on the surface (the vertex rule of back-projection tools)."""
     out = {}
     names = [s.label for s in shots]
@@ -124,7 +128,8 @@ def plot_visibility(scene: Scene, camera: CameraModel, shots: List[Shot]) -> Dic
         w, h = p["size"]
         u = np.linspace(-w / 2, w / 2, int(round(w / PLOT_GRID)) + 1)
         v = np.linspace(-h / 2, h / 2, int(round(h / PLOT_GRID)) + 1)
-        uu, vv = [a.ravel() for a in np.meshgrid(u, v)]
+        uu = np.concatenate([u, u, np.full(len(v), -w / 2), np.full(len(v), w / 2)])
+        vv = np.concatenate([np.full(len(u), -h / 2), np.full(len(u), h / 2), v, v])
         ca, sa = np.cos(p["angle"]), np.sin(p["angle"])
         x = p["centre"][0] - scene.offset[0] + uu * ca - vv * sa
         y = p["centre"][1] - scene.offset[1] + uu * sa + vv * ca
@@ -142,6 +147,21 @@ def plot_visibility(scene: Scene, camera: CameraModel, shots: List[Shot]) -> Dic
     return out
 
 
+def camera_doc(camera: CameraModel) -> dict:
+    """The camera as truth.json states it, in the Metashape manual's frame-camera terms, so that
+    code other than ``core.reconstruction`` can compute the truth pixels from it."""
+    c = camera.calibration
+    return {
+        "model": "Metashape frame camera (manual, appendix C): Xc = rotation * (X - centre) with X "
+                 "and centre in map coordinates (x right, y down, z forward); x = Xc/Zc, y = Yc/Zc; "
+                 "r2 = x^2 + y^2; x' = x(1 + k1 r2 + k2 r2^2 + k3 r2^3 + k4 r2^4) + p1(r2 + 2x^2) "
+                 "+ 2 p2 x y; y' = y(1 + ...) + p2(r2 + 2y^2) + 2 p1 x y; u = width/2 + cx + x' f "
+                 "+ x' b1 + y' b2; v = height/2 + cy + y' f (pixels as 'pixels' says)",
+        "width": camera.width, "height": camera.height,
+        **{k: float(getattr(c, k)) for k in ("f", "b1", "b2", "k1", "k2", "k3", "k4", "p1", "p2")},
+        "cx": float(c.cx - camera.width / 2), "cy": float(c.cy - camera.height / 2)}
+
+
 def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shots: List[Shot],
                 meta: dict) -> str:
     """The truth as JSON (see the module docstring for the conventions it states)."""
@@ -155,8 +175,10 @@ def write_truth(path: str, truth: Truth, scene: Scene, camera: CameraModel, shot
         "seen": "in front of the camera, inside the frame [0, width] x [0, height], and the "
                 "segment to the camera centre does not pass under the DSM surface",
         "image_size": [camera.width, camera.height],
+        "camera": camera_doc(camera),
         "photos": {s.label: {"file": f"photos/{s.filename}", "line": s.line,
                              "centre": (s.C + scene.offset).tolist(),
+                             "rotation": s.R.tolist(),
                              **({"rolling_shutter": readout_motion.describe(s)}
                                 if s.motion is not None else {})}
                    for s in shots},

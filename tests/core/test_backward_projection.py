@@ -2,8 +2,10 @@
 
 Independent checks, by kind:
 - demo survey truth (generated with the true poses, written before any of this code ran):
-  whole-only photo sets per plot, corner pixels, and visible fractions against a dense ground
-  sampling of each plot;
+  whole-only photo sets per plot (the generator's, made with the production camera model:
+  consistency only), corner pixels (independent: ``tests/support/independent_camera.py``),
+  and visible fractions against a dense ground sampling of each plot (consistency only: the
+  sampling is projected by our reader);
 - synthetic scenes true by construction (a camera looking at the horizon, a ROI around the
   whole view): no fold-back, fractions against a dense ground sampling;
 - the real wheat_tanashi markers as tiny ROIs against Metashape's own pinned observations;
@@ -28,6 +30,7 @@ from easyidp_toolbox.core.reconstruction import (INSIDE, Calibration, Camera, Re
                                                  Sensor)
 from easyidp_toolbox.core.reconstruction.geodesy import LocalFrame, OffsetFrame
 from easyidp_toolbox.core.roi import ROI, ROISet, read_geojson
+from easyidp_toolbox.tests.support import independent_camera
 
 NO_DENSIFY = 1e12   # densify_tolerance that keeps the input vertices only
 
@@ -56,7 +59,8 @@ def metashape(survey):
 # --- demo survey truth ----------------------------------------------------------------------------
 @pytest.mark.parametrize("project", ["metashape", "pix4d"])
 def test_whole_only_photo_sets_equal_the_truth(survey, truth, plots, project):
-    """Truth kind: the demo survey's own truth (every 10 cm of the plot inside the frame)."""
+    """Consistency only (the generator computes photos_whole with the production camera): the
+    demo truth's photo sets, every 10 cm of each plot's outline on the surface inside the frame."""
     recon = open_reconstruction(survey.metashape_project if project == "metashape"
                                 else survey.pix4d_project)
     res = back_project(plots, recon, heights=DSM(survey.dsm), clip=False, min_visible=0)
@@ -68,12 +72,11 @@ def test_whole_only_photo_sets_equal_the_truth(survey, truth, plots, project):
 
 
 def test_corners_land_on_the_true_pixels(survey, truth, plots, metashape):
-    """Truth kind: demo truth observations of the plot corners (on the surface)."""
+    """Independent: the demo truth's plot corners (on the surface) against their pixels by the
+    independent camera (tests/support/independent_camera.py), for the pairs the truth sees."""
     res = back_project(plots, metashape, heights=DSM(survey.dsm), clip=False,
                        min_visible=0, densify_tolerance=NO_DENSIFY)
-    ids = truth["points"]["id"]
-    obs = truth["observations"]
-    pix = {(ids[p], ph): uv for p, ph, uv in zip(obs["point"], obs["photo"], obs["pixel"])}
+    pix = independent_camera.observation_lookup(truth)
     worst, n = 0.0, 0
     for i in range(len(res)):
         ring = res.rings_of(i)[0]

@@ -1,9 +1,11 @@
-"""The demo survey with rolling-shutter photos (opt-in): truth true by construction.
+"""The demo survey with rolling-shutter photos (opt-in).
 
-The truth (pixels by a bracketed root search on each point's row, photos ray cast row by row,
-LabelMe vertices cast from their row's pose) comes from the motion as the demo defines it
-(``core/demo/readout_motion.py``), not from the core's projection solver; the generated
-Metashape project is read back by our reader.
+Independent truth: the pixels of the truth's observations are computed by
+``tests/support/independent_camera.py`` (OpenCV for the lens, the Metashape terms and the
+motion's fixed point written out there, from the camera and motion truth.json states; no
+``core`` code). The photos are ray cast row by row and the LabelMe vertices cast from their
+row's pose by the generator (``core/demo/readout_motion.py``, with the production lens model);
+the generated Metashape project is read back by our reader.
 """
 import json
 import os
@@ -16,6 +18,7 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.projection import camera_footprints
 from easyidp_toolbox.core.reconstruction import INSIDE
+from easyidp_toolbox.tests.support import independent_camera
 
 
 @pytest.fixture(scope="module")
@@ -31,7 +34,7 @@ def truth(survey):
     obs = t["observations"]
     t["xyz"] = np.array(t["points"]["xyz"])
     t["obs_point"], t["obs_photo"] = np.array(obs["point"]), np.array(obs["photo"])
-    t["obs_pixel"] = np.array(obs["pixel"])
+    t["obs_pixel"] = independent_camera.observation_pixels(t)     # the independent truth
     return t
 
 
@@ -61,7 +64,8 @@ def test_outputs_and_what_is_not_written(survey, truth, recon):
 
 
 def test_truth_pixels_through_the_metashape_project(recon, truth):
-    """0.01 px with the motion; the motion itself moves the points by pixels (test power)."""
+    """Independent: 0.01 px from the independent pixels with the motion; the motion itself
+    moves the points by pixels (test power)."""
     p, cam, uv = _truth_vs(recon, truth)
     err = np.abs(uv - truth["obs_pixel"]).max()
     print(f"\nrolling-shutter demo: max error {err:.1e} px over {len(uv)} observations")
@@ -79,6 +83,7 @@ def test_truth_pixels_through_the_metashape_project(recon, truth):
 
 
 def test_markers_carry_the_moving_pixels(recon, truth):
+    """Independent: the markers the generator pinned sit on the independent pixels."""
     ids = truth["points"]["id"]
     for m in recon.markers:
         sel = truth["obs_point"] == ids.index(m.label)
@@ -89,7 +94,7 @@ def test_markers_carry_the_moving_pixels(recon, truth):
 
 
 def test_photos_are_rendered_with_the_motion(survey, truth, recon):
-    """At the truth pixels the photos show the orthomosaic's colours; at the pixels a still
+    """Independent pixels: at the truth pixels the photos show the orthomosaic's colours; at the pixels a still
     camera would give (2 px or more away) they do not."""
     import imagecodecs
     import tifffile
@@ -124,13 +129,19 @@ def test_photos_are_rendered_with_the_motion(survey, truth, recon):
     fixed = np.corrcoef(green(colours(uv0[sel])), green(ref))[0, 1]
     print(f"colour correlation at the moving pixels {moving:.3f}, "
           f"at still-camera pixels {fixed:.3f}")
-    assert moving > 0.88 and fixed < moving - 0.2
+    # the drop asked was 0.2 before the field had margin grass (issue 32): the grass strip is
+    # green at any pixel offset, so still-camera pixels keep more correlation (0.85 vs 0.97)
+    assert moving > 0.88 and fixed < moving - 0.1
 
 
 def test_labelme_vertices_project_back_to_their_clicks(survey, truth, recon):
+    """Independent: the LabelMe truth's map points (cast by the generator) project onto their
+    clicks by the independent camera; through our reader too."""
     n = 0
     for rel, doc in truth["labelme"].items():
         for shape in doc["shapes"]:
+            ind = independent_camera.photo_pixels(truth, doc["photo"], np.array(shape["map"]))[0]
+            assert np.abs(ind - np.array(shape["pixels"])).max() < 0.01
             p = recon.project_points(np.array(shape["map"]), "EPSG:32654", cameras=[doc["photo"]])
             assert np.abs(p.pixels[0] - np.array(shape["pixels"])).max() < 0.01
             n += len(shape["pixels"])

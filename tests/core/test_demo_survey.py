@@ -1,15 +1,22 @@
 """The demo survey: generated once per session (small), checked against its own truth file.
 
-- every truth point projects to its true pixel (0.01 px) through the generated Metashape and
-  Pix4D projects as our readers open them (and through the pmatrix + Inpho .cam alone), and
-  through the OpenDroneMap project once the skew term OpenSfM cannot hold is accounted for;
+Truth kinds, said per test: *independent* checks compare with pixels computed by
+``tests/support/independent_camera.py`` (OpenCV and the Metashape manual's formulas, from the
+camera truth.json states; no ``core`` code) or by other software (easyidp 2.0.4, GDAL, a
+winding-number count); *consistency only* checks compare our code with our code (the generator
+renders photos and writes projects with the production camera model).
+
+- independent: every truth point projects to its independent pixel (0.01 px) through the
+  generated Metashape and Pix4D projects as our readers open them (and through the pmatrix +
+  Inpho .cam alone), and through the OpenDroneMap project;
 - camera footprints on the DSM contain the truth points each photo sees;
-- the rendered photos match the orthomosaic at the projected points, and show the crop where
+- the rendered photos match the orthomosaic at the independent pixels, and show the crop where
   the truth says a point is hidden;
-- LabelMe vertices: their true map coordinates are on the DSM and project back to the clicks;
+- LabelMe vertices: their true map coordinates are on the DSM and project back to the clicks
+  (independent, and through our readers);
 - plots (GeoJSON, GeoPackage), point clouds (LAZ, PLY) agree with the DSM;
 - same seed → identical files; generation time (printed);
-- realism: easyidp 2.0.4, in its own environment, reproduces the truth pixels (< 0.5 px).
+- realism: easyidp 2.0.4, in its own environment, reproduces the independent pixels (< 0.5 px).
 """
 import hashlib
 import json
@@ -26,6 +33,7 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.demo import make_demo_survey
 from easyidp_toolbox.core.reconstruction import INSIDE
 from easyidp_toolbox.scripts.reference import REF_PYTHON
+from easyidp_toolbox.tests.support import independent_camera
 
 @pytest.fixture(scope="session")
 def survey(tmp_path_factory):
@@ -46,7 +54,7 @@ def truth(survey):
     obs = t["observations"]
     t["obs_point"] = np.array(obs["point"])
     t["obs_photo"] = obs["photo"]
-    t["obs_pixel"] = np.array(obs["pixel"])
+    t["obs_pixel"] = independent_camera.observation_pixels(t)     # the independent truth
     return t
 
 
@@ -85,6 +93,8 @@ def _check_projection(recon, truth, label_of, crs="EPSG:32654"):
 
 
 def test_truth_points_project_through_metashape(survey, truth):
+    """Independent: the truth points through our Metashape reader land on the independent
+    pixels; so do the markers' pinned pixels the generator wrote."""
     recon = open_reconstruction(survey.metashape_project)
     assert recon.software == "metashape" and recon.crs.to_epsg() == 4326
     assert len(recon.aligned_cameras) == 36
@@ -108,6 +118,7 @@ def test_truth_points_project_through_metashape(survey, truth):
 
 
 def test_truth_points_project_through_pix4d(survey, truth):
+    """Independent: the truth points through our Pix4D reader land on the independent pixels."""
     recon = open_reconstruction(survey.pix4d_project)
     assert recon.software == "pix4d" and recon.crs.to_epsg() == 32654
     assert len(recon.aligned_cameras) == 36 and len(recon.sensors) == 1
@@ -119,7 +130,8 @@ def test_truth_points_project_through_pix4d(survey, truth):
 
 
 def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, tmp_path):
-    """Without the calibrated camera parameters: pmatrix (6 decimals) + Inpho-style .cam."""
+    """Independent: without the calibrated camera parameters, pmatrix (6 decimals) + Inpho-style
+    .cam, on the independent pixels."""
     params = Path(survey.pix4d_params)
     for suffix in ("offset.xyz", "pmatrix.txt", "calibrated_internal_camera_parameters.cam",
                    "wkt.prj"):
@@ -131,6 +143,8 @@ def test_pix4d_pmatrix_and_inpho_cam_alone_give_the_same_pixels(survey, truth, t
 
 @pytest.mark.parametrize("project", ["metashape", "pix4d", "odm", "opf"])
 def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, project):
+    """Truth points (seen pairs: the generator's ray marching) inside the footprints; the
+    border margin from the independent pixels."""
     from easyidp_toolbox.core.geometry import points_in_rings
     from easyidp_toolbox.core.raster import DSM
     from easyidp_toolbox.core.projection import camera_footprints
@@ -170,8 +184,10 @@ def _photo_pixels(path, uv):
 
 
 def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth):
-    """Colour of the photo pixel holding each truth pixel vs the orthomosaic around the point
-    (4 cm × 4 cm, about the photo's ground resolution) on a sample of observations."""
+    """Independent pixels: colour of the photo pixel holding each independent truth pixel vs the
+    orthomosaic around the point (4 cm × 4 cm, about the photo's ground resolution) on a sample
+    of observations (the photos are rendered with the production model: this shows that the
+    rendering agrees with the independent camera)."""
     import tifffile
     ortho = tifffile.imread(survey.orthomosaic).astype(float)
     rng = np.random.default_rng(5)
@@ -201,12 +217,16 @@ def test_rendered_photos_match_the_orthomosaic_at_projected_points(survey, truth
     assert np.median(diff) < 8
     assert np.percentile(diff.max(axis=1), 90) < 40
     assert corr > 0.9
-    # the test has power: 6 px off (about 22 cm) the agreement collapses
+    # the test has power: 6 px off (about 22 cm) the agreement collapses. Tolerance: 0.3 before
+    # the field had margin grass (issue 32); the grass strip is green at any shift, which keeps
+    # about 0.8 of the correlation (0.78 measured with seed 0), so the drop asked is 0.15
     off = photo_colours(np.array([6.0, 0.0]))
-    assert np.corrcoef(green(off), green(ref))[0, 1] < corr - 0.3
+    assert np.corrcoef(green(off), green(ref))[0, 1] < corr - 0.15
 
 
 def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
+    """Independent: the LabelMe truth's map points (cast by the generator) project, by the
+    independent camera, onto the clicks; our readers do too (0.01 px)."""
     from easyidp_toolbox.core.raster import DSM
     assert len(survey.labelme) == 4
     ms = open_reconstruction(survey.metashape_project)
@@ -229,6 +249,8 @@ def test_labelme_polygons_and_their_true_map_coordinates(survey, truth):
             assert np.allclose(uv, st["pixels"])
             # the true map point is on the DSM surface and projects back to the clicked pixel
             assert np.allclose(DSM(survey.dsm).heights(xyz[:, 0], xyz[:, 1]), xyz[:, 2], atol=2e-4)
+            ind, framed = independent_camera.photo_pixels(truth, t["photo"], xyz)
+            assert framed.all() and np.abs(ind - uv).max() < 0.01
             for recon, name in ((ms, t["photo"]), (p4, t["photo"] + ".JPG")):
                 back = recon.project_points(xyz, "EPSG:32654", cameras=[name]).pixels[0]
                 assert np.abs(back - uv).max() < 0.01
@@ -322,8 +344,9 @@ def test_plots_geopackage_reads_back_with_gdal(survey):
 
 
 def test_easyidp_204_agrees_with_the_truth(survey, truth, tmp_path):
-    """Realism: easyidp 2.0.4 (its own environment) opens both projects and projects the truth
-    points (its public back2raw_crs) to within 0.5 px of the truth."""
+    """Independent (other software, other truth code): easyidp 2.0.4 (its own environment) opens
+    both projects and projects the truth points (its public back2raw_crs) to within 0.5 px of the
+    independent pixels."""
     assert REF_PYTHON.exists(), (f"reference environment with easyidp 2.0.4 not found at "
                                  f"{REF_PYTHON}: make env-ref creates it")
     script, out = tmp_path / "easyidp_check.py", tmp_path / "easyidp.json"
@@ -349,14 +372,12 @@ def test_easyidp_204_agrees_with_the_truth(survey, truth, tmp_path):
 
 
 def test_hidden_pairs_show_the_crop_in_front_of_the_soil(survey, truth):
-    """A truth point on soil that the truth says is hidden in a photo shows up as crop there;
-    one it says is seen shows up as soil."""
+    """Independent pixels: a truth point on soil that the truth says is hidden in a photo shows
+    up as crop at its independent pixel there; one it says is seen shows up as soil."""
     import tifffile
     hid = truth["hidden"]
     assert 0 < len(hid["point"]) < len(truth["obs_point"]) / 10
     ortho = tifffile.imread(survey.orthomosaic).astype(float)
-    recon = open_reconstruction(survey.metashape_project)
-
     def green(points, photos):
         """(G − R) of the orthomosaic under each point and of the photo pixel holding it."""
         xyz = truth["xyz"][points]
@@ -364,7 +385,7 @@ def test_hidden_pairs_show_the_crop_in_front_of_the_soil(survey, truth):
         p = np.empty_like(o)
         for name in sorted(set(photos)):
             sel = photos == name
-            uv = recon.project_points(xyz[sel], "EPSG:32654", cameras=[name]).pixels[0]
+            uv = independent_camera.photo_pixels(truth, name, xyz[sel])[0]
             p[sel] = _photo_pixels(os.path.join(survey.photo_folder, name + ".JPG"), uv)
         return o[:, 1] - o[:, 0], p[:, 1] - p[:, 0]
 
@@ -425,8 +446,8 @@ def _odm_check(recon, truth, survey):
 
 
 def test_truth_points_project_through_the_odm_project(survey, truth):
-    """The ODM project folder: OpenSfM's topocentric file is read (mapped exactly with pyproj);
-    photos come from images/; the truth pixels are met to 0.01 px."""
+    """Independent: the ODM project folder: OpenSfM's topocentric file is read (mapped exactly
+    with pyproj); photos come from images/; the independent pixels are met to 0.01 px."""
     recon = open_reconstruction(survey.odm_project)
     assert recon.software == "odm" and recon.crs.to_epsg() == 32654
     assert len(recon.aligned_cameras) == 36 and not recon.unaligned_cameras
@@ -442,7 +463,8 @@ def test_truth_points_project_through_the_odm_project(survey, truth):
 
 def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_path):
     """Without reconstruction.topocentric.json (as in some ODM downloads), reconstruction.json is
-    ODM's map-coordinate export: told from shots.geojson, else from the photos' GPS positions."""
+    ODM's map-coordinate export: told from shots.geojson, else from the photos' GPS positions
+    (independent pixels)."""
     from easyidp_toolbox.core import InputError
     odm = tmp_path / "odm"
     shutil.copytree(survey.odm_project, odm, ignore=shutil.ignore_patterns("*.tif", "images"))
@@ -464,8 +486,8 @@ def test_odm_map_coordinate_file_and_how_its_frame_is_told(survey, truth, tmp_pa
 
 
 def test_plots_back_projected_through_the_three_projects_land_on_the_same_pixels(survey, truth):
-    """The plot corners (on the DSM surface) through the Metashape, Pix4D and ODM projects of
-    the demo: the same pixels, to 0.01 px."""
+    """Consistency only (our readers against each other): the plot corners (on the DSM surface)
+    through the Metashape, Pix4D and ODM projects of the demo: the same pixels, to 0.01 px."""
     corners = np.array([c for p in truth["plots"].values() for c in p["corners"]])
     px = {}
     for name, path in (("metashape", survey.metashape_project), ("pix4d", survey.pix4d_project),
@@ -484,3 +506,110 @@ def test_plots_back_projected_through_the_three_projects_land_on_the_same_pixels
         d = np.abs(uv[seen] - ms_uv[seen]).max()
         print(f"\nplot corners, {name} vs Metashape: {d:.1e} px")
         assert d < 0.01
+
+
+# --- a field as messy as real ones (issue 32) ------------------------------------------------------
+def test_the_field_has_what_real_fields_have(survey, truth):
+    """Measured on the written files (orthomosaic, DSM, plots) against the truth's per-plot
+    features, at the default levels issue 32 asks for: margin grass at least half as green as
+    the crop; weeds in a third of the plots and in the alleys; uneven vigour between and within
+    plots; missing row segments, some at row ends; 3 empty plots; lodged patches, shadows and a
+    soil-colour gradient; one block of plots without alleys."""
+    import tifffile
+    from easyidp_toolbox.core import read_geojson
+    from easyidp_toolbox.core.geometry import points_in_rings
+    from easyidp_toolbox.core.raster import DSM
+    feats = {k: v["field"] for k, v in truth["plots"].items()}
+    assert sum(f["empty"] for f in feats.values()) >= 3
+    assert sum(f["weeds"] > 0 for f in feats.values()) >= len(feats) / 3
+    assert sum(f["gaps_at_row_end"] for f in feats.values()) >= 5
+    assert sum(f["gaps"] > 0 for f in feats.values()) >= len(feats) / 2
+    assert sum(f["lodged"] for f in feats.values()) >= 2
+    block = sorted(k for k, f in feats.items() if f["no_alley"])
+    assert len(block) == 8
+    corners = {k: np.array(truth["plots"][k]["corners"])[:, :2] for k in block}
+    for k in block:                     # each shares an edge (two corners) with a neighbour
+        shared = max(int((np.hypot(*(corners[o][None] - corners[k][:, None]).transpose(2, 0, 1))
+                          .min(axis=1) < 1e-6).sum()) for o in block if o != k)
+        assert shared >= 2, k
+
+    ortho = tifffile.imread(survey.orthomosaic).astype(np.float32)
+    exg = (2 * ortho[..., 1] - ortho[..., 0] - ortho[..., 2]) / np.maximum(ortho.sum(axis=2), 1)
+    rows, cols = np.mgrid[0:ortho.shape[0]:4, 0:ortho.shape[1]:4]
+    x, y = 319800.0 + (cols + 0.5) * 0.01, 3956050.0 - (rows + 0.5) * 0.01
+    e = exg[::4, ::4]
+    rois = read_geojson(survey.plots_geojson, "plot_id")
+    rings = {r.name: r.rings[0] for r in rois}
+    allc = np.vstack([c for c in (np.array(p["corners"])[:, :2] for p in truth["plots"].values())])
+    (x0, y0), (x1, y1) = allc.min(axis=0), allc.max(axis=0)
+    margin = ~((x > x0 - 1.6) & (x < x1 + 1.6) & (y > y0 - 1.6) & (y < y1 + 1.6))
+    crop = np.zeros(x.shape, bool)
+    for k, f in feats.items():
+        if not f["empty"]:
+            crop |= points_in_rings(x.ravel(), y.ravel(), [rings[k]]).reshape(x.shape)
+    leaf = np.percentile(e[crop], 90)
+    grass = np.median(e[margin])
+    print(f"\nExG: crop leaf (90th pct in the plots) {leaf:.3f}, margin grass (median) {grass:.3f}")
+    assert grass >= 0.5 * leaf
+    # weeds in the alleys: vegetation in the plot block outside every plot (grown by 10 cm)
+    dsm = DSM(survey.dsm)
+    block_area = (x > x0) & (x < x1) & (y > y0) & (y < y1) & ~margin
+    near_plot = np.zeros(x.shape, bool)
+    for r in rois:
+        c = np.array(r.rings[0])
+        ctr = c[:-1].mean(axis=0)
+        grown = ctr + (c - ctr) * 1.05
+        near_plot |= points_in_rings(x.ravel(), y.ravel(), [grown]).reshape(x.shape)
+    alley = block_area & ~near_plot
+    assert np.sum(e[alley] > 0.3) > 200
+    # vigour: heights differ between plots, and within a plot its halves differ
+    heights = [truth["plots"][k]["crop_height"] for k, f in feats.items() if not f["empty"]]
+    assert np.std(heights) > 0.08
+    ground = np.nanmedian(dsm.heights(x[margin][::50], y[margin][::50])
+                          - 95.0 - 0.02 * (x[margin][::50] - 319800.0)
+                          - 0.01 * (y[margin][::50] - 3956010.0))
+    assert abs(ground) < 0.08              # grass on the ground plane (heights ≤ 7 cm)
+    # soil colour: the east is redder than the west (soil texels: ExG < 0)
+    soil = e < 0
+    west, east = soil & (x < 319800.0 + 15), soil & (x > 319800.0 + 45)
+    r_g = lambda m: np.median(ortho[::4, ::4, 0][m] / ortho[::4, ::4, 1][m])      # noqa: E731
+    print(f"soil R/G west {r_g(west):.3f}, east {r_g(east):.3f}")
+    assert r_g(east) > r_g(west) + 0.02
+    # shadows: soil just north-west of the crop is darker than soil elsewhere
+    bright = ortho[::4, ::4].sum(axis=2)
+    nw = np.zeros(soil.shape, bool)
+    veg = e > 0.3
+    nw[:-2, :-2] = veg[2:, 2:]            # 8 cm south-east of it there is vegetation
+    assert np.median(bright[soil & nw & crop]) < 0.85 * np.median(bright[soil & ~nw & ~crop & ~margin])
+
+
+def test_rows_hide_the_soil_between_them_in_oblique_views(truth):
+    """Truth points on bare soil inside planted plots (surface within 2 cm of the ground, in a
+    plot with crop): in views that look across the rows at 15° or more the generator's segment
+    test finds most of them hidden by the rows; straight down, none."""
+    from easyidp_toolbox.core.geometry import points_in_rings
+    xyz = truth["xyz"]
+    rel = xyz[:, 2] - (95.0 + 0.02 * (xyz[:, 0] - 319800.0) + 0.01 * (xyz[:, 1] - 3956010.0))
+    furrow = np.zeros(len(xyz), bool)
+    for k, p in truth["plots"].items():
+        if p["field"]["empty"] or p["crop_height"] < 0.3:
+            continue
+        c = np.array(p["corners"])[:, :2]
+        ctr = c.mean(axis=0)
+        inner = ctr + (c - ctr) * 0.85
+        furrow |= points_in_rings(xyz[:, 0], xyz[:, 1], [np.vstack([inner, inner[:1]])])
+    furrow &= rel < 0.02
+    centres = {k: np.array(v["centre"]) for k, v in truth["photos"].items()}
+    pairs = [(p, ph, False) for p, ph in zip(truth["obs_point"], truth["obs_photo"])] + \
+        [(p, ph, True) for p, ph in zip(truth["hidden"]["point"], truth["hidden"]["photo"])]
+    across, hid = [], []
+    for p, ph, h in pairs:
+        if furrow[p]:
+            d = xyz[p] - centres[ph]
+            across.append(np.degrees(np.arctan2(abs(d[1]), -d[2])))   # rows run east-west (±4°)
+            hid.append(h)
+    across, hid = np.array(across), np.array(hid)
+    steep, oblique = across < 5, across >= 15
+    print(f"\nfurrow soil points: hidden in {hid[oblique].mean():.0%} of {oblique.sum()} views "
+          f"15° or more across the rows, {hid[steep].mean():.0%} of {steep.sum()} under 5°")
+    assert oblique.sum() > 30 and hid[oblique].mean() > 0.5 and hid[steep].mean() < 0.1

@@ -8,7 +8,7 @@ Kinds of check, said per test:
   parameters and on the demo survey's OPF project read as plain JSON;
 - brute force written in the test: Pix4D's fisheye formula, evaluated directly;
 - the demo survey's truth (its poses, written before this reader existed), through back
-  projection of the plots; OPF holds one focal length, so the demo camera's affinity b1 is
+  projection of the plots, its pixels by ``tests/support/independent_camera.py`` (independent); OPF holds one focal length, so the demo camera's affinity b1 is
   mapped out of the truth exactly (u → cx + (u − cx)·f/(f + b1));
 - bad input: each damaged or incomplete project names the file and says what to do.
 Needs pyopf (installed in both test environments).
@@ -28,6 +28,7 @@ from easyidp_toolbox.core import InputError, open_reconstruction
 from easyidp_toolbox.core.demo.flight import make_camera
 from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.raster import DSM
+from easyidp_toolbox.tests.support import independent_camera
 from easyidp_toolbox.core.reconstruction import INSIDE
 from easyidp_toolbox.core.roi import read_geojson
 
@@ -249,7 +250,8 @@ def _without_b1(uv, cal, b1):
 
 
 def test_demo_opf_back_projection_equals_the_truth(demo):
-    """Demo truth: plots back-projected through the OPF project (DSM heights, whole plots only):
+    """Independent (corners: tests/support/independent_camera.py; photo sets: the generator's,
+    consistency only): plots back-projected through the OPF project (DSM heights, whole plots only):
     photo sets as the truth's and corners on the true pixels to 0.01 px, once the affinity b1
     OPF cannot hold is mapped out of the truth; the raw difference is that term (≤ |b1|·|x'|)."""
     recon = open_reconstruction(demo.opf_project)
@@ -260,8 +262,7 @@ def test_demo_opf_back_projection_equals_the_truth(demo):
     plots = read_geojson(demo.plots_geojson, name_field="plot_id")
     res = back_project(plots, recon, heights=DSM(demo.dsm), clip=False, min_visible=0,
                        densify_tolerance=NO_DENSIFY)
-    ids, obs = truth["points"]["id"], truth["observations"]
-    pix = {(ids[p], ph): uv for p, ph, uv in zip(obs["point"], obs["photo"], obs["pixel"])}
+    pix = independent_camera.observation_lookup(truth)
     worst = raw = 0.0
     n = 0
     for i in range(len(res)):

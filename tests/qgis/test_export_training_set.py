@@ -6,7 +6,7 @@ import os
 import numpy as np
 import pytest
 
-from easyidp_toolbox.core.demo import make_demo_survey
+from easyidp_toolbox.core.demo import NO_MESS, make_demo_survey
 from easyidp_toolbox.core.demo.plants import demo_objects, disc_ring
 from easyidp_toolbox.core.demo.round_trip import simulate_detections
 from easyidp_toolbox.core.files import write_json
@@ -15,7 +15,10 @@ from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
 
 @pytest.fixture(scope="module")
 def survey(tmp_path_factory):
-    s = make_demo_survey(str(tmp_path_factory.mktemp("survey")), seed=0, size="small")
+    # the tidy field (NO_MESS), as tests/core/test_training_set.py's (issue 32's messy default
+    # changes which truth objects the rows hide; its export checks are the training-set work's)
+    s = make_demo_survey(str(tmp_path_factory.mktemp("survey")), seed=0, size="small",
+                         field_mess=NO_MESS)
     objs = demo_objects(json.load(open(s.truth)))[:60]
     crs = {"type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32654"}}
     polys = {"type": "FeatureCollection", "crs": crs, "features": [

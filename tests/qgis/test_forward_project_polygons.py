@@ -49,8 +49,11 @@ def test_labelme_folder_to_the_map(provider, survey):
         best = min(max(ring.distance(QgsGeometry.fromPointXY(QgsPointXY(x, y)))
                        for x, y, _ in t) for t in truth[f["label"]])
         assert best < 0.01, f["label"]
-        # 4 m × 2.5 m plots; densified edges climb over crop rows: longer, a bit inside
-        assert 9 < f["area_m2"] < 11 and 12.5 < f["perimeter_m"] < 16
+        # 4 m × 2.5 m plots; densified edges climb over crop rows: longer, a bit inside.
+        # Lower area bound 9 m² before issue 32's field: its rows fill 80 % of the spacing, up
+        # to 0.7 m tall, so edges that land on row tops pull the outline further inside
+        # (8.77 m² measured with seed 0)
+        assert 8.5 < f["area_m2"] < 11 and 12.5 < f["perimeter_m"] < 16
     merged = _run({"INPUT_FOLDER": folder, "PROJECT": survey.pix4d_project, "DSM": survey.dsm,
                    "MERGE": 1})["OUTPUT"]
     assert merged.featureCount() == len(truth)
