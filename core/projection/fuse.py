@@ -63,6 +63,10 @@ NMS_WITHIN = 0.8         # a polygon this much inside a kept one of its photo is
 ROBUST_ROUNDS = 2        # reweightings of the consensus vote
 ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
 ATTACH_IOU = 0.5         # photo-space IoU for a lone view to join an object seen elsewhere
+SNAP_CELLS = 2.0         # outline vertices within this many cells of a voted corner become it
+SIMPLIFY = 0.1           # outline simplification tolerance, cells
+DIST_BATCH = 1 << 20     # (cell, edge) distances computed at once
+MAX_CORNER_VERTICES = 4000   # vertices as drawn in a group above which corners are not voted
 
 
 @dataclass
@@ -112,29 +116,46 @@ class _Vote:
     cell (its centre inside); the grid's corner ``ox``, ``oy`` and ``cell`` (map units; x right,
     rows down, north up)."""
 
-    def __init__(self, members, photo_of, n_photos: int):
+    def __init__(self, members, photo_of, n_photos: int, corners=None):
         import shapely
         x0, y0, x1, y1 = shapely.total_bounds(members)
         self.cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
         self.cover = None
         self._votes = self._seen = None
+        self.weights, self.seen = None, None
         if not self.cell > 0:
             return
         cols = int(np.ceil((x1 - x0) / self.cell)) + 2
         rows = int(np.ceil((y1 - y0) / self.cell)) + 2
         self.ox, self.oy = x0 - self.cell, y1 + self.cell
         self.cover = np.zeros((n_photos, rows, cols), bool)
+        seg_a, seg_b, seg_p = [], [], []
         for g, p in zip(members, photo_of):
             rings = []
             for part in getattr(g, "geoms", [g]):
                 for ring in [part.exterior, *part.interiors]:
                     xy = np.asarray(ring.coords)[:-1]
-                    rings.append(np.column_stack([(xy[:, 0] - self.ox) / self.cell,
-                                                  (self.oy - xy[:, 1]) / self.cell]))
+                    rings.append(self.to_grid(xy))
             # photos, not polygons: a photo with two overlapping pieces votes once
             self.cover[p] |= rasterize(rings, self.cover.shape[1:])
+            for r in rings:
+                seg_a.append(r)
+                seg_b.append(np.roll(r, -1, axis=0))
+                seg_p.append(np.full(len(r), p, np.int64))
+        # the photos' edges (grid units) and their vertices as drawn (no densified ones)
+        self.segments = (np.vstack(seg_a), np.vstack(seg_b), np.concatenate(seg_p))
+        self.corners = [(p, self.to_grid(np.asarray(c, np.float64).reshape(-1, 2)))
+                        for c, p in zip(corners if corners is not None else [], photo_of)]
         n = self.cover.sum(axis=0)
         self.disputed = np.flatnonzero(((n > 0) & (n < n_photos)).ravel())
+
+    def to_grid(self, xy: np.ndarray) -> np.ndarray:
+        """Map (x, y) → grid (column, row), continuous: cell (r, c) spans [c, c + 1) × [r, r + 1)."""
+        return np.column_stack([(xy[:, 0] - self.ox) / self.cell, (self.oy - xy[:, 1]) / self.cell])
+
+    def to_map(self, cr: np.ndarray) -> np.ndarray:
+        """Grid (column, row) → map (x, y)."""
+        return np.column_stack([self.ox + cr[:, 0] * self.cell, self.oy - cr[:, 1] * self.cell])
 
     def sight_points(self) -> np.ndarray:
         """(k, 2) map points whose lines of sight stand for the disputed cells: the centres of
@@ -164,6 +185,7 @@ class _Vote:
                            sn.astype(np.float64))
             self._seen = seen
         cov, got, sn = self._votes
+        self.weights, self.seen = w, sn
         out = (w @ cov) / max(float(w.sum()), 1e-300)
         if len(self.disputed):
             den = w @ sn
@@ -191,30 +213,157 @@ class _Vote:
         return share
 
     def outline(self, share: np.ndarray):
-        """(exterior ring (k, 2) map units, shapely polygon) of the cells where ``share`` > ½:
-        contoured between cells, the outermost ring of the largest piece; (None, None) when
-        there is none."""
+        """(exterior ring (k, 2) map units, shapely polygon) of the region where ``share`` > ½,
+        at sub-cell precision; (None, None) when there is none.
+
+        The region's boundary is the zero level of the *vote's median distance*: at a cell
+        centre, the weighted median (the weights and lines of sight of the last :meth:`share`)
+        of each photo's signed distance to its own outline (negative inside). Its sign is the
+        vote's (more than half inside ⇔ the median is negative), and along a straight edge it
+        is linear, so the contour (marching squares, between cell centres) lies on the edge
+        however the grid falls. Where more than half of the photos that see it put a vertex
+        within one cell of one place (:meth:`corner_votes`), the outline has that vertex, at the
+        median of theirs: corners stay corners. The outermost ring of the largest piece,
+        simplified by ``SIMPLIFY`` cell."""
         import shapely
         from skimage.measure import find_contours
-        if not (share > 0.5).any():
+        inside = share > 0.5
+        if not inside.any():
             return None, None
-        cell = self.cell
+        field = self.median_distance(inside)
         polys = []
-        for c in find_contours(share, 0.5):
+        for c in find_contours(field, 0.0):
             if len(c) < 4:
                 continue
-            xy = np.column_stack([self.ox + (c[:, 1] + 0.5) * cell, self.oy - (c[:, 0] + 0.5) * cell])
-            p = shapely.Polygon(xy)
+            p = shapely.Polygon(self.to_map(c[:, ::-1] + 0.5))
             if not p.is_valid:
                 p = shapely.make_valid(p)
             polys += _flat_polygons(p)
         if not polys:
             return None, None
-        best = max(polys, key=lambda p: p.area).simplify(0.25 * cell)
+        best = max(polys, key=lambda p: p.area)
+        ring = np.asarray(best.exterior.coords)[:-1]
+        ring = self.to_map(_snap(self.to_grid(ring), self.corner_votes(), SNAP_CELLS))
+        best = shapely.Polygon(ring)
+        if not best.is_valid:
+            best = max(_flat_polygons(shapely.make_valid(best)), key=lambda p: p.area, default=None)
+            if best is None:
+                return None, None
+        best = best.simplify(SIMPLIFY * self.cell)
         if best.geom_type != "Polygon" or best.is_empty:
             return None, None
         ring = np.asarray(best.exterior.coords)[:-1]
         return ring, shapely.Polygon(ring)
+
+    def median_distance(self, inside: np.ndarray) -> np.ndarray:
+        """(rows, cols) float: minus the weighted median signed distance (cells; positive
+        inside) at the cells next to the region's boundary (a 4-neighbour on the other side),
+        ±1 elsewhere; its sign is ``inside``'s."""
+        rows, cols = inside.shape
+        edge = np.zeros_like(inside)
+        for a, b in ((inside[1:], inside[:-1]), (inside[:, 1:], inside[:, :-1])):
+            d = a != b
+            if a.shape[0] != rows:
+                edge[1:] |= d
+                edge[:-1] |= d
+            else:
+                edge[:, 1:] |= d
+                edge[:, :-1] |= d
+        field = np.where(inside, 1.0, -1.0)
+        cells = np.flatnonzero(edge.ravel())
+        if not len(cells):
+            return field
+        r, c = np.divmod(cells, cols)
+        pts = np.column_stack([c + 0.5, r + 0.5])
+        a, b, seg_p = self.segments
+        k = len(self.cover)
+        # distance of each cell centre to each photo's outline: the nearest of its edges
+        dist = np.full((len(cells), k), np.inf)
+        for s0 in range(0, len(a), max(1, DIST_BATCH // max(len(cells), 1))):
+            sl = slice(s0, s0 + max(1, DIST_BATCH // max(len(cells), 1)))
+            d = _point_segment_distance(pts, a[sl], b[sl])
+            for p in np.unique(seg_p[sl]).tolist():
+                dist[:, p] = np.minimum(dist[:, p], d[:, seg_p[sl] == p].min(axis=1))
+        cov = self.cover.reshape(k, -1)[:, cells].T             # (cells, photos)
+        signed = np.where(cov, -dist, dist)
+        signed[~np.isfinite(signed)] = np.inf                    # a photo without an outline
+        # the weights of the last vote: per photo, times its sight of the cell
+        w = np.ones(k) if self.weights is None else self.weights
+        wt = np.broadcast_to(w, signed.shape).copy()
+        if self.seen is not None and len(self.disputed):
+            pos = np.searchsorted(self.disputed, cells)
+            pos = np.minimum(pos, len(self.disputed) - 1)
+            hit = self.disputed[pos] == cells
+            wt[hit] *= self.seen[:, pos[hit]].T
+        order = np.argsort(signed, axis=1)
+        sv = np.take_along_axis(signed, order, axis=1)
+        cw = np.cumsum(np.take_along_axis(wt, order, axis=1), axis=1)
+        j = np.argmax(cw > 0.5 * cw[:, -1:], axis=1)              # first past half the weight
+        med = sv[np.arange(len(cells)), j]
+        val = -med
+        ins = inside.ravel()[cells]
+        # the vote decides the side (ties and rounding): the median only places the crossing
+        val = np.where(ins, np.maximum(val, 1e-9), np.minimum(val, -1e-9))
+        field.flat[cells] = val
+        return field
+
+    def corner_votes(self) -> np.ndarray:
+        """(k, 2) grid points where more than half of the photos (the weights of the last
+        vote) put a vertex of their outline as drawn within one cell of each other: the median
+        of those vertices (per coordinate), strongest first, none within one cell of another."""
+        if not self.corners:
+            return np.zeros((0, 2))
+        k = len(self.cover)
+        w = np.ones(k) if self.weights is None else np.asarray(self.weights, np.float64)
+        pts = np.vstack([c for _, c in self.corners] + [np.zeros((0, 2))])
+        ph = np.concatenate([np.full(len(c), p, np.int64) for p, c in self.corners] +
+                            [np.zeros(0, np.int64)])
+        if len(pts) < 2 or len(pts) > MAX_CORNER_VERTICES:
+            return np.zeros((0, 2))
+        d = np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))
+        near = d <= 1.0
+        # per vertex and photo: the photo's nearest vertex within a cell
+        support = np.zeros((len(pts), k), bool)
+        np.logical_or.at(support, (np.nonzero(near)[0], ph[np.nonzero(near)[1]]), True)
+        score = support.astype(np.float64) @ w
+        strong = np.flatnonzero(score > 0.5 * w.sum())
+        out = []
+        for i in strong[np.argsort(-score[strong], kind="stable")].tolist():
+            if any(np.hypot(*(q - pts[i])) <= 1.0 for q in out):
+                continue
+            pick = []
+            for p in np.flatnonzero(support[i]).tolist():
+                cand = np.flatnonzero(near[i] & (ph == p))
+                pick.append(cand[np.argmin(d[i, cand])])
+            out.append(np.median(pts[pick], axis=0))
+        return np.array(out).reshape(-1, 2)
+
+
+def _point_segment_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(n, m) distances of points (n, 2) to segments a→b (m, 2)."""
+    ab = b - a
+    ap = pts[:, None, :] - a[None, :, :]
+    den = np.maximum((ab * ab).sum(axis=1), 1e-300)
+    t = np.clip((ap * ab[None]).sum(axis=2) / den[None], 0.0, 1.0)
+    q = ap - t[:, :, None] * ab[None]
+    return np.hypot(q[:, :, 0], q[:, :, 1])
+
+
+def _snap(ring: np.ndarray, corners: np.ndarray, radius: float) -> np.ndarray:
+    """``ring`` (n, 2) with each run of its vertices within ``radius`` of a corner (k, 2)
+    replaced by that corner; a corner the ring passes more than once (a run that is not one
+    cyclic stretch), or not at all, is left out."""
+    for q in corners:
+        near = np.hypot(*(ring - q).T) <= radius
+        if not near.any() or near.all():
+            continue
+        start = int(np.argmin(near))                    # a vertex outside: the runs don't wrap
+        ring, near = np.roll(ring, -start, axis=0), np.roll(near, -start)
+        idx = np.flatnonzero(near)
+        if idx[-1] - idx[0] + 1 != len(idx):
+            continue
+        ring = np.vstack([ring[:idx[0]], q[None], ring[idx[-1] + 1:]])
+    return ring
 
 
 def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, dsm,
@@ -364,7 +513,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         photos_g = list(dict.fromkeys(polys[kept[k]].photo for k in members))
         where = {p: j for j, p in enumerate(photos_g)}
         votes.append(_Vote([kg[k] for k in members], [where[polys[kept[k]].photo] for k in members],
-                           len(photos_g)))
+                           len(photos_g), [_drawn_vertices(polys[kept[k]]) for k in members]))
         cams_of.append([cam_index[p] for p in photos_g])
         photos_of.append(photos_g)
     seen = _lines_of_sight(votes, cams_of, cams, recon, dsm, prog.sub(30, 50)) if visibility \
@@ -497,6 +646,12 @@ def _attach_lone_views(out, rings, ring_z, recon, crs):
             o.max_score = float(np.max(sc))
     keep = [k for k in range(len(out)) if k not in joined]
     return [out[k] for k in keep], [rings[k] for k in keep], [ring_z[k] for k in keep]
+
+
+def _drawn_vertices(f: ForwardShape) -> np.ndarray:
+    """(k, 2) map x, y of a shape's vertices as drawn (not densified) that hit the DSM."""
+    xy = [p[(st == HIT) & o, :2] for p, st, o in zip(f.points, f.status, f.original)]
+    return np.vstack(xy) if xy else np.zeros((0, 2))
 
 
 def _mean(values) -> float:
