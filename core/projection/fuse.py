@@ -253,6 +253,10 @@ class _Vote:
         if best.geom_type != "Polygon" or best.is_empty:
             return None, None
         ring = np.asarray(best.exterior.coords)[:-1]
+        # the ring's first vertex, which simplification keeps: dropped if on a straight edge
+        if len(ring) > 3 and _point_segment_distance(ring[:1], ring[-1:], ring[1:2])[0, 0] \
+                <= SIMPLIFY * self.cell:
+            ring = ring[1:]
         return ring, shapely.Polygon(ring)
 
     def median_distance(self, inside: np.ndarray) -> np.ndarray:
