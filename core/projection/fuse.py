@@ -65,8 +65,11 @@ ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
 ATTACH_IOU = 0.5         # photo-space IoU for a lone view to join an object seen elsewhere
 SNAP_CELLS = 2.0         # outline vertices within this many cells of a voted corner become it
 SIMPLIFY = 0.1           # outline simplification tolerance, cells
-DIST_BATCH = 1 << 20     # (cell, edge) distances computed at once
-MAX_CORNER_VERTICES = 4000   # vertices as drawn in a group above which corners are not voted
+DIST_CAP = 1.5           # cells: distances to the views' outlines are measured up to this
+MAX_CORNER_VERTICES = 20000  # vertices as drawn in a group above which corners are not voted
+OCCLUSION_SAMPLES = 256  # lines of sight per outline and photo for expected views (back_project's)
+COARSE_SAMPLES = 48      # the first, coarse test of them
+COARSE_MARGIN = 0.2      # coarse visible shares this close to min_visible are tested again in full
 
 
 @dataclass
@@ -277,20 +280,10 @@ class _Vote:
         cells = np.flatnonzero(edge.ravel())
         if not len(cells):
             return field
-        r, c = np.divmod(cells, cols)
-        pts = np.column_stack([c + 0.5, r + 0.5])
-        a, b, seg_p = self.segments
         k = len(self.cover)
-        # distance of each cell centre to each photo's outline: the nearest of its edges
-        dist = np.full((len(cells), k), np.inf)
-        for s0 in range(0, len(a), max(1, DIST_BATCH // max(len(cells), 1))):
-            sl = slice(s0, s0 + max(1, DIST_BATCH // max(len(cells), 1)))
-            d = _point_segment_distance(pts, a[sl], b[sl])
-            for p in np.unique(seg_p[sl]).tolist():
-                dist[:, p] = np.minimum(dist[:, p], d[:, seg_p[sl] == p].min(axis=1))
+        dist = self.edge_distances(cells, rows, cols)             # (cells, photos), ≤ DIST_CAP
         cov = self.cover.reshape(k, -1)[:, cells].T             # (cells, photos)
         signed = np.where(cov, -dist, dist)
-        signed[~np.isfinite(signed)] = np.inf                    # a photo without an outline
         # the weights of the last vote: per photo, times its sight of the cell
         w = np.ones(k) if self.weights is None else self.weights
         wt = np.broadcast_to(w, signed.shape).copy()
@@ -311,6 +304,50 @@ class _Vote:
         field.flat[cells] = val
         return field
 
+    def edge_distances(self, cells: np.ndarray, rows: int, cols: int) -> np.ndarray:
+        """(cells, photos) distance (cells) of each given cell's centre to each photo's outline,
+        capped at DIST_CAP. The median of capped distances is the capped median, and the median
+        distance changes by at most one cell from a cell to its neighbour, so at the cells next
+        to the region's boundary it is exact. The edges are cut into pieces of at most one cell
+        and each piece is measured only to the cells within DIST_CAP of it."""
+        a, b, seg_p = self.segments
+        k = len(self.cover)
+        out = np.full((len(cells), k), DIST_CAP)
+        if not len(a):
+            return out
+        n = np.maximum(np.ceil(np.hypot(*(b - a).T)), 1).astype(np.int64)
+        rep = np.repeat(np.arange(len(a)), n)
+        step = (np.arange(len(rep)) - np.repeat(np.cumsum(n) - n, n)) / n[rep]
+        d = (b - a)[rep]
+        pa = a[rep] + step[:, None] * d
+        pb = pa + d / n[rep][:, None]
+        photo = seg_p[rep]
+        lo = np.ceil(np.minimum(pa, pb) - DIST_CAP - 0.5).astype(np.int64)      # (col, row)
+        hi = np.floor(np.maximum(pa, pb) + DIST_CAP - 0.5).astype(np.int64)
+        where = np.full(rows * cols, -1, np.int64)
+        where[cells] = np.arange(len(cells))
+        span = int(np.ceil(2 * DIST_CAP)) + 2                 # stencil side: covers hi − lo + 1
+        off = np.arange(span)
+        oc, orow = [x.ravel() for x in np.meshgrid(off, off)]
+        cc = lo[:, 0, None] + oc[None]
+        rr = lo[:, 1, None] + orow[None]
+        ok = (cc <= hi[:, 0, None]) & (rr <= hi[:, 1, None]) & (cc >= 0) & (rr >= 0) & \
+            (cc < cols) & (rr < rows)
+        piece, slot = np.nonzero(ok)
+        flat = rr[piece, slot] * cols + cc[piece, slot]
+        band = where[flat]
+        keep = band >= 0
+        piece, band, flat = piece[keep], band[keep], flat[keep]
+        if not len(piece):
+            return out
+        q = np.column_stack([flat % cols + 0.5, flat // cols + 0.5])
+        u = pb[piece] - pa[piece]
+        v = q - pa[piece]
+        t = np.clip((u * v).sum(axis=1) / np.maximum((u * u).sum(axis=1), 1e-300), 0.0, 1.0)
+        dd = np.hypot(*(v - t[:, None] * u).T)
+        np.minimum.at(out, (band, photo[piece]), dd)
+        return out
+
     def corner_votes(self) -> np.ndarray:
         """(k, 2) grid points where more than half of the photos (the weights of the last
         vote) put a vertex of their outline as drawn within one cell of each other: the median
@@ -324,21 +361,31 @@ class _Vote:
                             [np.zeros(0, np.int64)])
         if len(pts) < 2 or len(pts) > MAX_CORNER_VERTICES:
             return np.zeros((0, 2))
-        d = np.hypot(*(pts[:, None, :] - pts[None, :, :]).transpose(2, 0, 1))
-        near = d <= 1.0
-        # per vertex and photo: the photo's nearest vertex within a cell
-        support = np.zeros((len(pts), k), bool)
-        np.logical_or.at(support, (np.nonzero(near)[0], ph[np.nonzero(near)[1]]), True)
+        from scipy.spatial import cKDTree
+        pairs = cKDTree(pts).query_pairs(1.0, output_type="ndarray").reshape(-1, 2)
+        n = len(pts)
+        ii = np.concatenate([pairs[:, 0], pairs[:, 1], np.arange(n)])
+        jj = np.concatenate([pairs[:, 1], pairs[:, 0], np.arange(n)])
+        # per vertex and photo: the photo has a vertex within a cell
+        support = np.zeros((n, k), bool)
+        support[ii, ph[jj]] = True
         score = support.astype(np.float64) @ w
         strong = np.flatnonzero(score > 0.5 * w.sum())
         out = []
+        if not len(strong):
+            return np.zeros((0, 2))
+        srt = np.argsort(ii, kind="stable")
+        ii, jj = ii[srt], jj[srt]
+        start = np.searchsorted(ii, np.arange(n + 1))
         for i in strong[np.argsort(-score[strong], kind="stable")].tolist():
             if any(np.hypot(*(q - pts[i])) <= 1.0 for q in out):
                 continue
+            js = jj[start[i]:start[i + 1]]
+            dj = np.hypot(*(pts[js] - pts[i]).T)
             pick = []
-            for p in np.flatnonzero(support[i]).tolist():
-                cand = np.flatnonzero(near[i] & (ph == p))
-                pick.append(cand[np.argmin(d[i, cand])])
+            for p in np.unique(ph[js]).tolist():      # each photo's nearest vertex
+                m = ph[js] == p
+                pick.append(js[m][np.argmin(dj[m])])
             out.append(np.median(pts[pick], axis=0))
         return np.array(out).reshape(-1, 2)
 
@@ -569,16 +616,49 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
     rois = ROISet([ROI(str(j), [[r]], z=[[rz]]) for j, (r, rz) in enumerate(zip(rings, ring_z))],
                   crs=dsm.crs)
-    bp = back_project(rois, recon, heights="geometry", cameras=searched,
-                      occlusion_dsm=dsm if occlusion else None, min_visible=min_visible,
-                      progress=prog.sub(60, 100))
-    seen_by = [set() for _ in out]
-    for j, p in zip(bp.roi.tolist(), bp.photo.tolist()):
-        seen_by[j].add(p)
+    seen_by = _could_see(rois, [set(o.photos) for o in out], recon, searched, dsm, occlusion,
+                         min_visible, prog.sub(60, 100))
     for o, sb in zip(out, seen_by):
         o.expected_views = e = len(sb | set(o.photos))     # a photo that found it could see it
         o.confidence = float((o.mean_score if o.mean_score is not None else 1.0) * o.views / e)
     prog.set(100)
+    return out
+
+
+def _could_see(rois: ROISet, found: List[set], recon, searched, dsm, occlusion: bool,
+               min_visible: float, prog) -> List[set]:
+    """Per ROI (the fused outlines), the photos searched that could have seen it: at least
+    ``min_visible`` of it in the frame and, with ``occlusion``, not hidden, as
+    :func:`.backward.back_project` decides with its default samples. Faster, same rule: the
+    photos in ``found`` (that found it) are not tested; the others are tested with
+    COARSE_SAMPLES lines of sight first, and again with the full OCCLUSION_SAMPLES where the
+    coarse share lies within COARSE_MARGIN of ``min_visible``."""
+    from .occlusion import occluded_fractions
+    bp = back_project(rois, recon, heights="geometry", cameras=searched, occlusion_dsm=None,
+                      min_visible=min_visible, progress=prog.sub(0, 40))
+    roi, cam = bp.roi.astype(np.int64), bp.photo_index.astype(np.int64)
+    labels = bp.photo_labels
+    todo = np.array([labels[c] not in found[r] for r, c in zip(roi.tolist(), cam.tolist())], bool)
+    seen = ~todo
+    if occlusion and todo.any():
+        by_label = {c.label: c for c in recon.cameras}
+        cams = [by_label[lab] for lab in labels]
+        idx = np.flatnonzero(todo)
+        occ, _ = occluded_fractions(rois, roi[idx], cam[idx], recon, cams, dsm, COARSE_SAMPLES,
+                                    progress=prog.sub(40, 80))
+        share = bp.visible_fraction[idx] * (1.0 - np.nan_to_num(occ, nan=0.0))
+        unsure = np.abs(share - min_visible) < COARSE_MARGIN
+        if unsure.any():
+            j = idx[unsure]
+            occ2, _ = occluded_fractions(rois, roi[j], cam[j], recon, cams, dsm, OCCLUSION_SAMPLES,
+                                         progress=prog.sub(80, 100))
+            share[unsure] = bp.visible_fraction[j] * (1.0 - np.nan_to_num(occ2, nan=0.0))
+        seen[idx] = share >= min_visible
+    else:
+        seen |= todo
+    out = [set() for _ in found]
+    for r, c in zip(roi[seen].tolist(), cam[seen].tolist()):
+        out[r].add(labels[c])
     return out
 
 
