@@ -53,7 +53,7 @@ from ..reconstruction import INSIDE
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .forward import ForwardShape
-from .map_polygon import MapPolygon, shapely_polygon
+from .map_polygon import MapPolygon, shapely_polygons
 from .occlusion import RAYS_AT_ONCE, _tolerance
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
@@ -377,8 +377,9 @@ class _Vote:
         srt = np.argsort(ii, kind="stable")
         ii, jj = ii[srt], jj[srt]
         start = np.searchsorted(ii, np.arange(n + 1))
+        taken = np.zeros(n, bool)             # within a cell of a corner already voted
         for i in strong[np.argsort(-score[strong], kind="stable")].tolist():
-            if any(np.hypot(*(q - pts[i])) <= 1.0 for q in out):
+            if taken[i]:
                 continue
             js = jj[start[i]:start[i + 1]]
             dj = np.hypot(*(pts[js] - pts[i]).T)
@@ -387,6 +388,7 @@ class _Vote:
                 m = ph[js] == p
                 pick.append(js[m][np.argmin(dj[m])])
             out.append(np.median(pts[pick], axis=0))
+            taken |= np.hypot(*(pts - out[-1]).T) <= 1.0
         return np.array(out).reshape(-1, 2)
 
 
@@ -497,7 +499,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     prog = as_progress(progress)
     dsm = as_dsm(dsm, dsm_crs)
     polys = [f for f in shapes if f.kind == "polygon"]
-    geoms = [shapely_polygon(f) for f in polys]
+    geoms = shapely_polygons(polys)
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
     scores = [f.score if f.score is not None else 1.0 for f in polys]
     keys = [(f.photo, f.label) for f in polys]
