@@ -20,8 +20,13 @@ scores, from several photos. Steps:
    so the vote is not pulled towards the camera. A cell is in the outline when more than half
    of the (weighted) photos that see it cover it; with at least ``ROBUST_MIN_PHOTOS`` photos
    the votes are reweighted ``ROBUST_ROUNDS`` times by each photo's IoU with the last
-   outline. Contoured between cells; the outermost ring of the largest piece. Not the union,
-   so a misplaced view neither grows nor moves it. ``position`` is the outline's centroid, its
+   outline. The outline is sub-cell (:meth:`_Vote.outline`): the zero level of the weighted
+   median of the photos' signed distances to their own outlines, whose sign is the vote's and
+   which is linear along a straight edge, so an edge lands where the photos put it, not on the
+   cells; and where more than half of the photos put a vertex within one cell of one place,
+   the outline has that vertex (their median). Identical views give back their own polygon.
+   The outermost ring of the largest piece. Not the union, so a misplaced view neither grows
+   nor moves it. ``position`` is the outline's centroid, its
    height the DSM there (bilinear; outline vertices off the DSM or on nodata take the median
    of the outline's other heights, else of its members'); ``views`` the number of photos in the group;
    ``mean_score``/``max_score``. ``visibility=False``: every photo votes on every cell.
@@ -31,10 +36,12 @@ scores, from several photos. Steps:
    the map such a view can lie far off, because the part of the object its photo cannot see is
    drawn on what hides it; in the photo it still covers the object.
 5. **Confidence**: the outline is back-projected (:func:`.backward.back_project`, DSM heights,
-   occlusion tested, ``min_visible``) into the photos that were searched; ``expected_views`` is
-   the number of those that could have seen it, with the photos that found it (an outline a
-   little off may miss ``min_visible`` in a photo that did see the object): never below
-   ``views``. ``confidence = mean score (1 when there are no scores) × views /
+   occlusion tested as :mod:`.occlusion` does, ``min_visible``) into the photos that were
+   searched; ``expected_views`` is the number of those that could have seen it, with the photos
+   that found it (an outline a little off may miss ``min_visible`` in a photo that did see the
+   object; they are not tested): never below ``views``. The lines of sight are cast
+   ``COARSE_SAMPLES`` per outline first, and ``OCCLUSION_SAMPLES`` where the share is close to
+   ``min_visible`` (:func:`_could_see`). ``confidence = mean score (1 when there are no scores) × views /
    expected_views``: an object found in 1 of 9 photos that could see it gets 1/9 of its score.
 
 Map coordinates: those of the shapes (the DSM's CRS unless forward projection was given
