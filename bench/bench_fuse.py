@@ -22,18 +22,10 @@ import time
 
 import numpy as np
 
+from .bench_training_set import _discs
 from .common import print_targets, run_json_child, table, target
 
 TARGET_S = 60.0          # fusion of 100,000 detections (issue 32)
-
-
-def _discs(n, lay, rng, vertices=32):
-    t = np.linspace(0, 2 * np.pi, vertices, endpoint=False)
-    x0, y1 = lay.origin
-    c = np.column_stack([rng.uniform(x0 + 2, x0 + lay.size[0] - 2, n),
-                         rng.uniform(y1 - lay.size[1] + 2, y1 - 2, n)])
-    r = rng.uniform(0.1, 0.3, n)
-    return c[:, None, :] + r[:, None, None] * np.stack([np.cos(t), np.sin(t)], -1)[None]
 
 
 def detections(n_det: int, photos, rng):
