@@ -43,7 +43,7 @@ def detections(n_det: int, photos, rng):
     n_true = int(n_det / 1.05)
     per = rng.integers(6, 13, size=n_true)
     n_o = int(np.searchsorted(np.cumsum(per), n_true)) + 1
-    base = _discs(n_o, SURVEY_FIELD, rng)
+    base = _discs(n_o, SURVEY_FIELD, rng)[2]
     shapes, k = [], 0
     for k in range(n_o):
         for p in rng.choice(len(photos), size=min(per[k], len(photos)), replace=False):
@@ -53,7 +53,7 @@ def detections(n_det: int, photos, rng):
                 break
         if len(shapes) >= n_true:
             break
-    fakes = _discs(n_det - len(shapes), SURVEY_FIELD, rng)
+    fakes = _discs(n_det - len(shapes), SURVEY_FIELD, rng)[2]
     for ring in fakes:
         shapes.append(shape(photos[rng.integers(len(photos))], ring, rng.uniform(0.3, 0.9)))
     return shapes, k + 1, len(fakes)
