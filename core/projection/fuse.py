@@ -41,7 +41,7 @@ scores, from several photos. Steps:
    that found it (an outline a little off may miss ``min_visible`` in a photo that did see the
    object; they are not tested): never below ``views``. The lines of sight are cast
    ``COARSE_SAMPLES`` per outline first, and ``OCCLUSION_SAMPLES`` where the share is close to
-   ``min_visible`` (:func:`_could_see`). ``confidence = mean score (1 when there are no scores) × views /
+   ``min_visible`` or the frame cuts the outline (:func:`_could_see`). ``confidence = mean score (1 when there are no scores) × views /
    expected_views``: an object found in 1 of 9 photos that could see it gets 1/9 of its score.
 
 Map coordinates: those of the shapes (the DSM's CRS unless forward projection was given
@@ -61,7 +61,7 @@ from ..roi import ROI, ROISet
 from .backward import back_project
 from .forward import ForwardShape
 from .map_polygon import MapPolygon, shapely_polygons
-from .occlusion import RAYS_AT_ONCE, _tolerance
+from .occlusion import RAYS_AT_ONCE, _tolerance, occluded_fractions
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
 SIGHT_BLOCK = 2          # vote cells per side of a block tested by one line of sight
@@ -76,7 +76,7 @@ DIST_CAP = 1.5           # cells: distances to the views' outlines are measured 
 MAX_CORNER_VERTICES = 20000  # vertices as drawn in a group above which corners are not voted
 OCCLUSION_SAMPLES = 256  # lines of sight per outline and photo for expected views (back_project's)
 COARSE_SAMPLES = 48      # the first, coarse test of them
-COARSE_MARGIN = 0.2      # coarse visible shares this close to min_visible are tested again in full
+COARSE_MARGIN = 0.25     # coarse visible shares this close to min_visible are tested again in full
 
 
 @dataclass
@@ -641,8 +641,8 @@ def _could_see(rois: ROISet, found: List[set], recon, searched, dsm, occlusion: 
     :func:`.backward.back_project` decides with its default samples. Faster, same rule: the
     photos in ``found`` (that found it) are not tested; the others are tested with
     COARSE_SAMPLES lines of sight first, and again with the full OCCLUSION_SAMPLES where the
-    coarse share lies within COARSE_MARGIN of ``min_visible``."""
-    from .occlusion import occluded_fractions
+    coarse share lies within COARSE_MARGIN of ``min_visible`` or the frame cuts the outline
+    (few coarse samples lie inside it)."""
     bp = back_project(rois, recon, heights="geometry", cameras=searched, occlusion_dsm=None,
                       min_visible=min_visible, progress=prog.sub(0, 40))
     roi, cam = bp.roi.astype(np.int64), bp.photo_index.astype(np.int64)
@@ -656,7 +656,8 @@ def _could_see(rois: ROISet, found: List[set], recon, searched, dsm, occlusion: 
         occ, _ = occluded_fractions(rois, roi[idx], cam[idx], recon, cams, dsm, COARSE_SAMPLES,
                                     progress=prog.sub(40, 80))
         share = bp.visible_fraction[idx] * (1.0 - np.nan_to_num(occ, nan=0.0))
-        unsure = np.abs(share - min_visible) < COARSE_MARGIN
+        # near the threshold, or cut by the frame (few coarse samples inside it): in full
+        unsure = (np.abs(share - min_visible) < COARSE_MARGIN) | (bp.visible_fraction[idx] < 1.0)
         if unsure.any():
             j = idx[unsure]
             occ2, _ = occluded_fractions(rois, roi[j], cam[j], recon, cams, dsm, OCCLUSION_SAMPLES,
