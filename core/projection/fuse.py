@@ -72,6 +72,7 @@ ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
 ATTACH_IOU = 0.5         # photo-space IoU for a lone view to join an object seen elsewhere
 SNAP_CELLS = 2.0         # outline vertices within this many cells of a voted corner become it
 SIMPLIFY = 0.1           # outline simplification tolerance, cells
+MEDIAN_ROUNDS = 3        # times the region takes the median's side where it differs from the vote
 DIST_CAP = 1.5           # cells: distances to the views' outlines are measured up to this
 MAX_CORNER_VERTICES = 20000  # vertices as drawn in a group above which corners are not voted
 OCCLUSION_SAMPLES = 256  # lines of sight per outline and photo for expected views (back_project's)
@@ -228,8 +229,9 @@ class _Vote:
 
         The region's boundary is the zero level of the *vote's median distance*: at a cell
         centre, the weighted median (the weights and lines of sight of the last :meth:`share`)
-        of each photo's signed distance to its own outline (negative inside). Its sign is the
-        vote's (more than half inside ⇔ the median is negative), and along a straight edge it
+        of each photo's signed distance to its own outline (negative inside; continuous in the
+        weights, see :meth:`median_distance`). Its sign is about the vote's (more than half
+        inside ⇔ the median is negative; the vote decides the side), and along a straight edge it
         is linear, so the contour (marching squares, between cell centres) lies on the edge
         however the grid falls. Where more than half of the photos that see it put a vertex
         within one cell of one place (:meth:`corner_votes`), the outline has that vertex, at the
@@ -272,21 +274,29 @@ class _Vote:
     def median_distance(self, inside: np.ndarray) -> np.ndarray:
         """(rows, cols) float: minus the weighted median signed distance (cells; positive
         inside) at the cells next to the region's boundary (a 4-neighbour on the other side),
-        ±1 elsewhere; its sign is ``inside``'s."""
-        rows, cols = inside.shape
-        edge = np.zeros_like(inside)
-        for a, b in ((inside[1:], inside[:-1]), (inside[:, 1:], inside[:, :-1])):
-            d = a != b
-            if a.shape[0] != rows:
-                edge[1:] |= d
-                edge[:-1] |= d
-            else:
-                edge[:, 1:] |= d
-                edge[:, :-1] |= d
+        ±1 elsewhere. The region starts as ``inside`` (the vote) and takes the median's side
+        where the two differ (near even splits), up to MEDIAN_ROUNDS times."""
+        inside = inside.copy()
+        for _ in range(MEDIAN_ROUNDS):
+            cells = _boundary_cells(inside)
+            if not len(cells):
+                return np.where(inside, 1.0, -1.0)
+            val = self._median_at(cells, inside.shape)
+            flip = (val > 0) != inside.flat[cells]
+            if not flip.any():
+                break
+            inside.flat[cells[flip]] = val[flip] > 0
         field = np.where(inside, 1.0, -1.0)
-        cells = np.flatnonzero(edge.ravel())
-        if not len(cells):
-            return field
+        cells = _boundary_cells(inside)
+        if len(cells):
+            val = self._median_at(cells, inside.shape)
+            ins = inside.flat[cells]
+            field.flat[cells] = np.where(ins, np.maximum(val, 1e-9), np.minimum(val, -1e-9))
+        return field
+
+    def _median_at(self, cells: np.ndarray, shape) -> np.ndarray:
+        """Minus the weighted median signed distance (cells) at the given flat cell indices."""
+        rows, cols = shape
         k = len(self.cover)
         dist = self.edge_distances(cells, rows, cols)             # (cells, photos), ≤ DIST_CAP
         cov = self.cover.reshape(k, -1)[:, cells].T             # (cells, photos)
@@ -299,17 +309,22 @@ class _Vote:
             pos = np.minimum(pos, len(self.disputed) - 1)
             hit = self.disputed[pos] == cells
             wt[hit] *= self.seen[:, pos[hit]].T
-        order = np.argsort(signed, axis=1)
+        # the weighted median, continuous in the weights: each photo's value sits at the middle
+        # of its share of the cumulated weight, interpolated at half the total (4 equal
+        # weights: the mean of the 2nd and 3rd values); photos with no weight sort last
+        order = np.argsort(np.where(wt > 0, signed, np.inf), axis=1)
         sv = np.take_along_axis(signed, order, axis=1)
-        cw = np.cumsum(np.take_along_axis(wt, order, axis=1), axis=1)
-        j = np.argmax(cw > 0.5 * cw[:, -1:], axis=1)              # first past half the weight
-        med = sv[np.arange(len(cells)), j]
-        val = -med
-        ins = inside.ravel()[cells]
-        # the vote decides the side (ties and rounding): the median only places the crossing
-        val = np.where(ins, np.maximum(val, 1e-9), np.minimum(val, -1e-9))
-        field.flat[cells] = val
-        return field
+        sw = np.take_along_axis(wt, order, axis=1)
+        cw = np.cumsum(sw, axis=1)
+        mid = cw - 0.5 * sw
+        half = 0.5 * cw[:, -1:]
+        j = np.argmax(mid >= half - 1e-12 * np.maximum(half, 1e-300), axis=1)
+        j0 = np.maximum(j - 1, 0)
+        rows_ = np.arange(len(cells))
+        gap = mid[rows_, j] - mid[rows_, j0]
+        frac = np.where((j > 0) & (gap > 0), (half[:, 0] - mid[rows_, j0]) / np.where(gap > 0, gap, 1.0), 1.0)
+        med = sv[rows_, j0] + np.clip(frac, 0.0, 1.0) * (sv[rows_, j] - sv[rows_, j0])
+        return np.where(np.isfinite(med), -med, 0.0)
 
     def edge_distances(self, cells: np.ndarray, rows: int, cols: int) -> np.ndarray:
         """(cells, photos) distance (cells) of each given cell's centre to each photo's outline,
@@ -397,6 +412,21 @@ class _Vote:
             out.append(np.median(pts[pick], axis=0))
             taken |= np.hypot(*(pts - out[-1]).T) <= 1.0
         return np.array(out).reshape(-1, 2)
+
+
+def _boundary_cells(inside: np.ndarray) -> np.ndarray:
+    """Flat indices of the cells with a 4-neighbour on the other side of ``inside``."""
+    rows = inside.shape[0]
+    edge = np.zeros_like(inside)
+    for a, b in ((inside[1:], inside[:-1]), (inside[:, 1:], inside[:, :-1])):
+        d = a != b
+        if a.shape[0] != rows:
+            edge[1:] |= d
+            edge[:-1] |= d
+        else:
+            edge[:, 1:] |= d
+            edge[:, :-1] |= d
+    return np.flatnonzero(edge.ravel())
 
 
 def _point_segment_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
