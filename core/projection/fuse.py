@@ -21,8 +21,8 @@ scores, from several photos. Steps:
    of the (weighted) photos that see it cover it; with at least ``ROBUST_MIN_PHOTOS`` photos
    the votes are reweighted ``ROBUST_ROUNDS`` times by each photo's IoU with the last
    outline. The outline is sub-cell (:meth:`_Vote.outline`): the zero level of the weighted
-   median of the photos' signed distances to their own outlines, whose sign is the vote's and
-   which is linear along a straight edge, so an edge lands where the photos put it, not on the
+   median of the photos' signed distances to their own outlines, whose sign is the vote's
+   (but for even splits, where it decides) and which is linear along a straight edge, so an edge lands where the photos put it, not on the
    cells; and where more than half of the photos put a vertex within one cell of one place,
    the outline has that vertex (their median). Identical views give back their own polygon.
    The outermost ring of the largest piece. Not the union, so a misplaced view neither grows
@@ -230,8 +230,9 @@ class _Vote:
         The region's boundary is the zero level of the *vote's median distance*: at a cell
         centre, the weighted median (the weights and lines of sight of the last :meth:`share`)
         of each photo's signed distance to its own outline (negative inside; continuous in the
-        weights, see :meth:`median_distance`). Its sign is about the vote's (more than half
-        inside ⇔ the median is negative; the vote decides the side), and along a straight edge it
+        weights, see :meth:`median_distance`). Its sign is the vote's (more than half inside ⇔
+        the median is negative) except near even splits, where the median decides (so an even
+        number of noisy views does not shrink the outline), and along a straight edge it
         is linear, so the contour (marching squares, between cell centres) lies on the edge
         however the grid falls. Where more than half of the photos that see it put a vertex
         within one cell of one place (:meth:`corner_votes`), the outline has that vertex, at the
