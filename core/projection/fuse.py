@@ -256,7 +256,9 @@ class _Vote:
             return None, None
         best = max(polys, key=lambda p: p.area)
         ring = np.asarray(best.exterior.coords)[:-1]
-        ring = self.to_map(_snap(self.to_grid(ring), self.corner_votes(), SNAP_CELLS))
+        snapped = _snap(self.to_grid(ring), self.corner_votes(), SNAP_CELLS)
+        if len(snapped) >= 3:             # a piece smaller than the snapping keeps its contour
+            ring = self.to_map(snapped)
         best = shapely.Polygon(ring)
         if not best.is_valid:
             best = max(_flat_polygons(shapely.make_valid(best)), key=lambda p: p.area, default=None)
@@ -441,9 +443,10 @@ def _point_segment_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np
 
 
 def _snap(ring: np.ndarray, corners: np.ndarray, radius: float) -> np.ndarray:
-    """``ring`` (n, 2) with each run of its vertices within ``radius`` of a corner (k, 2)
-    replaced by that corner; a corner the ring passes more than once (a run that is not one
-    cyclic stretch), or not at all, is left out."""
+    """``ring`` (n, 2, grid units) with each run of its vertices within ``radius`` of a corner
+    (k, 2) replaced by that corner; a corner the ring passes more than once (a run that is not
+    one cyclic stretch), or not at all, or whose snap would change the area by more than one
+    cell, is left out."""
     for q in corners:
         near = np.hypot(*(ring - q).T) <= radius
         if not near.any() or near.all():
@@ -453,8 +456,17 @@ def _snap(ring: np.ndarray, corners: np.ndarray, radius: float) -> np.ndarray:
         idx = np.flatnonzero(near)
         if idx[-1] - idx[0] + 1 != len(idx):
             continue
-        ring = np.vstack([ring[:idx[0]], q[None], ring[idx[-1] + 1:]])
+        new = np.vstack([ring[:idx[0]], q[None], ring[idx[-1] + 1:]])
+        # a corner restores what the contour cut off it: a change of at most one cell of area
+        if len(new) >= 3 and abs(_shoelace(new) - _shoelace(ring)) <= 1.0:
+            ring = new
     return ring
+
+
+def _shoelace(ring: np.ndarray) -> float:
+    """Signed area of a ring (k, 2)."""
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, dsm,

@@ -56,7 +56,12 @@ def shapely_polygons(shapes: List[ForwardShape]) -> list:
         xy = [shapes[i].rings[0][:, :2] for i in simple]
         n = np.array([len(r) for r in xy])
         closed = np.concatenate([np.vstack([r, r[:1]]) for r in xy])
-        lr = shapely.linearrings(closed, indices=np.repeat(np.arange(len(xy)), n + 1))
+        try:
+            lr = shapely.linearrings(closed, indices=np.repeat(np.arange(len(xy)), n + 1))
+        except (ValueError, shapely.errors.GEOSException):   # a degenerate ring: one by one
+            for i in simple:
+                out[i] = shapely_polygon(shapes[i])
+            return out
         polys = shapely.polygons(lr)
         ok = shapely.is_valid(polys)
         for i, g, good in zip(simple, polys.tolist(), ok.tolist()):
