@@ -8,17 +8,19 @@ against the camera's.
 """
 import json
 import os
-from typing import Dict, List, Tuple
+import re
+from typing import Dict, List, Optional, Tuple
 
 from ..errors import InputError
 from ..photo_files import photo_key
 from .coco import read_coco
 from .labelme import read_labelme
 from .model import PhotoAnnotations
-from .tiles import read_tile_index
+from .tiles import TILE_INDEX, read_tile_index
 from .yolo import read_yolo, read_yolo_folder
 
 FORMATS = ("labelme", "coco", "yolo")
+TILE_NAME = re.compile(r"^(.+)_r\d+_c\d+$", re.IGNORECASE)   # a training set's tile: STEM_rROW_cCOL
 
 
 def _stem(name: str) -> str:
@@ -49,9 +51,50 @@ class PhotoIndex:
                                      "project, so it has no pose to project from.")
                 return cam
         some = ", ".join(sorted(c.label for c in self.recon.aligned_cameras)[:5])
+        hint = self.tile_hint(name or alt, source)
         raise InputError(f"{source}: the image {name or alt!r} is not a photo of the project "
-                         f"{self.recon.label!r} (its photos are e.g. {some}). Check that the "
-                         "annotations belong to this project, or rename the image.")
+                         f"{self.recon.label!r} (its photos are e.g. {some}). " + (hint or
+                         "Check that the annotations belong to this project, or rename the image."))
+
+    def tile_hint(self, name: str, source: str) -> Optional[str]:
+        """For an image named like a tile of a photo of the project (``STEM_rROW_cCOL``, as a
+        tiled training set names them), what to do: give the set's tile index (the
+        ``tiles.json`` found beside ``source`` or up to two folders above it, when there is
+        one); else None."""
+        m = TILE_NAME.match(_stem(os.path.basename(str(name).replace("\\", "/"))))
+        if not m or m.group(1) not in self.by_name:
+            return None
+        photo = self.by_name[m.group(1)].label
+        found = None
+        folder = os.path.dirname(os.path.abspath(source))
+        for _ in range(3):
+            if os.path.isfile(os.path.join(folder, TILE_INDEX)):
+                found = os.path.join(folder, TILE_INDEX)
+                break
+            folder = os.path.dirname(folder)
+        where = f" ({found})" if found else " (at the root of the training set)"
+        return (f"It is named like a tile of photo {photo!r} (…_rROW_cCOL, as a tiled training "
+                f"set names them): give the set's tile index {TILE_INDEX}{where} as the tile "
+                "index (TILES), so that each tile's shapes are shifted back into its photo.")
+
+
+def _labelme_photo_note(index: PhotoIndex, ann: PhotoAnnotations, path: str, cam) -> Optional[str]:
+    """A sentence when a LabelMe file's ``imagePath`` and its own name point at different
+    photos (``cam`` is the one used), else None."""
+    own = _stem(os.path.basename(path))
+    named = _stem(os.path.basename(ann.image.replace("\\", "/"))) if ann.image else ""
+    if not named or named == own:
+        return None
+    if named in index.by_name:
+        other = index.by_name.get(own)
+        if other is None or other is cam:
+            return None
+        return (f"{path}: its imagePath {ann.image!r} names photo {cam.label!r}, its file name "
+                f"photo {other.label!r}; its shapes were put on {cam.label!r}, the photo its "
+                "imagePath names (LabelMe records there the image the shapes were drawn on). "
+                "Rename the file, or correct imagePath, if that is not the photo.")
+    return (f"{path}: its imagePath {ann.image!r} is not a photo of the project; its shapes "
+            f"were put on {cam.label!r}, the photo its file name names.")
 
 
 def detect_format(path) -> str:
@@ -80,14 +123,17 @@ def detect_format(path) -> str:
     raise InputError(f"{path}: not a LabelMe file (no 'shapes') nor a COCO file (no 'images').")
 
 
-def read_annotations(path, recon, dataset=None, tiles=None) -> List[Tuple[PhotoAnnotations, object]]:
+def read_annotations(path, recon, dataset=None, tiles=None,
+                     notes: Optional[List[str]] = None) -> List[Tuple[PhotoAnnotations, object]]:
     """(annotations, camera) for every annotated image of a LabelMe file or folder, a COCO
     file or a YOLO file or folder. ``dataset``: the COCO file a COCO *results* list refers to
     (:func:`.coco.read_coco`). ``tiles``: the tile index (``tiles.json``, or the training-set
     folder holding it) when the images are tiles of the photos: a YOLO or LabelMe file named
     after a tile is read at the tile's size and shifted into its photo's pixels
     (:mod:`.tiles`); COCO images carry their window themselves (``photo_window``), and a COCO
-    image named after a tile without one is shifted the same way. Raises
+    image named after a tile without one is shifted the same way. ``notes``: a list that gets
+    a sentence for each LabelMe file whose ``imagePath`` and own file name name different
+    photos, saying which photo was used and why. Raises
     :class:`InputError` for an image that is not a photo of the project or whose declared size
     differs from its camera's."""
     path = os.fspath(path)
@@ -102,7 +148,11 @@ def read_annotations(path, recon, dataset=None, tiles=None) -> List[Tuple[PhotoA
             ann = read_labelme(f)
             if tix is not None:
                 ann = tix.to_photo(ann, os.path.basename(f))
-            out.append((ann, index.find(ann.image, f, os.path.basename(f))))
+            cam = index.find(ann.image, f, os.path.basename(f))
+            note = _labelme_photo_note(index, ann, f, cam)
+            if note and notes is not None:
+                notes.append(note)
+            out.append((ann, cam))
     elif fmt == "coco":
         for ann in read_coco(path, dataset):
             if tix is not None:

@@ -14,7 +14,8 @@ same detections.
 
 :func:`score_objects` matches map objects to the truth discs (one to one, nearest centre of
 the same class first, within ``match_radius`` of the disc's radius) and gives recall,
-precision and position errors.
+precision and position errors. :func:`score_outlines` matches outlines to truth polygons one to
+one by IoU and gives recall, precision, IoU and corner errors (the read-back of a training set).
 """
 import json
 from typing import Dict, List, Optional
@@ -123,6 +124,43 @@ def score_objects(objects: List[dict], found: List[dict], match_radius: float = 
             "matches": matches}
 
 
+def score_outlines(truth: Dict[str, np.ndarray], found: List[np.ndarray],
+                   min_iou: float = 0.5) -> dict:
+    """Match fused outlines to truth polygons one to one by IoU (greedy, best pairs first,
+    IoU ≥ ``min_iou``; each truth object to at most one outline). ``truth``: {name: (k, 2)
+    ring}, ``found``: (k, 2+) rings, map units. Returns recall, precision, the matches' IoU
+    (min, median) and the distance of each truth corner to the nearest vertex of its match
+    (median, max; map units), and ``matches`` {truth name: found index}."""
+    import shapely
+    names = list(truth)
+    tg = np.array([shapely.Polygon(np.asarray(truth[n])[:, :2]) for n in names], object)
+    fg = np.array([shapely.Polygon(np.asarray(r)[:, :2]) for r in found], object)
+    pairs = []
+    if len(tg) and len(fg):
+        a, b = shapely.STRtree(fg).query(tg, predicate="intersects")
+        inter = shapely.area(shapely.intersection(tg[a], fg[b]))
+        iou = inter / (shapely.area(tg[a]) + shapely.area(fg[b]) - inter)
+        pairs = sorted(((v, i, j) for v, i, j in zip(iou.tolist(), a.tolist(), b.tolist())
+                        if v >= min_iou), reverse=True)
+    used_t, used_f, matches, ious, corners = set(), set(), {}, [], []
+    for v, i, j in pairs:
+        if i in used_t or j in used_f:
+            continue
+        used_t.add(i)
+        used_f.add(j)
+        matches[names[i]] = j
+        ious.append(v)
+        verts = np.asarray(fg[j].exterior.coords)[:-1]
+        corners += [float(np.hypot(*(verts - c).T).min()) for c in np.asarray(truth[names[i]])[:, :2]]
+    nan = float("nan")
+    return {"recall": len(matches) / len(names) if names else nan,
+            "precision": len(matches) / len(found) if found else 0.0,
+            "iou_min": min(ious) if ious else nan, "iou_median": float(np.median(ious)) if ious else nan,
+            "corner_median_m": float(np.median(corners)) if corners else nan,
+            "corner_max_m": max(corners) if corners else nan,
+            "matched": len(matches), "found": len(found), "truth": len(names), "matches": matches}
+
+
 def position_of(obj) -> Optional[tuple]:
     """(x, y) of a fused or merged map object: its position, else its outline's centroid."""
     pos = getattr(obj, "position", None)
@@ -136,4 +174,4 @@ def position_of(obj) -> Optional[tuple]:
     return float(c.x), float(c.y)
 
 
-__all__ = ["simulate_detections", "score_objects", "position_of"]
+__all__ = ["simulate_detections", "score_objects", "score_outlines", "position_of"]

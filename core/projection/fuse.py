@@ -20,8 +20,13 @@ scores, from several photos. Steps:
    so the vote is not pulled towards the camera. A cell is in the outline when more than half
    of the (weighted) photos that see it cover it; with at least ``ROBUST_MIN_PHOTOS`` photos
    the votes are reweighted ``ROBUST_ROUNDS`` times by each photo's IoU with the last
-   outline. Contoured between cells; the outermost ring of the largest piece. Not the union,
-   so a misplaced view neither grows nor moves it. ``position`` is the outline's centroid, its
+   outline. The outline is sub-cell (:meth:`_Vote.outline`): the zero level of the weighted
+   median of the photos' signed distances to their own outlines, whose sign is the vote's
+   (but for even splits, where it decides) and which is linear along a straight edge, so an edge lands where the photos put it, not on the
+   cells; and where more than half of the photos put a vertex within one cell of one place,
+   the outline has that vertex (their median). Identical views give back their own polygon.
+   The outermost ring of the largest piece. Not the union, so a misplaced view neither grows
+   nor moves it. ``position`` is the outline's centroid, its
    height the DSM there (bilinear; outline vertices off the DSM or on nodata take the median
    of the outline's other heights, else of its members'); ``views`` the number of photos in the group;
    ``mean_score``/``max_score``. ``visibility=False``: every photo votes on every cell.
@@ -31,10 +36,12 @@ scores, from several photos. Steps:
    the map such a view can lie far off, because the part of the object its photo cannot see is
    drawn on what hides it; in the photo it still covers the object.
 5. **Confidence**: the outline is back-projected (:func:`.backward.back_project`, DSM heights,
-   occlusion tested, ``min_visible``) into the photos that were searched; ``expected_views`` is
-   the number of those that could have seen it, with the photos that found it (an outline a
-   little off may miss ``min_visible`` in a photo that did see the object): never below
-   ``views``. ``confidence = mean score (1 when there are no scores) × views /
+   occlusion tested as :mod:`.occlusion` does, ``min_visible``) into the photos that were
+   searched; ``expected_views`` is the number of those that could have seen it, with the photos
+   that found it (an outline a little off may miss ``min_visible`` in a photo that did see the
+   object; they are not tested): never below ``views``. The lines of sight are cast
+   ``COARSE_SAMPLES`` per outline first, and ``OCCLUSION_SAMPLES`` where the share is close to
+   ``min_visible`` or the frame cuts the outline (:func:`_could_see`). ``confidence = mean score (1 when there are no scores) × views /
    expected_views``: an object found in 1 of 9 photos that could see it gets 1/9 of its score.
 
 Map coordinates: those of the shapes (the DSM's CRS unless forward projection was given
@@ -53,8 +60,8 @@ from ..reconstruction import INSIDE
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .forward import ForwardShape
-from .map_polygon import MapPolygon, shapely_polygon
-from .occlusion import RAYS_AT_ONCE, _tolerance
+from .map_polygon import MapPolygon, shapely_polygons
+from .occlusion import RAYS_AT_ONCE, _tolerance, occluded_fractions
 
 VOTE_CELLS = 48          # vote grid cells across a group's extent (longer side)
 SIGHT_BLOCK = 2          # vote cells per side of a block tested by one line of sight
@@ -63,6 +70,14 @@ NMS_WITHIN = 0.8         # a polygon this much inside a kept one of its photo is
 ROBUST_ROUNDS = 2        # reweightings of the consensus vote
 ROBUST_MIN_PHOTOS = 4    # photos a group needs to be reweighted
 ATTACH_IOU = 0.5         # photo-space IoU for a lone view to join an object seen elsewhere
+SNAP_CELLS = 2.0         # outline vertices within this many cells of a voted corner become it
+SIMPLIFY = 0.1           # outline simplification tolerance, cells
+MEDIAN_ROUNDS = 3        # times the region takes the median's side where it differs from the vote
+DIST_CAP = 1.5           # cells: distances to the views' outlines are measured up to this
+MAX_CORNER_VERTICES = 20000  # vertices as drawn in a group above which corners are not voted
+OCCLUSION_SAMPLES = 256  # lines of sight per outline and photo for expected views (back_project's)
+COARSE_SAMPLES = 48      # the first, coarse test of them
+COARSE_MARGIN = 0.25     # coarse visible shares this close to min_visible are tested again in full
 
 
 @dataclass
@@ -112,29 +127,46 @@ class _Vote:
     cell (its centre inside); the grid's corner ``ox``, ``oy`` and ``cell`` (map units; x right,
     rows down, north up)."""
 
-    def __init__(self, members, photo_of, n_photos: int):
+    def __init__(self, members, photo_of, n_photos: int, corners=None):
         import shapely
         x0, y0, x1, y1 = shapely.total_bounds(members)
         self.cell = max(x1 - x0, y1 - y0) / VOTE_CELLS
         self.cover = None
         self._votes = self._seen = None
+        self.weights, self.seen = None, None
         if not self.cell > 0:
             return
         cols = int(np.ceil((x1 - x0) / self.cell)) + 2
         rows = int(np.ceil((y1 - y0) / self.cell)) + 2
         self.ox, self.oy = x0 - self.cell, y1 + self.cell
         self.cover = np.zeros((n_photos, rows, cols), bool)
+        seg_a, seg_b, seg_p = [], [], []
         for g, p in zip(members, photo_of):
             rings = []
             for part in getattr(g, "geoms", [g]):
                 for ring in [part.exterior, *part.interiors]:
                     xy = np.asarray(ring.coords)[:-1]
-                    rings.append(np.column_stack([(xy[:, 0] - self.ox) / self.cell,
-                                                  (self.oy - xy[:, 1]) / self.cell]))
+                    rings.append(self.to_grid(xy))
             # photos, not polygons: a photo with two overlapping pieces votes once
             self.cover[p] |= rasterize(rings, self.cover.shape[1:])
+            for r in rings:
+                seg_a.append(r)
+                seg_b.append(np.roll(r, -1, axis=0))
+                seg_p.append(np.full(len(r), p, np.int64))
+        # the photos' edges (grid units) and their vertices as drawn (no densified ones)
+        self.segments = (np.vstack(seg_a), np.vstack(seg_b), np.concatenate(seg_p))
+        self.corners = [(p, self.to_grid(np.asarray(c, np.float64).reshape(-1, 2)))
+                        for c, p in zip(corners if corners is not None else [], photo_of)]
         n = self.cover.sum(axis=0)
         self.disputed = np.flatnonzero(((n > 0) & (n < n_photos)).ravel())
+
+    def to_grid(self, xy: np.ndarray) -> np.ndarray:
+        """Map (x, y) → grid (column, row), continuous: cell (r, c) spans [c, c + 1) × [r, r + 1)."""
+        return np.column_stack([(xy[:, 0] - self.ox) / self.cell, (self.oy - xy[:, 1]) / self.cell])
+
+    def to_map(self, cr: np.ndarray) -> np.ndarray:
+        """Grid (column, row) → map (x, y)."""
+        return np.column_stack([self.ox + cr[:, 0] * self.cell, self.oy - cr[:, 1] * self.cell])
 
     def sight_points(self) -> np.ndarray:
         """(k, 2) map points whose lines of sight stand for the disputed cells: the centres of
@@ -164,6 +196,7 @@ class _Vote:
                            sn.astype(np.float64))
             self._seen = seen
         cov, got, sn = self._votes
+        self.weights, self.seen = w, sn
         out = (w @ cov) / max(float(w.sum()), 1e-300)
         if len(self.disputed):
             den = w @ sn
@@ -191,30 +224,249 @@ class _Vote:
         return share
 
     def outline(self, share: np.ndarray):
-        """(exterior ring (k, 2) map units, shapely polygon) of the cells where ``share`` > ½:
-        contoured between cells, the outermost ring of the largest piece; (None, None) when
-        there is none."""
+        """(exterior ring (k, 2) map units, shapely polygon) of the region where ``share`` > ½,
+        at sub-cell precision; (None, None) when there is none.
+
+        The region's boundary is the zero level of the *vote's median distance*: at a cell
+        centre, the weighted median (the weights and lines of sight of the last :meth:`share`)
+        of each photo's signed distance to its own outline (negative inside; continuous in the
+        weights, see :meth:`median_distance`). Its sign is the vote's (more than half inside ⇔
+        the median is negative) except near even splits, where the median decides (so an even
+        number of noisy views does not shrink the outline), and along a straight edge it
+        is linear, so the contour (marching squares, between cell centres) lies on the edge
+        however the grid falls. Where more than half of the photos that see it put a vertex
+        within one cell of one place (:meth:`corner_votes`), the outline has that vertex, at the
+        median of theirs: corners stay corners. The outermost ring of the largest piece,
+        simplified by ``SIMPLIFY`` cell."""
         import shapely
         from skimage.measure import find_contours
-        if not (share > 0.5).any():
+        inside = share > 0.5
+        if not inside.any():
             return None, None
-        cell = self.cell
+        field = self.median_distance(inside)
         polys = []
-        for c in find_contours(share, 0.5):
+        for c in find_contours(field, 0.0):
             if len(c) < 4:
                 continue
-            xy = np.column_stack([self.ox + (c[:, 1] + 0.5) * cell, self.oy - (c[:, 0] + 0.5) * cell])
-            p = shapely.Polygon(xy)
+            p = shapely.Polygon(self.to_map(c[:, ::-1] + 0.5))
             if not p.is_valid:
                 p = shapely.make_valid(p)
             polys += _flat_polygons(p)
         if not polys:
             return None, None
-        best = max(polys, key=lambda p: p.area).simplify(0.25 * cell)
+        best = max(polys, key=lambda p: p.area)
+        ring = np.asarray(best.exterior.coords)[:-1]
+        snapped = _snap(self.to_grid(ring), self.corner_votes(), SNAP_CELLS)
+        if len(snapped) >= 3:             # a piece smaller than the snapping keeps its contour
+            ring = self.to_map(snapped)
+        best = shapely.Polygon(ring)
+        if not best.is_valid:
+            best = max(_flat_polygons(shapely.make_valid(best)), key=lambda p: p.area, default=None)
+            if best is None:
+                return None, None
+        best = best.simplify(SIMPLIFY * self.cell)
         if best.geom_type != "Polygon" or best.is_empty:
             return None, None
         ring = np.asarray(best.exterior.coords)[:-1]
+        # the ring's first vertex, which simplification keeps: dropped if on a straight edge
+        if len(ring) > 3 and _point_segment_distance(ring[:1], ring[-1:], ring[1:2])[0, 0] \
+                <= SIMPLIFY * self.cell:
+            ring = ring[1:]
         return ring, shapely.Polygon(ring)
+
+    def median_distance(self, inside: np.ndarray) -> np.ndarray:
+        """(rows, cols) float: minus the weighted median signed distance (cells; positive
+        inside) at the cells next to the region's boundary (a 4-neighbour on the other side),
+        ±1 elsewhere. The region starts as ``inside`` (the vote) and takes the median's side
+        where the two differ (near even splits), up to MEDIAN_ROUNDS times."""
+        inside = inside.copy()
+        for _ in range(MEDIAN_ROUNDS):
+            cells = _boundary_cells(inside)
+            if not len(cells):
+                return np.where(inside, 1.0, -1.0)
+            val = self._median_at(cells, inside.shape)
+            flip = (val > 0) != inside.flat[cells]
+            if not flip.any():
+                break
+            inside.flat[cells[flip]] = val[flip] > 0
+        field = np.where(inside, 1.0, -1.0)
+        cells = _boundary_cells(inside)
+        if len(cells):
+            val = self._median_at(cells, inside.shape)
+            ins = inside.flat[cells]
+            field.flat[cells] = np.where(ins, np.maximum(val, 1e-9), np.minimum(val, -1e-9))
+        return field
+
+    def _median_at(self, cells: np.ndarray, shape) -> np.ndarray:
+        """Minus the weighted median signed distance (cells) at the given flat cell indices."""
+        rows, cols = shape
+        k = len(self.cover)
+        dist = self.edge_distances(cells, rows, cols)             # (cells, photos), ≤ DIST_CAP
+        cov = self.cover.reshape(k, -1)[:, cells].T             # (cells, photos)
+        signed = np.where(cov, -dist, dist)
+        # the weights of the last vote: per photo, times its sight of the cell
+        w = np.ones(k) if self.weights is None else self.weights
+        wt = np.broadcast_to(w, signed.shape).copy()
+        if self.seen is not None and len(self.disputed):
+            pos = np.searchsorted(self.disputed, cells)
+            pos = np.minimum(pos, len(self.disputed) - 1)
+            hit = self.disputed[pos] == cells
+            wt[hit] *= self.seen[:, pos[hit]].T
+        # the weighted median, continuous in the weights: each photo's value sits at the middle
+        # of its share of the cumulated weight, interpolated at half the total (4 equal
+        # weights: the mean of the 2nd and 3rd values); photos with no weight sort last
+        order = np.argsort(np.where(wt > 0, signed, np.inf), axis=1)
+        sv = np.take_along_axis(signed, order, axis=1)
+        sw = np.take_along_axis(wt, order, axis=1)
+        cw = np.cumsum(sw, axis=1)
+        mid = cw - 0.5 * sw
+        half = 0.5 * cw[:, -1:]
+        j = np.argmax(mid >= half - 1e-12 * np.maximum(half, 1e-300), axis=1)
+        j0 = np.maximum(j - 1, 0)
+        rows_ = np.arange(len(cells))
+        gap = mid[rows_, j] - mid[rows_, j0]
+        frac = np.where((j > 0) & (gap > 0), (half[:, 0] - mid[rows_, j0]) / np.where(gap > 0, gap, 1.0), 1.0)
+        med = sv[rows_, j0] + np.clip(frac, 0.0, 1.0) * (sv[rows_, j] - sv[rows_, j0])
+        return np.where(np.isfinite(med), -med, 0.0)
+
+    def edge_distances(self, cells: np.ndarray, rows: int, cols: int) -> np.ndarray:
+        """(cells, photos) distance (cells) of each given cell's centre to each photo's outline,
+        capped at DIST_CAP. The median of capped distances is the capped median, and the median
+        distance changes by at most one cell from a cell to its neighbour, so at the cells next
+        to the region's boundary it is exact. The edges are cut into pieces of at most one cell
+        and each piece is measured only to the cells within DIST_CAP of it."""
+        a, b, seg_p = self.segments
+        k = len(self.cover)
+        out = np.full((len(cells), k), DIST_CAP)
+        if not len(a):
+            return out
+        n = np.maximum(np.ceil(np.hypot(*(b - a).T)), 1).astype(np.int64)
+        rep = np.repeat(np.arange(len(a)), n)
+        step = (np.arange(len(rep)) - np.repeat(np.cumsum(n) - n, n)) / n[rep]
+        d = (b - a)[rep]
+        pa = a[rep] + step[:, None] * d
+        pb = pa + d / n[rep][:, None]
+        photo = seg_p[rep]
+        lo = np.ceil(np.minimum(pa, pb) - DIST_CAP - 0.5).astype(np.int64)      # (col, row)
+        hi = np.floor(np.maximum(pa, pb) + DIST_CAP - 0.5).astype(np.int64)
+        where = np.full(rows * cols, -1, np.int64)
+        where[cells] = np.arange(len(cells))
+        span = int(np.ceil(2 * DIST_CAP)) + 2                 # stencil side: covers hi − lo + 1
+        off = np.arange(span)
+        oc, orow = [x.ravel() for x in np.meshgrid(off, off)]
+        cc = lo[:, 0, None] + oc[None]
+        rr = lo[:, 1, None] + orow[None]
+        ok = (cc <= hi[:, 0, None]) & (rr <= hi[:, 1, None]) & (cc >= 0) & (rr >= 0) & \
+            (cc < cols) & (rr < rows)
+        piece, slot = np.nonzero(ok)
+        flat = rr[piece, slot] * cols + cc[piece, slot]
+        band = where[flat]
+        keep = band >= 0
+        piece, band, flat = piece[keep], band[keep], flat[keep]
+        if not len(piece):
+            return out
+        q = np.column_stack([flat % cols + 0.5, flat // cols + 0.5])
+        u = pb[piece] - pa[piece]
+        v = q - pa[piece]
+        t = np.clip((u * v).sum(axis=1) / np.maximum((u * u).sum(axis=1), 1e-300), 0.0, 1.0)
+        dd = np.hypot(*(v - t[:, None] * u).T)
+        np.minimum.at(out, (band, photo[piece]), dd)
+        return out
+
+    def corner_votes(self) -> np.ndarray:
+        """(k, 2) grid points where more than half of the photos (the weights of the last
+        vote) put a vertex of their outline as drawn within one cell of each other: the median
+        of those vertices (per coordinate), strongest first, none within one cell of another."""
+        if not self.corners:
+            return np.zeros((0, 2))
+        k = len(self.cover)
+        w = np.ones(k) if self.weights is None else np.asarray(self.weights, np.float64)
+        pts = np.vstack([c for _, c in self.corners] + [np.zeros((0, 2))])
+        ph = np.concatenate([np.full(len(c), p, np.int64) for p, c in self.corners] +
+                            [np.zeros(0, np.int64)])
+        if len(pts) < 2 or len(pts) > MAX_CORNER_VERTICES:
+            return np.zeros((0, 2))
+        from scipy.spatial import cKDTree
+        pairs = cKDTree(pts).query_pairs(1.0, output_type="ndarray").reshape(-1, 2)
+        n = len(pts)
+        ii = np.concatenate([pairs[:, 0], pairs[:, 1], np.arange(n)])
+        jj = np.concatenate([pairs[:, 1], pairs[:, 0], np.arange(n)])
+        # per vertex and photo: the photo has a vertex within a cell
+        support = np.zeros((n, k), bool)
+        support[ii, ph[jj]] = True
+        score = support.astype(np.float64) @ w
+        strong = np.flatnonzero(score > 0.5 * w.sum())
+        out = []
+        if not len(strong):
+            return np.zeros((0, 2))
+        srt = np.argsort(ii, kind="stable")
+        ii, jj = ii[srt], jj[srt]
+        start = np.searchsorted(ii, np.arange(n + 1))
+        taken = np.zeros(n, bool)             # within a cell of a corner already voted
+        for i in strong[np.argsort(-score[strong], kind="stable")].tolist():
+            if taken[i]:
+                continue
+            js = jj[start[i]:start[i + 1]]
+            dj = np.hypot(*(pts[js] - pts[i]).T)
+            pick = []
+            for p in np.unique(ph[js]).tolist():      # each photo's nearest vertex
+                m = ph[js] == p
+                pick.append(js[m][np.argmin(dj[m])])
+            out.append(np.median(pts[pick], axis=0))
+            taken |= np.hypot(*(pts - out[-1]).T) <= 1.0
+        return np.array(out).reshape(-1, 2)
+
+
+def _boundary_cells(inside: np.ndarray) -> np.ndarray:
+    """Flat indices of the cells with a 4-neighbour on the other side of ``inside``."""
+    rows = inside.shape[0]
+    edge = np.zeros_like(inside)
+    for a, b in ((inside[1:], inside[:-1]), (inside[:, 1:], inside[:, :-1])):
+        d = a != b
+        if a.shape[0] != rows:
+            edge[1:] |= d
+            edge[:-1] |= d
+        else:
+            edge[:, 1:] |= d
+            edge[:, :-1] |= d
+    return np.flatnonzero(edge.ravel())
+
+
+def _point_segment_distance(pts: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """(n, m) distances of points (n, 2) to segments a→b (m, 2)."""
+    ab = b - a
+    ap = pts[:, None, :] - a[None, :, :]
+    den = np.maximum((ab * ab).sum(axis=1), 1e-300)
+    t = np.clip((ap * ab[None]).sum(axis=2) / den[None], 0.0, 1.0)
+    q = ap - t[:, :, None] * ab[None]
+    return np.hypot(q[:, :, 0], q[:, :, 1])
+
+
+def _snap(ring: np.ndarray, corners: np.ndarray, radius: float) -> np.ndarray:
+    """``ring`` (n, 2, grid units) with each run of its vertices within ``radius`` of a corner
+    (k, 2) replaced by that corner; a corner the ring passes more than once (a run that is not
+    one cyclic stretch), or not at all, or whose snap would change the area by more than one
+    cell, is left out."""
+    for q in corners:
+        near = np.hypot(*(ring - q).T) <= radius
+        if not near.any() or near.all():
+            continue
+        start = int(np.argmin(near))                    # a vertex outside: the runs don't wrap
+        ring, near = np.roll(ring, -start, axis=0), np.roll(near, -start)
+        idx = np.flatnonzero(near)
+        if idx[-1] - idx[0] + 1 != len(idx):
+            continue
+        new = np.vstack([ring[:idx[0]], q[None], ring[idx[-1] + 1:]])
+        # a corner restores what the contour cut off it: a change of at most one cell of area
+        if len(new) >= 3 and abs(_shoelace(new) - _shoelace(ring)) <= 1.0:
+            ring = new
+    return ring
+
+
+def _shoelace(ring: np.ndarray) -> float:
+    """Signed area of a ring (k, 2)."""
+    x, y = ring[:, 0], ring[:, 1]
+    return 0.5 * float(np.dot(x, np.roll(y, -1)) - np.dot(y, np.roll(x, -1)))
 
 
 def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, dsm,
@@ -297,7 +549,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     prog = as_progress(progress)
     dsm = as_dsm(dsm, dsm_crs)
     polys = [f for f in shapes if f.kind == "polygon"]
-    geoms = [shapely_polygon(f) for f in polys]
+    geoms = shapely_polygons(polys)
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
     scores = [f.score if f.score is not None else 1.0 for f in polys]
     keys = [(f.photo, f.label) for f in polys]
@@ -364,7 +616,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         photos_g = list(dict.fromkeys(polys[kept[k]].photo for k in members))
         where = {p: j for j, p in enumerate(photos_g)}
         votes.append(_Vote([kg[k] for k in members], [where[polys[kept[k]].photo] for k in members],
-                           len(photos_g)))
+                           len(photos_g), [_drawn_vertices(polys[kept[k]]) for k in members]))
         cams_of.append([cam_index[p] for p in photos_g])
         photos_of.append(photos_g)
     seen = _lines_of_sight(votes, cams_of, cams, recon, dsm, prog.sub(30, 50)) if visibility \
@@ -416,16 +668,50 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
     searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
     rois = ROISet([ROI(str(j), [[r]], z=[[rz]]) for j, (r, rz) in enumerate(zip(rings, ring_z))],
                   crs=dsm.crs)
-    bp = back_project(rois, recon, heights="geometry", cameras=searched,
-                      occlusion_dsm=dsm if occlusion else None, min_visible=min_visible,
-                      progress=prog.sub(60, 100))
-    seen_by = [set() for _ in out]
-    for j, p in zip(bp.roi.tolist(), bp.photo.tolist()):
-        seen_by[j].add(p)
+    seen_by = _could_see(rois, [set(o.photos) for o in out], recon, searched, dsm, occlusion,
+                         min_visible, prog.sub(60, 100))
     for o, sb in zip(out, seen_by):
         o.expected_views = e = len(sb | set(o.photos))     # a photo that found it could see it
         o.confidence = float((o.mean_score if o.mean_score is not None else 1.0) * o.views / e)
     prog.set(100)
+    return out
+
+
+def _could_see(rois: ROISet, found: List[set], recon, searched, dsm, occlusion: bool,
+               min_visible: float, prog) -> List[set]:
+    """Per ROI (the fused outlines), the photos searched that could have seen it: at least
+    ``min_visible`` of it in the frame and, with ``occlusion``, not hidden, as
+    :func:`.backward.back_project` decides with its default samples. Faster, same rule: the
+    photos in ``found`` (that found it) are not tested; the others are tested with
+    COARSE_SAMPLES lines of sight first, and again with the full OCCLUSION_SAMPLES where the
+    coarse share lies within COARSE_MARGIN of ``min_visible`` or the frame cuts the outline
+    (few coarse samples lie inside it)."""
+    bp = back_project(rois, recon, heights="geometry", cameras=searched, occlusion_dsm=None,
+                      min_visible=min_visible, progress=prog.sub(0, 40))
+    roi, cam = bp.roi.astype(np.int64), bp.photo_index.astype(np.int64)
+    labels = bp.photo_labels
+    todo = np.array([labels[c] not in found[r] for r, c in zip(roi.tolist(), cam.tolist())], bool)
+    seen = ~todo
+    if occlusion and todo.any():
+        by_label = {c.label: c for c in recon.cameras}
+        cams = [by_label[lab] for lab in labels]
+        idx = np.flatnonzero(todo)
+        occ, _ = occluded_fractions(rois, roi[idx], cam[idx], recon, cams, dsm, COARSE_SAMPLES,
+                                    progress=prog.sub(40, 80))
+        share = bp.visible_fraction[idx] * (1.0 - np.nan_to_num(occ, nan=0.0))
+        # near the threshold, or cut by the frame (few coarse samples inside it): in full
+        unsure = (np.abs(share - min_visible) < COARSE_MARGIN) | (bp.visible_fraction[idx] < 1.0)
+        if unsure.any():
+            j = idx[unsure]
+            occ2, _ = occluded_fractions(rois, roi[j], cam[j], recon, cams, dsm, OCCLUSION_SAMPLES,
+                                         progress=prog.sub(80, 100))
+            share[unsure] = bp.visible_fraction[j] * (1.0 - np.nan_to_num(occ2, nan=0.0))
+        seen[idx] = share >= min_visible
+    else:
+        seen |= todo
+    out = [set() for _ in found]
+    for r, c in zip(roi[seen].tolist(), cam[seen].tolist()):
+        out[r].add(labels[c])
     return out
 
 
@@ -497,6 +783,12 @@ def _attach_lone_views(out, rings, ring_z, recon, crs):
             o.max_score = float(np.max(sc))
     keep = [k for k in range(len(out)) if k not in joined]
     return [out[k] for k in keep], [rings[k] for k in keep], [ring_z[k] for k in keep]
+
+
+def _drawn_vertices(f: ForwardShape) -> np.ndarray:
+    """(k, 2) map x, y of a shape's vertices as drawn (not densified) that hit the DSM."""
+    xy = [p[(st == HIT) & o, :2] for p, st, o in zip(f.points, f.status, f.original)]
+    return np.vstack(xy) if xy else np.zeros((0, 2))
 
 
 def _mean(values) -> float:

@@ -37,3 +37,33 @@ def shapely_polygon(f: ForwardShape):
             if g.geom_type != "Polygon" else [g]
         g = shapely.MultiPolygon(polys) if len(polys) != 1 else polys[0]
     return g if not g.is_empty else None
+
+
+def shapely_polygons(shapes: List[ForwardShape]) -> list:
+    """:func:`shapely_polygon` of each shape, the single-ring ones built at once (shapely's
+    vectorised constructors); the same geometries."""
+    import shapely
+    import numpy as np
+    out: list = [None] * len(shapes)
+    simple = []
+    for i, f in enumerate(shapes):
+        rings = f.rings
+        if len(rings) == 1 and len(rings[0]) >= 3:
+            simple.append(i)
+        else:
+            out[i] = shapely_polygon(f)
+    if simple:
+        xy = [shapes[i].rings[0][:, :2] for i in simple]
+        n = np.array([len(r) for r in xy])
+        closed = np.concatenate([np.vstack([r, r[:1]]) for r in xy])
+        try:
+            lr = shapely.linearrings(closed, indices=np.repeat(np.arange(len(xy)), n + 1))
+        except (ValueError, shapely.errors.GEOSException):   # a degenerate ring: one by one
+            for i in simple:
+                out[i] = shapely_polygon(shapes[i])
+            return out
+        polys = shapely.polygons(lr)
+        ok = shapely.is_valid(polys)
+        for i, g, good in zip(simple, polys.tolist(), ok.tolist()):
+            out[i] = g if good and not g.is_empty else shapely_polygon(shapes[i])
+    return out

@@ -126,9 +126,13 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             index = PhotoIndex(recon)
             items = [(a, index.find(a.image, a.source)) for a in photo_layer_annotations(layer, feedback)]
         else:
+            notes = []
             items = read_annotations(path or folder, recon,
                                      self.parameterAsFile(parameters, self.COCO_IMAGES, context) or None,
-                                     tiles=self.parameterAsFile(parameters, self.TILES, context) or None)
+                                     tiles=self.parameterAsFile(parameters, self.TILES, context) or None,
+                                     notes=notes)
+            for note in notes:              # which photo a LabelMe file was put on, and why
+                feedback.pushWarning(note)
         what = layer.sourceName() if layer is not None else os.path.basename((path or folder).rstrip("/\\"))
         return CoreStep(forward_project_photos, dict(
             items=items, recon=recon, dsm=dsm,

@@ -111,3 +111,54 @@ def test_headless(qp_env, survey, tmp_path):
     layer = ds.GetLayer(0)
     assert layer.GetFeatureCount() == 16
     assert all(f.GetField("complete") for f in layer)
+
+
+def _qgis_process(qp_env, params):
+    """(exit code, stdout + stderr) of one qgis_process run of the tool."""
+    from easyidp_toolbox.scripts.qgis_process import run
+    proc = run(["run", ALG, "--"] + [f"{k}={v}" for k, v in params.items()], qp_env)
+    return proc.returncode, proc.stdout + proc.stderr
+
+
+def test_yolo_tiles_without_the_tile_index_get_a_hint(qp_env, survey, tmp_path):
+    """Issue 40: YOLO files named like the tiles of a tiled training set, run without TILES,
+    are refused with a word about tiles.json (and where it is)."""
+    photo = os.path.splitext(os.path.basename(survey.photos[0]))[0]
+    labels = tmp_path / "set" / "labels" / "train"
+    labels.mkdir(parents=True)
+    (labels / f"{photo}_r00000_c00256.txt").write_text("0 0.2 0.2 0.4 0.2 0.3 0.4\n")
+    (tmp_path / "set" / "tiles.json").write_text("{}")
+    code, log = _qgis_process(qp_env, {"INPUT_FOLDER": labels, "PROJECT": survey.metashape_project,
+                                       "DSM": survey.dsm, "OUTPUT": tmp_path / "out.gpkg"})
+    assert code != 0 and "Traceback" not in log
+    assert f"named like a tile of photo '{photo}'" in log and "tiles.json" in log, log[-2000:]
+    assert str(tmp_path / "set" / "tiles.json") in log.replace("\n", "")
+    assert not (tmp_path / "out.gpkg").exists()
+
+
+def test_a_labelme_file_naming_another_photo_says_which_was_used(qp_env, survey, tmp_path):
+    """Issue 40: a LabelMe file whose imagePath names another photo than its own file name is
+    put on the photo its imagePath names, with a warning that names both and says why; one whose
+    imagePath is no photo of the project is put on its file name's photo, with a warning."""
+    with open(survey.labelme[0]) as fh:
+        doc = json.load(fh)
+    drawn = os.path.splitext(os.path.basename(survey.labelme[0]))[0]
+    other = next(os.path.splitext(os.path.basename(p))[0] for p in survey.photos
+                 if os.path.splitext(os.path.basename(p))[0] != drawn)
+    folder = tmp_path / "labelme"
+    folder.mkdir()
+    (folder / f"{other}.json").write_text(json.dumps(doc))
+    code, log = _qgis_process(qp_env, {"INPUT_FOLDER": folder, "PROJECT": survey.metashape_project,
+                                       "DSM": survey.dsm, "OUTPUT": tmp_path / "a.gpkg"})
+    assert code == 0, log[-2000:]
+    flat = " ".join(log.split())
+    assert f"names photo '{drawn}', its file name photo '{other}'" in flat, log[-2000:]
+    assert f"its shapes were put on '{drawn}'" in flat
+    doc["imagePath"] = "../photos/IMG_9999.JPG"
+    (folder / f"{other}.json").write_text(json.dumps(doc))
+    code, log = _qgis_process(qp_env, {"INPUT_FOLDER": folder, "PROJECT": survey.metashape_project,
+                                       "DSM": survey.dsm, "OUTPUT": tmp_path / "b.gpkg"})
+    assert code == 0, log[-2000:]
+    flat = " ".join(log.split())
+    assert "'../photos/IMG_9999.JPG' is not a photo of the project" in flat
+    assert f"put on '{other}', the photo its file name names" in flat
