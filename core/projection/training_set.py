@@ -14,6 +14,10 @@ ranked) and writes, into one folder::
                                          (:mod:`core.annotations.tiles`)
     training_set.json                    what was written, the split and the rules below
 
+NAME is the photo file's own stem (:func:`photo_stem`: ``DJI_0002`` for ``DJI_0002.JPG``,
+whatever the project kind's photo label) and ``.ext`` its extension in lower case, so every file
+matches its photo again in Forward-project; a tile is ``NAME_rROW_cCOL.png``.
+
 Pixels: the project convention (origin at the top-left image corner, centre of the top-left
 pixel (0.5, 0.5)), which COCO, YOLO and LabelMe share: no shift.
 
@@ -55,6 +59,7 @@ from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import orient, polygons_area
 from ..naming import unique_names
+from ..photo_files import PHOTO_EXTENSIONS, file_name
 from ..progress import as_progress
 from ..raster import as_dsm
 from ..roi import ROI, ROISet
@@ -105,6 +110,16 @@ def point_discs(names: Sequence[str], xy, radius: float, vertices: int = 32,
     xy = np.asarray(xy, np.float64).reshape(-1, 2)
     attrs = attributes or [{} for _ in names]
     return ROISet([ROI(str(n), [[ring + p]], dict(a)) for n, p, a in zip(names, xy, attrs)], crs)
+
+
+def photo_stem(path: str) -> str:
+    """The stem exported images and labels of a photo are named after: the photo file's own
+    name without its photo extension, case kept (``…/DJI_0002.JPG`` → ``DJI_0002``), so that
+    ``DJI_0002.jpg``, ``.json`` and ``.txt`` match the photo again by
+    :func:`..photo_files.photo_key`; never ``DJI_0002.JPG.jpg``."""
+    base = file_name(path)
+    stem, ext = os.path.splitext(base)
+    return stem if ext.lower() in PHOTO_EXTENSIONS else base
 
 
 def tile_origins(length: int, size: int, overlap: int) -> List[int]:
@@ -196,7 +211,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     if labels and not found:
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
-    stems = dict(zip(labels, unique_names(labels)))
+    stems = dict(zip(labels, unique_names(photo_stem(found.get(lab) or lab) for lab in labels)))
 
     # every image and its labels, before anything is written
     images = []          # (split, LabelledImage, photo label, (r0, c0) or None)
