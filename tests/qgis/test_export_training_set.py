@@ -264,21 +264,29 @@ def test_kill_9_then_overwrite_leaves_a_complete_set(survey, qp_env, tmp_path):
     from easyidp_toolbox.scripts.qgis_process import EXE
     s, objs, folder = survey
     root = tmp_path / "set"
-    t0 = time.time()
-    assert run(_params(s, folder, tmp_path / "timing", TILE_SIZE=400), qp_env).returncode == 0
-    full = time.time() - t0
     rng = random.Random(7)
-    kinds = []
-    for k in range(5):            # the files are written in the last seconds of a run
+    lock = root / ".easyidp.lock"
+    landed = []
+    for k in range(5):            # killed while it writes: after it locks the folder, at random
         args = _params(s, folder, root, OVERWRITE=True, TILE_SIZE=400 if k % 2 else 0)
         proc = subprocess.Popen([EXE, *args], env=qp_env, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL)
-        time.sleep(rng.uniform(0.7, 1.0) * full)
+        t0 = time.time()
+        while proc.poll() is None and time.time() - t0 < 120:
+            try:                  # this run's lock (a killed run's stays until taken over)
+                if json.loads(lock.read_text()).get("pid") == proc.pid:
+                    break
+            except (OSError, ValueError):
+                pass
+            time.sleep(0.01)
+        time.sleep(rng.uniform(0.0, 1.5))
+        alive = proc.poll() is None
         proc.send_signal(signal.SIGKILL)
         proc.wait()
-        kinds.append((round(time.time() - t0, 1), len(_files(root)) if root.exists() else 0))
-    print(f"\nfull run {full:.1f} s; after each kill (time, files in the folder): {kinds}")
-    assert sum(1 for _, n in kinds if n) >= 2          # kills that left a partial set
+        files = _files(root)
+        landed.append((alive, len(files), sum(".part" in f for f in files)))
+    print(f"\nkills (running when killed, files in the folder, temporary files): {landed}")
+    assert sum(1 for alive, n, _ in landed if alive and n) >= 3
     proc = run(_params(s, folder, root, OVERWRITE=True), qp_env)
     assert proc.returncode == 0, proc.stderr
     _complete(root)
