@@ -46,20 +46,29 @@ def outside_hidden_fractions(rois, rec_roi: np.ndarray, cams_of_rec: np.ndarray,
     C = np.array([c.C for c in cams])
     # samples of each ROI on its top surface, in the DSM's CRS and in the model frame
     need = np.unique(rec_roi)
-    starts, rings_of, xyz_all, no_dsm, k = {}, {}, [], [], 0
+    rings_of, grids, dense = {}, [], []
     for r in need:
         r = int(r)
         rings = rois[r].rings
         if dcrs is not None and rcrs is not None and not same_crs(rcrs, dcrs):
             rings = [transform_xy(rcrs, dcrs, ring) for ring in rings]
-        pts = sample_grid(rings, samples)
-        both = np.concatenate([pts, sample_grid(rings, 4 * samples)])
-        z = dsm.heights(both[:, 0], both[:, 1]) if len(both) else np.zeros(0)
-        if not np.isfinite(z).any():
+        rings_of[r] = rings
+        grids.append(sample_grid(rings, samples))
+        dense.append(sample_grid(rings, 4 * samples))
+    # every height in one DSM read: the samples and the denser grid, per ROI
+    both = [np.concatenate([g, d]) for g, d in zip(grids, dense)]
+    allxy = np.concatenate(both) if both else np.zeros((0, 2))
+    z = dsm.heights(allxy[:, 0], allxy[:, 1]) if len(allxy) else np.zeros(0)
+    cut = np.cumsum([0] + [len(b) for b in both])
+    starts, xyz_all, no_dsm, k = {}, [], [], 0
+    for n, r in enumerate(need):
+        r = int(r)
+        zr = z[cut[n]:cut[n + 1]]
+        pts = grids[n]
+        if not np.isfinite(zr).any():
             no_dsm.append(rois[r].name)
             pts = pts[:0]
-        rings_of[r] = rings
-        xyz_all.append(np.column_stack([pts, np.full(len(pts), np.nanmax(z) if len(pts) else 0.0)]))
+        xyz_all.append(np.column_stack([pts, np.full(len(pts), np.nanmax(zr) if len(pts) else 0.0)]))
         starts[r] = (k, k + len(pts))
         k += len(pts)
     xyz = np.concatenate(xyz_all) if xyz_all else np.zeros((0, 3))

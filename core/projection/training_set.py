@@ -292,12 +292,17 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     for s in SPLITS:               # the split is not drawn yet: either may hold an image
         for x in images:
             names.update(_image_files(s, x[1].file_name))
-    inputs = [dsm.path] + list(found.values())
+    root = os.path.realpath(os.fspath(out_folder)) + os.sep
+    inputs = [p for p in [dsm.path] + list(found.values())         # an output can only be an
+              if p and os.path.realpath(p).startswith(root)]         # input inside the folder
     with OutputFolder(out_folder, overwrite=overwrite, inputs=inputs,
                       what="Training set folder") as out:
         plan = TrainingFolder(out.folder)
         plan.check(overwrite)
-        out.check_not_inputs(sorted(names))
+        if inputs:
+            raise InputError(f"The training set folder {str(out.folder)!r} holds inputs of this "
+                             f"export ({inputs[0]}…): it would replace them. Choose another "
+                             "folder.")
         # photos that do not decode are found while writing; their files are not written
         planned = {"data.yaml", os.path.join("yolo_detect", "data.yaml"), TILE_INDEX} | \
             {os.path.join("coco", f"instances_{s}.json") for s in SPLITS}
@@ -421,14 +426,28 @@ def _spurious_tile(part, polygons, c0, r0, tw, th) -> bool:
     return not any(points_in_rings(np.array([cx]), np.array([cy]), q)[0] for q in polygons)
 
 
-def _jpeg_complete(path: str) -> bool:
-    """Whether a JPEG file ends with its end-of-image marker (zero padding allowed)."""
+IMAGE_MAGIC = (b"\xff\xd8", b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+", b"\x89PNG",
+               b"\x00\x00\x00\x0cjP  ", b"\xff\x4f\xff\x51", b"RIFF", b"BM")
+"""How a photo file may start: JPEG, TIFF (and DNG), BigTIFF, PNG, JPEG 2000, WebP, BMP."""
+
+
+def _photo_problem(path: str) -> str:
+    """Why the file cannot be a complete photo ("" when it may be): it starts like no image
+    format (a text file named .JPG; never handed to a decoder that tries every codec), or it is
+    a JPEG without its end-of-image marker (truncated; zero padding allowed)."""
     with open(path, "rb") as fh:
-        if fh.read(2) != b"\xff\xd8":
-            return True                    # not a JPEG: its decoder decides
+        head = fh.read(12)
+        if not any(head.startswith(m) for m in IMAGE_MAGIC):
+            return (f"{path} is not an image (it starts with {head[:8]!r}): put the photo "
+                    "itself there")
+        if not head.startswith(b"\xff\xd8"):
+            return ""
         fh.seek(0, os.SEEK_END)
         fh.seek(max(0, fh.tell() - 65536))
-        return fh.read().rstrip(b"\x00").endswith(b"\xff\xd9")
+        if not fh.read().rstrip(b"\x00").endswith(b"\xff\xd9"):
+            return (f"the JPEG {path} is truncated (no end-of-image marker): copy it again from "
+                    "the card or the drone")
+    return ""
 
 
 def _decodable(images, found, bp, result, prog) -> Dict[str, tuple]:
@@ -439,14 +458,11 @@ def _decodable(images, found, bp, result, prog) -> Dict[str, tuple]:
     paths, why = [], []
     for lab in labels:
         try:
-            ok = _jpeg_complete(found[lab])
+            problem = _photo_problem(found[lab])
         except OSError as exc:
-            ok = False
-            why.append(f"cannot be read ({exc.strerror})")
-        else:
-            why.append("" if ok else f"the JPEG {found[lab]} is truncated (no end-of-image "
-                                     "marker): copy it again from the card or drone")
-        paths.append(found[lab] if ok else None)
+            problem = f"{found[lab]} cannot be read ({exc.strerror})"
+        why.append(problem)
+        paths.append(None if problem else found[lab])
     good = {}
     with DecodedPhotos(paths, [size[lab] for lab in labels], missing=why) as decoded:
         for k, img, reason in decoded:
