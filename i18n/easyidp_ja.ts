@@ -750,22 +750,30 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
 
-Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
+Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by anything outside it (what its own canopy hides of it, such as the soil between its rows, does not count); its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
 
 Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by the overlap; outlines are clipped to each tile and a part smaller than the minimum visible share of the object is dropped. Without, whole photos are copied.
 
-Split: objects go to train or validation by field region (square cells of the region size, in the DSM's map units) or by photo (the split of the object's best photo); an image holding objects of both splits is left out, so no object is in both.
+Photos that do not decode (truncated, or not images) are named in the log and left out with their labels.
 
-Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts and rules). Existing files are never replaced unless 'Overwrite existing files' is on.</source>
+Split: whole images go to train or validation, none is left out: by field region (square cells of the region size, in the DSM's map units; an image goes with the region of most of its objects) or by photo. The log gives the images and labels of each set and warns when validation is empty or under half the fraction asked. An object seen in images of both sets is counted.
+
+Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.
+
+Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts, rules and the list of files written). The folder holds only the set: other files in it are refused, with a list of them; an older set is replaced only with 'Overwrite existing files', which removes exactly the files its training_set.json lists.</source>
       <translation>地図上で一度だけラベル付けしたオブジェクト（ポリゴン、または半径付きのポイント）を、生写真上の深層学習用データセットに変換します：COCO インスタンス（ポリゴンとボックス）、YOLO のセグメント／検出ラベルとその data.yaml、LabelMe ファイル。
 
-各オブジェクトは、それが写るすべての写真に逆投影されます（高さは DSM から、レンズ歪みを含み、DSM で遮蔽を判定し、「ROI の逆投影」と同じく写真を順位付け）。オブジェクトは、少なくとも最小可視割合がフレーム内にあり DSM に隠されていない写真でのみラベル付けされ、輪郭はフレームで切り取られます（隠れた部分は切り取りません）。オブジェクトごとの最良写真：上位 k 枚のみ残します（0 = すべて）。
+各オブジェクトは、それが写るすべての写真に逆投影されます（高さは DSM から、レンズ歪みを含み、DSM で遮蔽を判定し、「ROI の逆投影」と同じく写真を順位付け）。オブジェクトは、少なくとも最小可視割合がフレーム内にあり、自分以外の何にも隠されていない写真でラベル付けされます（畝間の土など、自分の群落が隠す部分は数えません）。輪郭はフレームで切り取られます（隠れた部分は切り取りません）。オブジェクトごとの最良写真：上位 k 枚のみ残します（0 = すべて）。
 
 タイル：タイルサイズを指定すると、写真はそのサイズ（ピクセル）のタイルに重なりを持たせて分割されます。輪郭は各タイルで正確に切り取られ、オブジェクトの最小可視割合より小さい部分は捨てられます。指定しなければ写真全体をコピーします。
 
-分割：オブジェクトは圃場の領域（領域サイズの正方形セル、DSM の地図単位）ごと、または写真（オブジェクトの最良写真の分割）ごとに学習または検証に割り当てられます。両方の分割のオブジェクトを含む画像は除外されるので、同じオブジェクトが両方に入ることはありません。
+デコードできない写真（途中で切れたもの、画像でないもの）はログに名前を示し、そのラベルとともに除外します。
 
-出力フォルダー：images/{train,val}、labels/{train,val} と data.yaml（YOLO セグメント）、yolo_detect/（YOLO 検出）、coco/instances_{train,val}.json、labelme/{train,val}、training_set.json（件数と規則）。「既存のファイルを上書き」がオンでない限り、既存のファイルは置き換えません。</translation>
+分割：画像は丸ごと学習または検証に割り当てられ、除外される画像はありません。圃場の領域（領域サイズの正方形セル、DSM の地図単位。画像はそのオブジェクトの多くが属する領域に従います）ごと、または写真ごとに分けます。ログには各セットの画像数とラベル数を示し、検証セットが空のとき、または指定割合の半分に満たないときは警告します。両方のセットの画像に写るオブジェクトは数えて示します。
+
+タイル：1 枚の写真が 4096 個を超えるタイルに分かれるタイルサイズは拒否します。
+
+出力フォルダー：images/{train,val}、labels/{train,val} と data.yaml（YOLO セグメント）、yolo_detect/（YOLO 検出）、coco/instances_{train,val}.json、labelme/{train,val}、training_set.json（件数、規則、書き込んだファイルの一覧）。フォルダーにはデータセットだけを置きます：それ以外のファイルがあれば一覧を示して拒否します。古いデータセットは「既存のファイルを上書き」がオンのときだけ置き換え、その training_set.json に載っているファイルだけを削除します。</translation>
     </message>
     <message>
       <source>Random seed of the split</source>
@@ -812,6 +820,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>ラベル付きオブジェクト：レイヤーが指定されていないか、読み込めません。</translation>
     </message>
     <message>
+      <source>EasyIDP</source>
+      <translation>EasyIDP</translation>
+    </message>
+    <message>
       <source>Labelled objects</source>
       <translation>ラベル付きオブジェクト</translation>
     </message>
@@ -832,6 +844,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>分割に使う領域の大きさ（DSM の地図単位）</translation>
     </message>
     <message>
+      <source>Training set: {warning}</source>
+      <translation>学習データセット：{warning}</translation>
+    </message>
+    <message>
       <source>Labelled objects: polygons or points are needed, not lines.</source>
       <translation>ラベル付きオブジェクト：ラインではなくポリゴンかポイントが必要です。</translation>
     </message>
@@ -846,6 +862,14 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Object '{name}': {why}</source>
       <translation>オブジェクト '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>Removed {n} file(s) of the older training set in the folder.</source>
+      <translation>フォルダー内の古い学習データセットのファイル {n} 個を削除しました。</translation>
+    </message>
+    <message>
+      <source>{split}: {images} images, {labels} labels of {objects} objects</source>
+      <translation>{split}：画像 {images} 枚、{objects} 個のオブジェクトのラベル {labels} 個</translation>
     </message>
     <message>
       <source>Labelled points need a positive disc radius (map units).</source>
@@ -1004,6 +1028,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>COCO images file that a COCO results list refers to</source>
       <translation>COCO 結果リストが参照する COCO 画像ファイル</translation>
+    </message>
+    <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -1214,10 +1242,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>逆投影</translation>
     </message>
     <message>
-      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
-      <translation>どの写真にも ROI が写っていません：ROI が測量範囲内にあり、正しい CRS であることを確認してください。</translation>
-    </message>
-    <message>
       <source>Mean</source>
       <translation>平均</translation>
     </message>
@@ -1228,10 +1252,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
     <message>
       <source>Standard deviation</source>
       <translation>標準偏差</translation>
-    </message>
-    <message>
-      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
-      <translation>{m} 枚の写真で {k} 組の ROI × 写真を計測中…</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -1326,12 +1346,12 @@ LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たない
       <translation>地面：各 ROI の Z の {ground_pct:g} パーセンタイル。</translation>
     </message>
     <message>
-      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
-      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
-    </message>
-    <message>
       <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
       <translation>{n_rois} 個の ROI のいずれにも点群の点が含まれていません。ROI と点群の CRS が正しいか（ファイルに CRS がないか誤っている場合は「点群の座標参照系」を設定してください）、および Z 範囲を確認してください。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面のラスタ {name} には、{total} 個中 {n} 個の ROI で点の下にデータがありません（範囲外または NoData 値）。これらの地面からの高さは空になります。ラスタが ROI を覆っているか確認してください。</translation>
     </message>
     <message>
       <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
@@ -1600,10 +1620,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
 {command}</translation>
     </message>
     <message>
-      <source>EasyIDP</source>
-      <translation>EasyIDP</translation>
-    </message>
-    <message>
       <source>Installing Python packages for EasyIDP</source>
       <translation>EasyIDP 用の Python パッケージをインストールしています</translation>
     </message>
@@ -1664,16 +1680,28 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>終了ステータス {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
     </message>
     <message>
-      <source>Point cloud (.las, .laz or .ply)</source>
-      <translation>点群（.las、.laz または .ply）</translation>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -1684,12 +1712,48 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>残す最高 Z（点群の Z 単位、空欄：制限なし）</translation>
     </message>
     <message>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
+    </message>
+    <message>
+      <source>Point cloud (.las, .laz or .ply)</source>
+      <translation>点群（.las、.laz または .ply）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
+      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+    </message>
+    <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
       <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap フォルダまたは reconstruction.json）</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名前フィールド（既定：地物 ID）</translation>
     </message>
     <message>
       <source>Heights of the ROI vertices</source>
@@ -1734,58 +1798,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
       <translation>属性から高さを取得：ROI レイヤの高さの属性を選択してください。</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名前フィールド（既定：地物 ID）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project: none given ({what}).</source>
-      <translation>写真測量プロジェクト：指定されていません（{what}）。</translation>
-    </message>
-    <message>
-      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
-      <translation>{path}：プロジェクトの CRS が不明です（*_wkt.prj のない Pix4D プロジェクト、または GPS のない OpenSfM データセット）。「プロジェクトの座標参照系」を設定してください。</translation>
-    </message>
-    <message>
-      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
-      <translation>{n} 台のカメラは位置合わせされておらず、姿勢がありません：{names}</translation>
-    </message>
-    <message>
-      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
-      <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
-    </message>
-    <message>
-      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
-      <translation>'{a}' と '{b}' がどちらも {path} です。一方が他方を置き換えてしまいます。別々のファイルを選択してください。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
-      <translation>{output}：{path} は既に存在するため、何も書き出しませんでした。別のファイルを選択するか、「既存のファイルを上書き」（高度な設定）をオンにして置き換えてください。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
-      <translation>{output}：{path} は入力 '{input}' でもあります。入力は上書きされません。別のファイルを選択してください。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not a number; give a finite value.</source>
-      <translation>{name}：{value} は数値ではありません。有限の値を指定してください。</translation>
-    </message>
-    <message>
-      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
-      <translation>{name}：{value:g} は範囲 {lo}–{hi} の外です。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not one of the choices ({opts}).</source>
-      <translation>{name}：{value} は選択肢（{opts}）のいずれでもありません。</translation>
-    </message>
-    <message>
-      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
-      <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
-    </message>
-    <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
     </message>
   </context>
 </TS>

@@ -750,22 +750,30 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
 
-Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
+Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by anything outside it (what its own canopy hides of it, such as the soil between its rows, does not count); its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
 
 Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by the overlap; outlines are clipped to each tile and a part smaller than the minimum visible share of the object is dropped. Without, whole photos are copied.
 
-Split: objects go to train or validation by field region (square cells of the region size, in the DSM's map units) or by photo (the split of the object's best photo); an image holding objects of both splits is left out, so no object is in both.
+Photos that do not decode (truncated, or not images) are named in the log and left out with their labels.
 
-Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts and rules). Existing files are never replaced unless 'Overwrite existing files' is on.</source>
+Split: whole images go to train or validation, none is left out: by field region (square cells of the region size, in the DSM's map units; an image goes with the region of most of its objects) or by photo. The log gives the images and labels of each set and warns when validation is empty or under half the fraction asked. An object seen in images of both sets is counted.
+
+Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.
+
+Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts, rules and the list of files written). The folder holds only the set: other files in it are refused, with a list of them; an older set is replaced only with 'Overwrite existing files', which removes exactly the files its training_set.json lists.</source>
       <translation>将在地图上只标注一次的对象（多边形，或带半径的点）转换为原始照片上的深度学习训练集：COCO 实例（多边形和边界框）、YOLO 分割与检测标签及其 data.yaml，以及 LabelMe 文件。
 
-每个对象被反投影到所有能看到它的照片中（高度取自 DSM，包含镜头畸变，在 DSM 上检验遮挡，并像“反投影 ROI”一样对照片排序）。当对象至少有最小可见比例位于画幅内且未被 DSM 遮挡时，才在该照片中标注；其轮廓裁剪到画幅（被遮挡部分不切除）。每个对象的最佳照片：只保留排名前 k 张（0 = 全部）。
+每个对象被反投影到所有能看到它的照片中（高度取自 DSM，包含镜头畸变，在 DSM 上检验遮挡，并像“反投影 ROI”一样对照片排序）。当对象至少有最小可见比例位于画幅内且未被其自身以外的任何东西遮挡时（其自身冠层遮住的部分，例如行间的土壤，不计入），才在该照片中标注；其轮廓裁剪到画幅（被遮挡部分不切除）。每个对象的最佳照片：只保留排名前 k 张（0 = 全部）。
 
 瓦片：给出瓦片大小时，照片被切成该大小（像素）、按重叠量相互重叠的瓦片；轮廓被精确裁剪到每个瓦片，小于对象最小可见比例的部分被舍弃。不给出时复制整张照片。
 
-划分：对象按田间区域（区域大小的正方形格网，DSM 的地图单位）或按照片（对象最佳照片所属的划分）分到训练集或验证集；同时包含两个划分对象的图像被排除，因此没有对象同时出现在两者中。
+无法解码的照片（被截断，或不是图像）会在日志中列出，并连同其标签一起排除。
 
-输出文件夹：images/{train,val}、labels/{train,val} 和 data.yaml（YOLO 分割）、yolo_detect/（YOLO 检测）、coco/instances_{train,val}.json、labelme/{train,val} 以及 training_set.json（数量与规则）。除非开启“覆盖已有文件”，否则不会替换已有文件。</translation>
+划分：整张图像分到训练集或验证集，不排除任何图像：按田间区域（区域大小的正方形格网，DSM 的地图单位；图像归入其多数对象所在的区域）或按照片。日志给出每个集合的图像数和标签数，当验证集为空或少于所要求比例的一半时发出警告。出现在两个集合图像中的对象会被计数。
+
+瓦片：若瓦片大小使一张照片被切成超过 4096 个瓦片，则拒绝执行。
+
+输出文件夹：images/{train,val}、labels/{train,val} 和 data.yaml（YOLO 分割）、yolo_detect/（YOLO 检测）、coco/instances_{train,val}.json、labelme/{train,val} 以及 training_set.json（数量、规则和已写入文件的列表）。该文件夹只包含训练集：其中的其他文件会被拒绝并列出；只有在打开“覆盖已有文件”时才会替换旧的训练集，并且只删除其 training_set.json 所列出的文件。</translation>
     </message>
     <message>
       <source>Random seed of the split</source>
@@ -812,6 +820,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>已标注对象：未给出图层，或无法加载。</translation>
     </message>
     <message>
+      <source>EasyIDP</source>
+      <translation>EasyIDP</translation>
+    </message>
+    <message>
       <source>Labelled objects</source>
       <translation>已标注对象</translation>
     </message>
@@ -832,6 +844,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>划分用区域大小（DSM 的地图单位）</translation>
     </message>
     <message>
+      <source>Training set: {warning}</source>
+      <translation>训练集：{warning}</translation>
+    </message>
+    <message>
       <source>Labelled objects: polygons or points are needed, not lines.</source>
       <translation>已标注对象：需要多边形或点，而不是线。</translation>
     </message>
@@ -846,6 +862,14 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Object '{name}': {why}</source>
       <translation>对象 '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>Removed {n} file(s) of the older training set in the folder.</source>
+      <translation>已删除文件夹中旧训练集的 {n} 个文件。</translation>
+    </message>
+    <message>
+      <source>{split}: {images} images, {labels} labels of {objects} objects</source>
+      <translation>{split}：{images} 张图像，{objects} 个对象的 {labels} 个标签</translation>
     </message>
     <message>
       <source>Labelled points need a positive disc radius (map units).</source>
@@ -1004,6 +1028,10 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>COCO images file that a COCO results list refers to</source>
       <translation>COCO 结果列表所引用的 COCO 图像文件</translation>
+    </message>
+    <message>
+      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
+      <translation>分块索引（分块训练集的 tiles.json），当标注位于其分块上时</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -1214,10 +1242,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
       <translation>反投影</translation>
     </message>
     <message>
-      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
-      <translation>没有任何照片看到 ROI：请检查 ROI 是否位于测区内且坐标参照系正确。</translation>
-    </message>
-    <message>
       <source>Mean</source>
       <translation>均值</translation>
     </message>
@@ -1228,10 +1252,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
     <message>
       <source>Standard deviation</source>
       <translation>标准差</translation>
-    </message>
-    <message>
-      <source>Measuring {k} ROI × photo pairs in {m} photos…</source>
-      <translation>正在测量 {m} 张照片中的 {k} 个 ROI × 照片对…</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -1326,12 +1346,12 @@ LAS/LAZ 文件自带坐标系；PLY 文件没有，因此需要为其设置“�
       <translation>地面：每个感兴趣区 Z 的第 {ground_pct:g} 百分位数。</translation>
     </message>
     <message>
-      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
-      <translation>地面栅格 {name} 在 {total} 个感兴趣区中 {n} 个的点下方没有数据（位于其范围外或为无数据值）：这些感兴趣区的离地高度为空。请检查它是否覆盖了感兴趣区。</translation>
-    </message>
-    <message>
       <source>None of the {n_rois} ROIs contains a point of the cloud: check that the ROIs and the cloud are in the right CRS (set 'Point cloud CRS' if the file has none or a wrong one) and the Z range.</source>
       <translation>{n_rois} 个感兴趣区均不包含点云中的点：请检查感兴趣区和点云的坐标系是否正确（如果文件没有坐标系或坐标系错误，请设置“点云坐标系”），以及 Z 范围。</translation>
+    </message>
+    <message>
+      <source>The ground raster {name} has no data under the points of {n} of the {total} ROIs (outside it or nodata): their heights above ground are empty. Check that it covers the ROIs.</source>
+      <translation>地面栅格 {name} 在 {total} 个感兴趣区中 {n} 个的点下方没有数据（位于其范围外或为无数据值）：这些感兴趣区的离地高度为空。请检查它是否覆盖了感兴趣区。</translation>
     </message>
     <message>
       <source>{n} ROI(s) contain no point (outside the cloud, in a gap, or outside the Z range); their statistics are empty: feature id {ids}.</source>
@@ -1600,10 +1620,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
 {command}</translation>
     </message>
     <message>
-      <source>EasyIDP</source>
-      <translation>EasyIDP</translation>
-    </message>
-    <message>
       <source>Installing Python packages for EasyIDP</source>
       <translation>正在为 EasyIDP 安装 Python 包</translation>
     </message>
@@ -1664,16 +1680,28 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>退出状态 {code}</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
+      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
+      <translation>“{a}”和“{b}”都是 {path}：其中一个会替换另一个。请选择两个不同的文件。</translation>
     </message>
     <message>
-      <source>Point cloud (.las, .laz or .ply)</source>
-      <translation>点云（.las、.laz 或 .ply）</translation>
+      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
+      <translation>{output}：{path} 已存在，未写出任何内容。请选择其他文件，或勾选“覆盖已有文件”（高级）以替换它。</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点云坐标系（PLY 以及没有坐标系的 LAS 需要；否则从文件读取）</translation>
+      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
+      <translation>{output}：{path} 同时也是输入“{input}”。输入绝不会被覆盖：请选择其他文件。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not a number; give a finite value.</source>
+      <translation>{name}：{value} 不是数字；请给出一个有限值。</translation>
+    </message>
+    <message>
+      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
+      <translation>{name}：{value:g} 超出范围 {lo}–{hi}。</translation>
+    </message>
+    <message>
+      <source>{name}: {value} is not one of the choices ({opts}).</source>
+      <translation>{name}：{value} 不是可选值之一（{opts}）。</translation>
     </message>
     <message>
       <source>Lowest Z to keep (cloud Z units; empty: no limit)</source>
@@ -1684,12 +1712,48 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>保留的最高 Z（点云 Z 单位；留空：不限制）</translation>
     </message>
     <message>
+      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
+      <translation>百分位数：“{token}”不是 0 到 100 之间的数。请给出以逗号分隔的百分位数，例如 5,50,95。</translation>
+    </message>
+    <message>
+      <source>Point cloud (.las, .laz or .ply)</source>
+      <translation>点云（.las、.laz 或 .ply）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
+      <translation>点云坐标系（PLY 以及没有坐标系的 LAS 需要；否则从文件读取）</translation>
+    </message>
+    <message>
+      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
+      <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
+    </message>
+    <message>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
+      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
+    </message>
+    <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
       <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d、工程文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json）</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>块（chunk）：Metashape 块（标签或索引）或 OpenSfM 重建索引（存在多个时需要）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project: none given ({what}).</source>
+      <translation>摄影测量工程：未给出（{what}）。</translation>
+    </message>
+    <message>
+      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
+      <translation>{path}：工程的坐标系未知（没有 *_wkt.prj 的 Pix4D 工程，或没有 GPS 的 OpenSfM 数据集）：请设置“工程坐标系”。</translation>
+    </message>
+    <message>
+      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
+      <translation>{n} 台相机未对齐，没有位姿：{names}</translation>
+    </message>
+    <message>
+      <source>Name field (default: feature id)</source>
+      <translation>名称字段（默认：要素 ID）</translation>
     </message>
     <message>
       <source>Heights of the ROI vertices</source>
@@ -1734,58 +1798,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Heights from an attribute: choose the height attribute of the ROI layer.</source>
       <translation>高度来自属性：请选择感兴趣区图层的高度属性。</translation>
-    </message>
-    <message>
-      <source>Name field (default: feature id)</source>
-      <translation>名称字段（默认：要素 ID）</translation>
-    </message>
-    <message>
-      <source>Photogrammetry project: none given ({what}).</source>
-      <translation>摄影测量工程：未给出（{what}）。</translation>
-    </message>
-    <message>
-      <source>{path}: the project's CRS is unknown (a Pix4D project without *_wkt.prj, or an OpenSfM dataset without GPS): set 'Project CRS'.</source>
-      <translation>{path}：工程的坐标系未知（没有 *_wkt.prj 的 Pix4D 工程，或没有 GPS 的 OpenSfM 数据集）：请设置“工程坐标系”。</translation>
-    </message>
-    <message>
-      <source>{n} camera(s) are not aligned and have no pose: {names}</source>
-      <translation>{n} 台相机未对齐，没有位姿：{names}</translation>
-    </message>
-    <message>
-      <source>Percentiles: '{token}' is not a number from 0 to 100. Give percentiles separated by commas, e.g. 5,50,95.</source>
-      <translation>百分位数：“{token}”不是 0 到 100 之间的数。请给出以逗号分隔的百分位数，例如 5,50,95。</translation>
-    </message>
-    <message>
-      <source>'{a}' and '{b}' are both {path}: one would replace the other. Choose two files.</source>
-      <translation>“{a}”和“{b}”都是 {path}：其中一个会替换另一个。请选择两个不同的文件。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} already exists and nothing was written. Choose another file, or tick 'Overwrite existing files' (advanced) to replace it.</source>
-      <translation>{output}：{path} 已存在，未写出任何内容。请选择其他文件，或勾选“覆盖已有文件”（高级）以替换它。</translation>
-    </message>
-    <message>
-      <source>{output}: {path} is also the input '{input}'. Inputs are never overwritten: choose another file.</source>
-      <translation>{output}：{path} 同时也是输入“{input}”。输入绝不会被覆盖：请选择其他文件。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not a number; give a finite value.</source>
-      <translation>{name}：{value} 不是数字；请给出一个有限值。</translation>
-    </message>
-    <message>
-      <source>{name}: {value:g} is outside the range {lo}–{hi}.</source>
-      <translation>{name}：{value:g} 超出范围 {lo}–{hi}。</translation>
-    </message>
-    <message>
-      <source>{name}: {value} is not one of the choices ({opts}).</source>
-      <translation>{name}：{value} 不是可选值之一（{opts}）。</translation>
-    </message>
-    <message>
-      <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
-      <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
-    </message>
-    <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>分块索引（分块训练集的 tiles.json），当标注位于其分块上时</translation>
     </message>
   </context>
 </TS>

@@ -16,17 +16,19 @@ from ..values import is_null
 from .base import CoreStep, EasyIDPAlgorithm
 
 
-def show_lasting_warning(title: str, text: str) -> bool:
-    """A warning in the desktop's message bar that stays until dismissed; False without a
-    desktop (qgis_process: the log's WARNING lines say it)."""
-    try:
-        from qgis.utils import iface
-    except ImportError:
-        return False
-    if iface is None or not hasattr(iface, "messageBar"):
-        return False
+def show_lasting_warning(title: str, text: str, bar=None) -> bool:
+    """A warning in the message bar (default the desktop's) that stays until dismissed
+    (duration 0); False without a desktop (qgis_process: the log's WARNING lines say it)."""
+    if bar is None:
+        try:
+            from qgis.utils import iface
+        except ImportError:
+            return False
+        if iface is None or not hasattr(iface, "messageBar"):
+            return False
+        bar = iface.messageBar()
     from qgis.core import Qgis
-    iface.messageBar().pushMessage(title, text, Qgis.Warning, 0)
+    bar.pushMessage(title, text, Qgis.Warning, 0)
     return True
 
 SPLITS = ("region", "photo")

@@ -292,3 +292,31 @@ def test_kill_9_then_overwrite_leaves_a_complete_set(survey, qp_env, tmp_path):
     _complete(root)
     left = [f for f in _files(root) if ".part" in f or f.endswith(".lock")]
     assert not left, left
+
+
+def test_the_desktop_warning_stays_until_dismissed(qgis_app):
+    """Issue 32: the split's warning goes to a real QgsMessageBar as a Warning that has no
+    timeout (duration 0), and is still shown after the events of a few seconds."""
+    import time
+    from qgis.core import Qgis
+    from qgis.gui import QgsMessageBar
+    from qgis.PyQt.QtWidgets import QApplication
+    from easyidp_toolbox.easyidp_qgis.algorithms.export_training_set import show_lasting_warning
+    bar = QgsMessageBar()
+    assert show_lasting_warning("EasyIDP", "Training set: the validation set is empty", bar)
+    t0 = time.time()
+    while time.time() - t0 < 2.5:
+        QApplication.processEvents()
+        time.sleep(0.05)
+    items = bar.items()
+    assert len(items) == 1 and items[0].level() == Qgis.Warning and items[0].duration() == 0
+    assert "validation set is empty" in items[0].text()
+
+
+def test_a_tile_size_that_gives_too_many_tiles_is_refused(survey, qp_env, tmp_path):
+    """Issue 40: 8 px tiles cut an 800 × 600 photo into 7,500 tiles: refused, with the number."""
+    s, objs, folder = survey
+    proc = run(_params(s, folder, tmp_path / "set", TILE_SIZE=8), qp_env)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 1 and "7500 tiles" in out and "4096 per photo" in out, out[-1500:]
+    assert not (tmp_path / "set" / "images").exists()
