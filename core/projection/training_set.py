@@ -51,7 +51,8 @@ Rules (stated once, here):
 * **Tiles per photo.** A tile size that cuts a photo into more than :data:`MAX_TILES_PER_PHOTO`
   tiles is refused (the number is said). Only tiles that hold an object are cut and written.
 
-One decode per photo; every file is written atomically. The folder holds only the set: what
+Whole photos are decoded once (the check) and copied byte for byte; tiled photos are decoded
+at the check and again to cut them. Every file is written atomically. The folder holds only the set: what
 it lists in ``training_set.json``; OVERWRITE removes exactly that, foreign files are refused, a
 killed run's leftovers are removed by the next (:mod:`.training_folder`).
 """
