@@ -82,6 +82,9 @@ from .photos import DecodedPhotos, resolve_photos
 from .training_folder import MANIFEST, TrainingFolder
 from .training_split import SPLIT_MODES, SPLITS, assign_images, split_warnings
 
+HIDDEN_SAMPLES = 64
+"""Samples per object for the hiding test (:mod:`.object_occlusion`): the share is known to
+1/64, ample beside ``min_visible``; Back-project ROIs uses 256."""
 MAX_TILES_PER_PHOTO = 4096
 """Tiles one photo may be cut into; a smaller tile size is refused (a 20 MP photo in 64 px
 tiles gives about 4,900)."""
@@ -172,7 +175,7 @@ def _visible_pairs(bp, rois, recon, dsm, min_visible: float, best_k: int, prog):
     times the share not hidden by anything outside the object; the best ``best_k`` per object."""
     cams = [recon.camera(lab) for lab in bp.photo_labels]
     hidden, notes = outside_hidden_fractions(rois, bp.roi, bp.photo_index, recon, cams, dsm,
-                                             progress=prog)
+                                             samples=HIDDEN_SAMPLES, progress=prog)
     share = bp.visible_fraction * (1.0 - np.nan_to_num(hidden, nan=0.0))
     keep = np.flatnonzero(share >= min_visible)          # records are sorted by ROI, then rank
     roi = bp.roi[keep]
