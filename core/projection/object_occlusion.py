@@ -47,12 +47,15 @@ def outside_hidden_fractions(rois, rec_roi: np.ndarray, cams_of_rec: np.ndarray,
     # samples of each ROI on its top surface, in the DSM's CRS and in the model frame
     need = np.unique(rec_roi)
     rings_of, grids, dense = {}, [], []
+    box = np.full((len(rois), 4), np.nan)        # x0, y0, x1, y1 of each ROI, in the DSM's CRS
     for r in need:
         r = int(r)
         rings = rois[r].rings
         if dcrs is not None and rcrs is not None and not same_crs(rcrs, dcrs):
             rings = [transform_xy(rcrs, dcrs, ring) for ring in rings]
         rings_of[r] = rings
+        allxy = np.concatenate(rings)
+        box[r] = np.concatenate([allxy.min(axis=0), allxy.max(axis=0)])
         grids.append(sample_grid(rings, samples))
         dense.append(sample_grid(rings, 4 * samples))
     # every height in one DSM read: the samples and the denser grid, per ROI
@@ -97,10 +100,14 @@ def outside_hidden_fractions(rois, rec_roi: np.ndarray, cams_of_rec: np.ndarray,
         if not len(hit):
             return
         roi_of = rec_roi[owner[hit]]
-        for r in np.unique(roi_of):               # a hit inside the object's outline: itself
-            sel = hit[roi_of == r]
-            p = hits.xyz[sel]
-            outside = ~points_in_rings(p[:, 0], p[:, 1], rings_of[int(r)])
+        p = hits.xyz[hit]
+        b = box[roi_of]                           # outside the object's box: outside it
+        near = (p[:, 0] >= b[:, 0]) & (p[:, 0] <= b[:, 2]) & (p[:, 1] >= b[:, 1]) & (p[:, 1] <= b[:, 3])
+        np.add.at(hidden, owner[hit[~near]], 1)
+        for r in np.unique(roi_of[near]):         # a hit inside the object's outline: itself
+            sel = hit[near][roi_of[near] == r]
+            q = hits.xyz[sel]
+            outside = ~points_in_rings(q[:, 0], q[:, 1], rings_of[int(r)])
             np.add.at(hidden, owner[sel[outside]], 1)
 
     order = np.argsort(cams_of_rec, kind="stable")

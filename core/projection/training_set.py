@@ -258,6 +258,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
         if len(rois) else np.zeros((0, 2))
 
     # every image and its labels, before anything is written
+    roi_names = rois.names
     images = []          # [split, LabelledImage, photo label, (r0, c0) or None, roi indices]
     by_photo = {}
     for i in range(len(bp)):
@@ -275,7 +276,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
             im = LabelledImage(stems[label] + ext, w, h,
                                attributes={"photo": label, "photo_window": [0, 0, w, h]})
             for i in recs:
-                im.shapes.append(_shape(bp, i, polys[i], classes, rois))
+                im.shapes.append(_shape(bp, i, polys[i], classes, roi_names))
             images.append([None, im, label, None, [int(bp.roi[i]) for i in recs]])
             continue
         for (r0, c0), parts in _tile_parts(polys, w, h, tile_size, tile_overlap, min_visible,
@@ -284,7 +285,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
             im = LabelledImage(f"{stems[label]}_r{r0:05d}_c{c0:05d}.png", tw, th,
                                attributes={"photo": label, "photo_window": [c0, r0, tw, th]})
             for i, p in parts:
-                im.shapes.append(_shape(bp, i, p, classes, rois))
+                im.shapes.append(_shape(bp, i, p, classes, roi_names))
             images.append([None, im, label, (r0, c0), [int(bp.roi[i]) for i, _ in parts]])
     prog.set(65)
 
@@ -382,9 +383,9 @@ def _image_files(s: str, file_name_: str) -> List[str]:
             os.path.join("labelme", s, stem + ".json")]
 
 
-def _shape(bp, i: int, polygons, classes, rois) -> LabelledShape:
+def _shape(bp, i: int, polygons, classes, names) -> LabelledShape:
     r = int(bp.roi[i])
-    return LabelledShape(classes[r], rois.names[r], polygons,
+    return LabelledShape(classes[r], names[r], polygons,
                          {"photo": str(bp.photo[i]), "rank": int(bp.rank[i]),
                           "visible_fraction": round(float(bp.visible_fraction[i]), 4),
                           "occluded_fraction": round(float(np.nan_to_num(bp.occluded_fraction[i])), 4)})
