@@ -754,22 +754,30 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
 
-Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
+Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by anything outside it (what its own canopy hides of it, such as the soil between its rows, does not count); its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
 
 Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by the overlap; outlines are clipped to each tile and a part smaller than the minimum visible share of the object is dropped. Without, whole photos are copied.
 
-Split: objects go to train or validation by field region (square cells of the region size, in the DSM's map units) or by photo (the split of the object's best photo); an image holding objects of both splits is left out, so no object is in both.
+Photos that do not decode (truncated, or not images) are named in the log and left out with their labels.
 
-Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts and rules). Existing files are never replaced unless 'Overwrite existing files' is on.</source>
+Split: whole images go to train or validation, none is left out: by field region (square cells of the region size, in the DSM's map units; an image goes with the region of most of its objects) or by photo. The log gives the images and labels of each set and warns when validation is empty or under half the fraction asked. An object seen in images of both sets is counted.
+
+Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.
+
+Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts, rules and the list of files written). The folder holds only the set: other files in it are refused, with a list of them; an older set is replaced only with 'Overwrite existing files', which removes exactly the files its training_set.json lists.</source>
       <translation>地図上で一度だけラベル付けしたオブジェクト（ポリゴン、または半径付きのポイント）を、生写真上の深層学習用データセットに変換します：COCO インスタンス（ポリゴンとボックス）、YOLO のセグメント／検出ラベルとその data.yaml、LabelMe ファイル。
 
-各オブジェクトは、それが写るすべての写真に逆投影されます（高さは DSM から、レンズ歪みを含み、DSM で遮蔽を判定し、「ROI の逆投影」と同じく写真を順位付け）。オブジェクトは、少なくとも最小可視割合がフレーム内にあり DSM に隠されていない写真でのみラベル付けされ、輪郭はフレームで切り取られます（隠れた部分は切り取りません）。オブジェクトごとの最良写真：上位 k 枚のみ残します（0 = すべて）。
+各オブジェクトは、それが写るすべての写真に逆投影されます（高さは DSM から、レンズ歪みを含み、DSM で遮蔽を判定し、「ROI の逆投影」と同じく写真を順位付け）。オブジェクトは、少なくとも最小可視割合がフレーム内にあり、自分以外の何にも隠されていない写真でラベル付けされます（畝間の土など、自分の群落が隠す部分は数えません）。輪郭はフレームで切り取られます（隠れた部分は切り取りません）。オブジェクトごとの最良写真：上位 k 枚のみ残します（0 = すべて）。
 
 タイル：タイルサイズを指定すると、写真はそのサイズ（ピクセル）のタイルに重なりを持たせて分割されます。輪郭は各タイルで正確に切り取られ、オブジェクトの最小可視割合より小さい部分は捨てられます。指定しなければ写真全体をコピーします。
 
-分割：オブジェクトは圃場の領域（領域サイズの正方形セル、DSM の地図単位）ごと、または写真（オブジェクトの最良写真の分割）ごとに学習または検証に割り当てられます。両方の分割のオブジェクトを含む画像は除外されるので、同じオブジェクトが両方に入ることはありません。
+デコードできない写真（途中で切れたもの、画像でないもの）はログに名前を示し、そのラベルとともに除外します。
 
-出力フォルダー：images/{train,val}、labels/{train,val} と data.yaml（YOLO セグメント）、yolo_detect/（YOLO 検出）、coco/instances_{train,val}.json、labelme/{train,val}、training_set.json（件数と規則）。「既存のファイルを上書き」がオンでない限り、既存のファイルは置き換えません。</translation>
+分割：画像は丸ごと学習または検証に割り当てられ、除外される画像はありません。圃場の領域（領域サイズの正方形セル、DSM の地図単位。画像はそのオブジェクトの多くが属する領域に従います）ごと、または写真ごとに分けます。ログには各セットの画像数とラベル数を示し、検証セットが空のとき、または指定割合の半分に満たないときは警告します。両方のセットの画像に写るオブジェクトは数えて示します。
+
+タイル：1 枚の写真が 4096 個を超えるタイルに分かれるタイルサイズは拒否します。
+
+出力フォルダー：images/{train,val}、labels/{train,val} と data.yaml（YOLO セグメント）、yolo_detect/（YOLO 検出）、coco/instances_{train,val}.json、labelme/{train,val}、training_set.json（件数、規則、書き込んだファイルの一覧）。フォルダーにはデータセットだけを置きます：それ以外のファイルがあれば一覧を示して拒否します。古いデータセットは「既存のファイルを上書き」がオンのときだけ置き換え、その training_set.json に載っているファイルだけを削除します。</translation>
     </message>
     <message>
       <source>Random seed of the split</source>
@@ -816,6 +824,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>ラベル付きオブジェクト：レイヤーが指定されていないか、読み込めません。</translation>
     </message>
     <message>
+      <source>EasyIDP</source>
+      <translation>EasyIDP</translation>
+    </message>
+    <message>
       <source>Labelled objects</source>
       <translation>ラベル付きオブジェクト</translation>
     </message>
@@ -836,6 +848,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>分割に使う領域の大きさ（DSM の地図単位）</translation>
     </message>
     <message>
+      <source>Training set: {warning}</source>
+      <translation>学習データセット：{warning}</translation>
+    </message>
+    <message>
       <source>Labelled objects: polygons or points are needed, not lines.</source>
       <translation>ラベル付きオブジェクト：ラインではなくポリゴンかポイントが必要です。</translation>
     </message>
@@ -850,6 +866,14 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Object '{name}': {why}</source>
       <translation>オブジェクト '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>Removed {n} file(s) of the older training set in the folder.</source>
+      <translation>フォルダー内の古い学習データセットのファイル {n} 個を削除しました。</translation>
+    </message>
+    <message>
+      <source>{split}: {images} images, {labels} labels of {objects} objects</source>
+      <translation>{split}：画像 {images} 枚、{objects} 個のオブジェクトのラベル {labels} 個</translation>
     </message>
     <message>
       <source>Labelled points need a positive disc radius (map units).</source>
@@ -1614,10 +1638,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
 {command}</source>
       <translation>インストールするには、QGIS デスクトップの EasyIDP メッセージバーで［インストール］をクリックするか、次のコマンドを実行してください：
 {command}</translation>
-    </message>
-    <message>
-      <source>EasyIDP</source>
-      <translation>EasyIDP</translation>
     </message>
     <message>
       <source>Installing Python packages for EasyIDP</source>

@@ -754,22 +754,30 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
 
-Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
+Each object is back-projected into every photo that sees it (heights from the DSM, lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). An object is labelled in a photo when at least the minimum visible share of it is in the frame and not hidden by anything outside it (what its own canopy hides of it, such as the soil between its rows, does not count); its outline is clipped to the frame (hidden parts are not cut out). Best photos per object: keep only the k best-ranked (0 = all).
 
 Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by the overlap; outlines are clipped to each tile and a part smaller than the minimum visible share of the object is dropped. Without, whole photos are copied.
 
-Split: objects go to train or validation by field region (square cells of the region size, in the DSM's map units) or by photo (the split of the object's best photo); an image holding objects of both splits is left out, so no object is in both.
+Photos that do not decode (truncated, or not images) are named in the log and left out with their labels.
 
-Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts and rules). Existing files are never replaced unless 'Overwrite existing files' is on.</source>
+Split: whole images go to train or validation, none is left out: by field region (square cells of the region size, in the DSM's map units; an image goes with the region of most of its objects) or by photo. The log gives the images and labels of each set and warns when validation is empty or under half the fraction asked. An object seen in images of both sets is counted.
+
+Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.
+
+Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and training_set.json (counts, rules and the list of files written). The folder holds only the set: other files in it are refused, with a list of them; an older set is replaced only with 'Overwrite existing files', which removes exactly the files its training_set.json lists.</source>
       <translation>将在地图上只标注一次的对象（多边形，或带半径的点）转换为原始照片上的深度学习训练集：COCO 实例（多边形和边界框）、YOLO 分割与检测标签及其 data.yaml，以及 LabelMe 文件。
 
-每个对象被反投影到所有能看到它的照片中（高度取自 DSM，包含镜头畸变，在 DSM 上检验遮挡，并像“反投影 ROI”一样对照片排序）。当对象至少有最小可见比例位于画幅内且未被 DSM 遮挡时，才在该照片中标注；其轮廓裁剪到画幅（被遮挡部分不切除）。每个对象的最佳照片：只保留排名前 k 张（0 = 全部）。
+每个对象被反投影到所有能看到它的照片中（高度取自 DSM，包含镜头畸变，在 DSM 上检验遮挡，并像“反投影 ROI”一样对照片排序）。当对象至少有最小可见比例位于画幅内且未被其自身以外的任何东西遮挡时（其自身冠层遮住的部分，例如行间的土壤，不计入），才在该照片中标注；其轮廓裁剪到画幅（被遮挡部分不切除）。每个对象的最佳照片：只保留排名前 k 张（0 = 全部）。
 
 瓦片：给出瓦片大小时，照片被切成该大小（像素）、按重叠量相互重叠的瓦片；轮廓被精确裁剪到每个瓦片，小于对象最小可见比例的部分被舍弃。不给出时复制整张照片。
 
-划分：对象按田间区域（区域大小的正方形格网，DSM 的地图单位）或按照片（对象最佳照片所属的划分）分到训练集或验证集；同时包含两个划分对象的图像被排除，因此没有对象同时出现在两者中。
+无法解码的照片（被截断，或不是图像）会在日志中列出，并连同其标签一起排除。
 
-输出文件夹：images/{train,val}、labels/{train,val} 和 data.yaml（YOLO 分割）、yolo_detect/（YOLO 检测）、coco/instances_{train,val}.json、labelme/{train,val} 以及 training_set.json（数量与规则）。除非开启“覆盖已有文件”，否则不会替换已有文件。</translation>
+划分：整张图像分到训练集或验证集，不排除任何图像：按田间区域（区域大小的正方形格网，DSM 的地图单位；图像归入其多数对象所在的区域）或按照片。日志给出每个集合的图像数和标签数，当验证集为空或少于所要求比例的一半时发出警告。出现在两个集合图像中的对象会被计数。
+
+瓦片：若瓦片大小使一张照片被切成超过 4096 个瓦片，则拒绝执行。
+
+输出文件夹：images/{train,val}、labels/{train,val} 和 data.yaml（YOLO 分割）、yolo_detect/（YOLO 检测）、coco/instances_{train,val}.json、labelme/{train,val} 以及 training_set.json（数量、规则和已写入文件的列表）。该文件夹只包含训练集：其中的其他文件会被拒绝并列出；只有在打开“覆盖已有文件”时才会替换旧的训练集，并且只删除其 training_set.json 所列出的文件。</translation>
     </message>
     <message>
       <source>Random seed of the split</source>
@@ -816,6 +824,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>已标注对象：未给出图层，或无法加载。</translation>
     </message>
     <message>
+      <source>EasyIDP</source>
+      <translation>EasyIDP</translation>
+    </message>
+    <message>
       <source>Labelled objects</source>
       <translation>已标注对象</translation>
     </message>
@@ -836,6 +848,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
       <translation>划分用区域大小（DSM 的地图单位）</translation>
     </message>
     <message>
+      <source>Training set: {warning}</source>
+      <translation>训练集：{warning}</translation>
+    </message>
+    <message>
       <source>Labelled objects: polygons or points are needed, not lines.</source>
       <translation>已标注对象：需要多边形或点，而不是线。</translation>
     </message>
@@ -850,6 +866,14 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Object '{name}': {why}</source>
       <translation>对象 '{name}'：{why}</translation>
+    </message>
+    <message>
+      <source>Removed {n} file(s) of the older training set in the folder.</source>
+      <translation>已删除文件夹中旧训练集的 {n} 个文件。</translation>
+    </message>
+    <message>
+      <source>{split}: {images} images, {labels} labels of {objects} objects</source>
+      <translation>{split}：{images} 张图像，{objects} 个对象的 {labels} 个标签</translation>
     </message>
     <message>
       <source>Labelled points need a positive disc radius (map units).</source>
@@ -1614,10 +1638,6 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
 {command}</source>
       <translation>要安装它们，请在 QGIS 桌面端的 EasyIDP 消息栏中点击“安装”，或运行：
 {command}</translation>
-    </message>
-    <message>
-      <source>EasyIDP</source>
-      <translation>EasyIDP</translation>
     </message>
     <message>
       <source>Installing Python packages for EasyIDP</source>

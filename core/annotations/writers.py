@@ -139,7 +139,7 @@ def labelme_document(im: LabelledImage, image_path: str) -> dict:
 
 
 def write_labelme(path, im: LabelledImage, image_path: str) -> str:
-    write_json(path, labelme_document(im, image_path), indent=1)
+    write_json(path, labelme_document(im, image_path), separators=(",", ":"))
     return os.fspath(path)
 
 

@@ -24,10 +24,15 @@ pixel (0.5, 0.5)), which COCO, YOLO and LabelMe share: no shift.
 Rules (stated once, here):
 
 * **Hidden or outside.** An object is labelled in a photo when at least ``min_visible`` of its
-  ground area is inside the frame *and* not hidden by the DSM (back-projection's share =
-  visible fraction × (1 − occluded fraction)); otherwise it is absent from that photo. A kept
-  object's outline is its whole projected outline clipped to the frame: parts hidden by the
-  DSM are not cut out (a 2 cm DSM cannot draw a leaf's edge).
+  ground area is inside the frame *and* not hidden by anything outside itself
+  (:mod:`.object_occlusion`: samples on the object's top surface; what its own canopy hides of
+  it, tall rows hiding the soil between them included, does not count): share = in-frame
+  fraction × (1 − hidden fraction). A kept object's outline is its whole projected outline
+  clipped to the frame: hidden parts are not cut out (a 2 cm DSM cannot draw a leaf's edge).
+* **Photos that do not decode.** Every photo is decoded before it goes into the set (a JPEG
+  must also end with its end-of-image marker: libjpeg fills a truncated one with grey without
+  an error). One that does not is left out with all its labels and named in
+  ``skipped_photos``.
 * **Tiles.** With ``tile_size`` > 0, photos are cut into tiles of that size (pixels) that
   overlap by ``tile_overlap`` pixels; the last tile of a row or column is aligned with the
   photo's edge. An object's outline is clipped exactly to each tile; the part is kept when its
@@ -36,16 +41,22 @@ Rules (stated once, here):
   and window ([x0, y0, width, height] photo pixels), keyed by the tile's file stem; COCO images
   carry the same as ``photo`` and ``photo_window``. Forward projection reads detections on the
   tiles (YOLO, LabelMe) back into the photo's pixels with it (``read_annotations(tiles=)``).
-* **Split.** Every *object* goes to train or val (seeded): ``split="region"`` by square field
-  cells of ``region_size`` map units that hold the object's centre; ``split="photo"`` by the
-  split of the object's best photo, photos drawn at random. An image goes to the split of its
-  objects; an image that holds objects of both splits is left out (counted), so no object is
-  in both.
-* **Best k.** ``best_k`` > 0 keeps the best k photos of each object (back-projection's rank).
+* **Split.** Whole images go to train or val, none is lost (:mod:`.training_split`: by photo,
+  or by square field regions of ``region_size`` map units); validation gets ``val_fraction`` of
+  the images, at least one when there are two. ``warnings`` says when validation is empty or
+  under half the fraction asked. An object seen in images of both splits is counted
+  (``shared_objects``).
+* **Best k.** ``best_k`` > 0 keeps the best k photos of each object (back-projection's rank
+  among the photos that keep it).
+* **Tiles per photo.** A tile size that cuts a photo into more than :data:`MAX_TILES_PER_PHOTO`
+  tiles is refused (the number is said). Only tiles that hold an object are cut and written.
 
-One decode per photo (tiles only; whole photos are copied without decoding); every file is
-written atomically, and none that exists is replaced unless ``overwrite``.
+Whole photos are decoded once (the check) and copied byte for byte; tiled photos are decoded
+at the check and again to cut them. Every file is written atomically. The folder holds only the set: what
+it lists in ``training_set.json``; OVERWRITE removes exactly that, foreign files are refused, a
+killed run's leftovers are removed by the next (:mod:`.training_folder`).
 """
+import dataclasses
 import os
 import shutil
 from dataclasses import dataclass, field
@@ -57,7 +68,7 @@ from ..annotations import (TILE_INDEX, LabelledImage, LabelledShape, tile_index_
                            write_coco, write_labelme, write_yolo_labels, yolo_data_yaml)
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
-from ..geometry import orient, polygons_area
+from ..geometry import orient, points_in_rings, polygons_area
 from ..naming import unique_names
 from ..photo_files import PHOTO_EXTENSIONS, file_name
 from ..progress import as_progress
@@ -65,37 +76,59 @@ from ..raster import as_dsm
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .clip import clip_convex, rectangle
+from .object_occlusion import outside_hidden_fractions
 from .photo_crops import PNG_FAST
 from .photos import DecodedPhotos, resolve_photos
+from .training_folder import MANIFEST, TrainingFolder
+from .training_split import SPLIT_MODES, SPLITS, assign_images, split_warnings
 
-SPLITS = ("train", "val")
-SPLIT_MODES = ("photo", "region")
-MANIFEST = "training_set.json"
+HIDDEN_SAMPLES = 64
+"""Samples per object for the hiding test (:mod:`.object_occlusion`): the share is known to
+1/64, ample beside ``min_visible``; Back-project ROIs uses 256."""
+MAX_TILES_PER_PHOTO = 4096
+"""Tiles one photo may be cut into; a smaller tile size is refused (a 20 MP photo in 64 px
+tiles gives about 4,900)."""
 
 
 @dataclass
 class TrainingSet:
     """What :func:`export_training_set` wrote. ``images``/``annotations``/``objects``: counts
-    per split; ``left_out``: images holding objects of both splits (not written);
-    ``object_split``: {instance: split} of every object labelled at least once; ``unseen``:
-    {instance: why no photo keeps it}; ``files``: every path written."""
+    per split; ``shared_objects``: objects in images of both splits; ``object_split``:
+    {instance: "train", "val" or "both"} of every object labelled at least once; ``unseen``:
+    {instance: why no photo keeps it}; ``skipped_photos``: {photo: why it was left out};
+    ``warnings``: what the user should know (an empty or small validation set);
+    ``removed``: an older set's files removed (overwrite); ``files``: every path written."""
     folder: str
     images: Dict[str, int] = field(default_factory=dict)
     annotations: Dict[str, int] = field(default_factory=dict)
     objects: Dict[str, int] = field(default_factory=dict)
-    left_out: int = 0
+    shared_objects: int = 0
     dropped_in_tiles: int = 0
     object_split: Dict[str, str] = field(default_factory=dict)
     unseen: Dict[str, str] = field(default_factory=dict)
     skipped_photos: Dict[str, str] = field(default_factory=dict)
     categories: List[str] = field(default_factory=list)
+    warnings: List[str] = field(default_factory=list)
+    notes: List[str] = field(default_factory=list)
+    removed: List[str] = field(default_factory=list)
     files: List[str] = field(default_factory=list)
 
     def summary(self) -> str:
-        per = ", ".join(f"{s}: {self.images.get(s, 0)} images, {self.annotations.get(s, 0)} "
+        per = "; ".join(f"{s}: {self.images.get(s, 0)} images, {self.annotations.get(s, 0)} "
                         f"labels of {self.objects.get(s, 0)} objects" for s in SPLITS)
-        return (f"{per}; {self.left_out} images left out (objects of both splits); "
+        return (f"{per}; {self.shared_objects} objects in images of both splits; "
+                f"{len(self.skipped_photos)} photos left out; "
                 f"{len(self.unseen)} objects seen by no photo")
+
+
+def photo_stem(path: str) -> str:
+    """The stem exported images and labels of a photo are named after: the photo file's own
+    name without its photo extension, case kept (``…/DJI_0002.JPG`` → ``DJI_0002``), so that
+    ``DJI_0002.jpg``, ``.json`` and ``.txt`` match the photo again by
+    :func:`..photo_files.photo_key`; never ``DJI_0002.JPG.jpg``."""
+    base = file_name(path)
+    stem, ext = os.path.splitext(base)
+    return stem if ext.lower() in PHOTO_EXTENSIONS else base
 
 
 def point_discs(names: Sequence[str], xy, radius: float, vertices: int = 32,
@@ -112,16 +145,6 @@ def point_discs(names: Sequence[str], xy, radius: float, vertices: int = 32,
     return ROISet([ROI(str(n), [[ring + p]], dict(a)) for n, p, a in zip(names, xy, attrs)], crs)
 
 
-def photo_stem(path: str) -> str:
-    """The stem exported images and labels of a photo are named after: the photo file's own
-    name without its photo extension, case kept (``…/DJI_0002.JPG`` → ``DJI_0002``), so that
-    ``DJI_0002.jpg``, ``.json`` and ``.txt`` match the photo again by
-    :func:`..photo_files.photo_key`; never ``DJI_0002.JPG.jpg``."""
-    base = file_name(path)
-    stem, ext = os.path.splitext(base)
-    return stem if ext.lower() in PHOTO_EXTENSIONS else base
-
-
 def tile_origins(length: int, size: int, overlap: int) -> List[int]:
     """Start pixels of tiles of ``size`` along ``length`` overlapping by ``overlap``; the last
     aligned with the end. One tile (0) when ``size`` is 0 or at least ``length``."""
@@ -132,31 +155,49 @@ def tile_origins(length: int, size: int, overlap: int) -> List[int]:
     return sorted(set(starts))
 
 
-def _object_splits(rois: ROISet, bp, mode: str, val_fraction: float, region_size: float,
-                   seed: int) -> np.ndarray:
-    """(n,) 0 = train, 1 = val per ROI (see the module docstring)."""
-    rng = np.random.default_rng(seed)
-    n = len(rois)
-    out = np.zeros(n, np.int8)
-    if val_fraction <= 0 or n == 0:
-        return out
-    if mode == "region":
-        centres = np.array([[(b[0] + b[2]) / 2, (b[1] + b[3]) / 2] for b in (r.bounds for r in rois)])
-        cells = np.floor(centres / region_size).astype(np.int64)
-        uniq, inv = np.unique(cells, axis=0, return_inverse=True)
-        inv = np.asarray(inv).ravel()
-        k = int(round(val_fraction * len(uniq)))
-        val_cells = rng.permutation(len(uniq))[:k]
-        is_val = np.zeros(len(uniq), bool)
-        is_val[val_cells] = True
-        return is_val[inv].astype(np.int8)
-    labels = bp.photo_labels
-    k = int(round(val_fraction * len(labels)))
-    val_photo = np.zeros(len(labels), bool)
-    val_photo[rng.permutation(len(labels))[:k]] = True
-    best = bp.rank == 1
-    out[bp.roi[best]] = val_photo[bp.photo_index[best]].astype(np.int8)
-    return out
+def _check_tiles(tile_size: int, tile_overlap: int, sizes) -> None:
+    if tile_size < 0 or tile_overlap < 0 or (tile_size and tile_overlap >= tile_size):
+        raise InputError(f"Tiles of {tile_size} px with {tile_overlap} px overlap: the size must "
+                         "be 0 (whole photos) or more than the overlap, both ≥ 0.")
+    if not tile_size:
+        return
+    for w, h in {(int(a), int(b)) for a, b in sizes}:
+        n = len(tile_origins(w, tile_size, tile_overlap)) * len(tile_origins(h, tile_size, tile_overlap))
+        if n > MAX_TILES_PER_PHOTO:
+            raise InputError(
+                f"Tiles of {tile_size} px with {tile_overlap} px overlap cut a {w} × {h} px photo "
+                f"into {n} tiles, more than {MAX_TILES_PER_PHOTO} per photo. Choose a larger tile "
+                "size or a smaller overlap.")
+
+
+def _visible_pairs(bp, rois, recon, dsm, min_visible: float, best_k: int, prog):
+    """The back-projection records kept by the rule of the module docstring: the in-frame share
+    times the share not hidden by anything outside the object; the best ``best_k`` per object."""
+    cams = [recon.camera(lab) for lab in bp.photo_labels]
+    hidden, notes = outside_hidden_fractions(rois, bp.roi, bp.photo_index, recon, cams, dsm,
+                                             samples=HIDDEN_SAMPLES, progress=prog)
+    share = bp.visible_fraction * (1.0 - np.nan_to_num(hidden, nan=0.0))
+    keep = np.flatnonzero(share >= min_visible)          # records are sorted by ROI, then rank
+    roi = bp.roi[keep]
+    first = np.ones(len(keep), bool)
+    first[1:] = roi[1:] != roi[:-1]
+    start = np.maximum.accumulate(np.where(first, np.arange(len(keep)), 0))
+    rank = np.arange(len(keep)) - start + 1
+    if best_k > 0:
+        keep, rank = keep[rank <= best_k], rank[rank <= best_k]
+    out = dataclasses.replace(
+        bp, roi=bp.roi[keep], photo=bp.photo[keep], photo_index=bp.photo_index[keep],
+        polygons=bp.polygons.take(keep), visible_fraction=bp.visible_fraction[keep],
+        occluded_fraction=hidden[keep], score=bp.score[keep], view_angle=bp.view_angle[keep],
+        gsd=bp.gsd[keep], centre_distance=bp.centre_distance[keep],
+        rank=rank.astype(np.int32), clipped=bp.clipped[keep], unseen=dict(bp.unseen))
+    seen = np.bincount(bp.roi, minlength=len(rois))
+    kept = np.bincount(out.roi, minlength=len(rois))
+    for r in np.flatnonzero((seen > 0) & (kept == 0)):
+        out.unseen[rois.names[r]] = (f"in the frame of {seen[r]} photo(s), but less than "
+                                     f"{min_visible:g} of it in the frame and not hidden by "
+                                     "anything outside it in each")
+    return out, notes
 
 
 def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_folder, *,
@@ -193,16 +234,17 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     if split == "region" and not region_size > 0:
         raise InputError(f"The region size must be positive map units, not {region_size}.")
     tile_size, tile_overlap = int(tile_size), int(tile_overlap)
-    if tile_size < 0 or tile_overlap < 0 or (tile_size and tile_overlap >= tile_size):
-        raise InputError(f"Tiles of {tile_size} px with {tile_overlap} px overlap: the size must "
-                         "be 0 (whole photos) or more than the overlap, both ≥ 0.")
+    cams = recon.select_cameras(cameras)
+    _check_tiles(tile_size, tile_overlap,
+                 [(recon.sensors[c.sensor_id].width, recon.sensors[c.sensor_id].height) for c in cams])
     dsm = as_dsm(dsm, dsm_crs)
-    bp = back_project(rois, recon, heights=dsm, cameras=cameras, occlusion_dsm=dsm,
-                      min_visible=min_visible, max_images=best_k, progress=prog.sub(0, 60))
+    bp = back_project(rois, recon, heights=dsm, cameras=cameras, occlusion_dsm=None,
+                      min_visible=min_visible, max_images=0, progress=prog.sub(0, 40))
+    bp, notes = _visible_pairs(bp, rois, recon, dsm, float(min_visible), int(best_k),
+                               prog.sub(40, 60))
     categories = sorted(set(classes))
-    obj_split = _object_splits(rois, bp, split, val_fraction, region_size, seed)
     result = TrainingSet(os.path.abspath(os.fspath(out_folder)), categories=categories,
-                         unseen=dict(bp.unseen))
+                         unseen=dict(bp.unseen), notes=notes)
 
     used = sorted(set(bp.photo_index.tolist()), key=lambda j: bp.photo_labels[j])
     labels = [bp.photo_labels[j] for j in used]
@@ -212,9 +254,12 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
     stems = dict(zip(labels, unique_names(photo_stem(found.get(lab) or lab) for lab in labels)))
+    centres = np.array([[(b[0] + b[2]) / 2, (b[1] + b[3]) / 2] for b in (r.bounds for r in rois)]) \
+        if len(rois) else np.zeros((0, 2))
 
     # every image and its labels, before anything is written
-    images = []          # (split, LabelledImage, photo label, (r0, c0) or None)
+    roi_names = rois.names
+    images = []          # [split, LabelledImage, photo label, (r0, c0) or None, roi indices]
     by_photo = {}
     for i in range(len(bp)):
         by_photo.setdefault(int(bp.photo_index[i]), []).append(i)
@@ -222,75 +267,81 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
         label = bp.photo_labels[j]
         if label not in found:
             continue
+        prog.check()
         w, h = (int(v) for v in bp.image_sizes[j])
         recs = by_photo[j]
         polys = {i: orient(bp.polygons_of(i)) for i in recs}
-        full = {i: polygons_area(p) for i, p in polys.items()}
         ext = os.path.splitext(found[label])[1].lower() if not tile_size else ".png"
-        for r0 in tile_origins(h, tile_size, tile_overlap):
-            for c0 in tile_origins(w, tile_size, tile_overlap):
-                tw, th = (min(tile_size, w), min(tile_size, h)) if tile_size else (w, h)
-                name = stems[label] + (f"_r{r0:05d}_c{c0:05d}" if tile_size else "") + ext
-                im = LabelledImage(name, tw, th, attributes={"photo": label,
-                                                             "photo_window": [c0, r0, tw, th]})
-                sp = set()
-                for i in recs:
-                    p = polys[i]
-                    if tile_size:
-                        off = np.array([c0, r0], float)
-                        p = clip_convex([[ring - off for ring in q] for q in p], rectangle(tw, th))
-                        if not p or polygons_area(p) < min_visible * full[i]:
-                            if p:
-                                result.dropped_in_tiles += 1
-                            continue
-                    r = int(bp.roi[i])
-                    im.shapes.append(LabelledShape(
-                        classes[r], rois.names[r], p,
-                        {"photo": label, "rank": int(bp.rank[i]),
-                         "visible_fraction": round(float(bp.visible_fraction[i]), 4),
-                         "occluded_fraction": round(float(bp.occluded_fraction[i]), 4)}))
-                    sp.add(int(obj_split[r]))
-                if not im.shapes:
-                    continue
-                if len(sp) > 1:
-                    result.left_out += 1
-                    continue
-                images.append((SPLITS[sp.pop()], im, label, (r0, c0) if tile_size else None))
+        if not tile_size:
+            im = LabelledImage(stems[label] + ext, w, h,
+                               attributes={"photo": label, "photo_window": [0, 0, w, h]})
+            for i in recs:
+                im.shapes.append(_shape(bp, i, polys[i], classes, roi_names))
+            images.append([None, im, label, None, [int(bp.roi[i]) for i in recs]])
+            continue
+        for (r0, c0), parts in _tile_parts(polys, w, h, tile_size, tile_overlap, min_visible,
+                                           result):
+            tw, th = min(tile_size, w), min(tile_size, h)
+            im = LabelledImage(f"{stems[label]}_r{r0:05d}_c{c0:05d}.png", tw, th,
+                               attributes={"photo": label, "photo_window": [c0, r0, tw, th]})
+            for i, p in parts:
+                im.shapes.append(_shape(bp, i, p, classes, roi_names))
+            images.append([None, im, label, (r0, c0), [int(bp.roi[i]) for i, _ in parts]])
     prog.set(65)
 
-    names = {"data.yaml", MANIFEST, os.path.join("yolo_detect", "data.yaml")}
+    names = {"data.yaml", os.path.join("yolo_detect", "data.yaml")}
     if tile_size:
         names.add(TILE_INDEX)
     for s in SPLITS:
         names.add(os.path.join("coco", f"instances_{s}.json"))
-    for s, im, _, _ in images:
-        stem = os.path.splitext(im.file_name)[0]
-        names.update({os.path.join("images", s, im.file_name),
-                      os.path.join("labels", s, stem + ".txt"),
-                      os.path.join("yolo_detect", "images", s, im.file_name),
-                      os.path.join("yolo_detect", "labels", s, stem + ".txt"),
-                      os.path.join("labelme", s, stem + ".json")})
-    inputs = [dsm.path] + list(found.values())
+    for s in SPLITS:               # the split is not drawn yet: either may hold an image
+        for x in images:
+            names.update(_image_files(s, x[1].file_name))
+    root = os.path.realpath(os.fspath(out_folder)) + os.sep
+    inputs = [p for p in [dsm.path] + list(found.values())         # an output can only be an
+              if p and os.path.realpath(p).startswith(root)]         # input inside the folder
     with OutputFolder(out_folder, overwrite=overwrite, inputs=inputs,
                       what="Training set folder") as out:
-        out.claim(sorted(names))
+        plan = TrainingFolder(out.folder)
+        plan.check(overwrite)
+        if inputs:
+            raise InputError(f"The training set folder {str(out.folder)!r} holds inputs of this "
+                             f"export ({inputs[0]}…): it would replace them. Choose another "
+                             "folder.")
+        # photos that do not decode are found while writing; their files are not written
+        planned = {"data.yaml", os.path.join("yolo_detect", "data.yaml"), TILE_INDEX} | \
+            {os.path.join("coco", f"instances_{s}.json") for s in SPLITS}
+        plan.begin(sorted(names & planned) + sorted(n for x in images for s in SPLITS
+                                                    for n in _image_files(s, x[1].file_name)))
         for s in SPLITS:
             for sub in ("images", "labels", os.path.join("yolo_detect", "images"),
                         os.path.join("yolo_detect", "labels"), "labelme"):
                 os.makedirs(out.folder / sub / s, exist_ok=True)
         os.makedirs(out.folder / "coco", exist_ok=True)
-        _write_images(out.folder, images, found, bp, used, result, prog)
+        good = _decodable(images, found, bp, result, prog)
+        images = [x for x in images if x[2] in good]
+        split_of, warn = assign_images([x[2] for x in images],
+                                       [centres[x[4]] for x in images], split,
+                                       float(val_fraction), float(region_size), int(seed))
+        for x, k in zip(images, split_of):
+            x[0] = SPLITS[int(k)]
+        _write_images(out.folder, images, found, good, result, prog)
         _write_labels(out.folder, images, categories, result)
         for s in SPLITS:
             result.images[s] = sum(1 for x in images if x[0] == s)
             result.annotations[s] = sum(len(x[1].shapes) for x in images if x[0] == s)
-        for s, im, _, _ in images:
+        splits_of = {}
+        for s, im, *_ in images:
             for sh in im.shapes:
-                result.object_split[sh.instance] = s
+                splits_of.setdefault(sh.instance, set()).add(s)
         for s in SPLITS:
-            result.objects[s] = sum(1 for v in result.object_split.values() if v == s)
+            result.objects[s] = sum(1 for v in splits_of.values() if s in v)
+        result.object_split = {k: (next(iter(v)) if len(v) == 1 else "both")
+                               for k, v in splits_of.items()}
+        result.shared_objects = sum(1 for v in result.object_split.values() if v == "both")
+        result.warnings = warn + split_warnings(result.images["val"], len(images),
+                                                float(val_fraction), len(result.object_split))
         manifest = {
-            "format": "easyidp-training-set", "version": 1,
             "pixels": "origin at the top-left corner of the image, x right, y down; the centre of "
                       "the top-left pixel is (0.5, 0.5) (COCO, YOLO and LabelMe alike)",
             "rules": {"min_visible": float(min_visible), "best_k": int(best_k),
@@ -298,33 +349,142 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
                       "val_fraction": float(val_fraction), "region_size": float(region_size),
                       "seed": int(seed),
                       "hidden": "an object is labelled in a photo when at least min_visible of it "
-                                "is in the frame and not hidden by the DSM; hidden parts of a kept "
-                                "object are not cut out",
+                                "is in the frame and not hidden by anything outside it (samples "
+                                "on its top surface; its own canopy does not count); hidden "
+                                "parts of a kept object are not cut out",
                       "tiles": "outlines clipped to the tile; a part smaller than min_visible of "
                                "the object's area in the photo is dropped",
-                      "split_rule": "objects go to one split; images holding both are left out"},
+                      "split_rule": "whole images go to one split, none is left out; objects "
+                                    "seen in images of both splits are counted as shared"},
             "categories": categories, "images": result.images, "annotations": result.annotations,
-            "objects": result.objects, "left_out_images": result.left_out,
+            "objects": result.objects, "shared_objects": result.shared_objects,
             "dropped_in_tiles": result.dropped_in_tiles, "object_split": result.object_split,
             "unseen": result.unseen, "skipped_photos": result.skipped_photos,
-            "back_projection": bp.settings}
+            "warnings": result.warnings, "back_projection": bp.settings}
         if tile_size:
             tiles = {os.path.splitext(im.file_name)[0]: (label, im.attributes["photo_window"])
-                     for _, im, label, _ in images}
+                     for _, im, label, *_ in images}
             write_json(out.folder / TILE_INDEX, tile_index_document(tiles), indent=1)
             result.files.append(str(out.folder / TILE_INDEX))
-        write_json(out.folder / MANIFEST, manifest, indent=1)
+        written = [os.path.relpath(f, out.folder) for f in result.files] + [MANIFEST]
+        plan.new = sorted({n.replace(os.sep, "/") for n in written})
+        result.removed = plan.finish(manifest)
         result.files.append(str(out.folder / MANIFEST))
     result.files.sort()
     prog.set(100)
     return result
 
 
-def _write_images(folder, images, found, bp, used, result, prog):
-    """Whole photos copied (no decode); tiles cut from one decode per photo."""
+def _image_files(s: str, file_name_: str) -> List[str]:
+    stem = os.path.splitext(file_name_)[0]
+    return [os.path.join("images", s, file_name_), os.path.join("labels", s, stem + ".txt"),
+            os.path.join("yolo_detect", "images", s, file_name_),
+            os.path.join("yolo_detect", "labels", s, stem + ".txt"),
+            os.path.join("labelme", s, stem + ".json")]
+
+
+def _shape(bp, i: int, polygons, classes, names) -> LabelledShape:
+    r = int(bp.roi[i])
+    return LabelledShape(classes[r], names[r], polygons,
+                         {"photo": str(bp.photo[i]), "rank": int(bp.rank[i]),
+                          "visible_fraction": round(float(bp.visible_fraction[i]), 4),
+                          "occluded_fraction": round(float(np.nan_to_num(bp.occluded_fraction[i])), 4)})
+
+
+def _tile_parts(polys, w: int, h: int, size: int, overlap: int, min_visible: float, result):
+    """[((r0, c0), [(record, clipped polygons)])] of the tiles of one photo that hold a part of
+    an object: each outline is clipped only to the tiles its bounding box meets."""
+    rows = np.array(tile_origins(h, size, overlap))
+    cols = np.array(tile_origins(w, size, overlap))
+    tw, th = min(size, w), min(size, h)
+    tiles = {}
+    for i, p in polys.items():
+        xy = np.concatenate([ring for q in p for ring in q])
+        x0, y0 = xy.min(axis=0)
+        x1, y1 = xy.max(axis=0)
+        cs = cols[(cols < x1) & (cols + tw > x0)]
+        rs = rows[(rows < y1) & (rows + th > y0)]
+        full = polygons_area(p)
+        for r0 in rs:
+            for c0 in cs:
+                off = np.array([c0, r0], float)
+                q = [[ring - off for ring in part] for part in p]
+                if not (x0 >= c0 and y0 >= r0 and x1 <= c0 + tw and y1 <= r0 + th):
+                    q = [part for part in clip_convex(q, rectangle(tw, th))
+                         if not _spurious_tile(part, p, c0, r0, tw, th)]
+                if not q:
+                    continue
+                if polygons_area(q) < min_visible * full:
+                    result.dropped_in_tiles += 1
+                    continue
+                tiles.setdefault((int(r0), int(c0)), []).append((i, q))
+    return sorted(tiles.items())
+
+
+def _spurious_tile(part, polygons, c0, r0, tw, th) -> bool:
+    """A clipped part that is the whole tile although the outline does not hold the tile's
+    centre: what ``clip_convex`` returns beside the true part for a ring through a corner of the
+    rectangle (seen on the demo: a ring clipped to the photo's corner, then to the corner tile)."""
+    if abs(polygons_area([part]) - tw * th) > 1e-6 * tw * th:
+        return False
+    cx, cy = c0 + tw / 2.0, r0 + th / 2.0
+    return not any(points_in_rings(np.array([cx]), np.array([cy]), q)[0] for q in polygons)
+
+
+IMAGE_MAGIC = (b"\xff\xd8", b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+", b"\x89PNG",
+               b"\x00\x00\x00\x0cjP  ", b"\xff\x4f\xff\x51", b"RIFF", b"BM")
+"""How a photo file may start: JPEG, TIFF (and DNG), BigTIFF, PNG, JPEG 2000, WebP, BMP."""
+
+
+def _photo_problem(path: str) -> str:
+    """Why the file cannot be a complete photo ("" when it may be): it starts like no image
+    format (a text file named .JPG; never handed to a decoder that tries every codec), or it is
+    a JPEG without its end-of-image marker (truncated; zero padding allowed)."""
+    with open(path, "rb") as fh:
+        head = fh.read(12)
+        if not any(head.startswith(m) for m in IMAGE_MAGIC):
+            return (f"{path} is not an image (it starts with {head[:8]!r}): put the photo "
+                    "itself there")
+        if not head.startswith(b"\xff\xd8"):
+            return ""
+        fh.seek(0, os.SEEK_END)
+        fh.seek(max(0, fh.tell() - 65536))
+        if not fh.read().rstrip(b"\x00").endswith(b"\xff\xd9"):
+            return (f"the JPEG {path} is truncated (no end-of-image marker): copy it again from "
+                    "the card or the drone")
+    return ""
+
+
+def _decodable(images, found, bp, result, prog) -> Dict[str, tuple]:
+    """{photo label: (width, height)} of the photos that decode at the camera's size; the
+    others go to ``result.skipped_photos``. Tiled photos are decoded again when written."""
+    labels = sorted({x[2] for x in images})
+    size = {lab: tuple(int(v) for v in bp.image_sizes[bp.photo_labels.index(lab)]) for lab in labels}
+    paths, why = [], []
+    for lab in labels:
+        try:
+            problem = _photo_problem(found[lab])
+        except OSError as exc:
+            problem = f"{found[lab]} cannot be read ({exc.strerror})"
+        why.append(problem)
+        paths.append(None if problem else found[lab])
+    good = {}
+    with DecodedPhotos(paths, [size[lab] for lab in labels], missing=why) as decoded:
+        for k, img, reason in decoded:
+            if img is None:
+                result.skipped_photos[labels[k]] = f"left out with its labels: {reason}"
+            else:
+                good[labels[k]] = size[labels[k]]
+            prog.set(65 + 10 * (k + 1) / max(len(labels), 1))
+    return good
+
+
+def _write_images(folder, images, found, good, result, prog):
+    """Whole photos copied byte for byte (after their decode check); tiles cut from one decode
+    per photo."""
     import imagecodecs
     by_label = {}
-    for s, im, label, win in images:
+    for s, im, label, win, _ in images:
         by_label.setdefault(label, []).append((s, im, win))
 
     def place(s, im, data_writer):
@@ -338,7 +498,7 @@ def _write_images(folder, images, found, bp, used, result, prog):
                 shutil.copyfile(main, tmp)
         result.files += [str(main), str(link)]
 
-    labels = [lab for lab in (bp.photo_labels[j] for j in used) if lab in by_label]
+    labels = sorted(by_label)
     tiled = [lab for lab in labels if by_label[lab][0][2] is not None]
     for lab in labels:
         if lab in tiled:
@@ -351,27 +511,26 @@ def _write_images(folder, images, found, bp, used, result, prog):
         prog.check()
     if not tiled:
         return
-    sizes = [tuple(int(v) for v in bp.image_sizes[bp.photo_labels.index(lab)]) for lab in tiled]
-    with DecodedPhotos([found[lab] for lab in tiled], sizes) as decoded:
+    with DecodedPhotos([found[lab] for lab in tiled], [good[lab] for lab in tiled]) as decoded:
         for k, img, why in decoded:
             lab = tiled[k]
-            if img is None:
-                result.skipped_photos[lab] = why
-                continue
+            if img is None:             # decoded at the check, not now: the file changed
+                raise InputError(f"The photo {found[lab]} changed while the training set was "
+                                 f"written: {why}. Run again with overwrite.")
+            if img.dtype != np.uint8:
+                raise InputError(f"Photo {lab}: tiles are written as 8-bit PNG, but the photo "
+                                 f"is {img.dtype}; export whole photos (tile size 0).")
             for s, im, (r0, c0) in by_label[lab]:
                 tile = np.ascontiguousarray(img[r0:r0 + im.height, c0:c0 + im.width])
-                if tile.dtype != np.uint8:
-                    raise InputError(f"Photo {lab}: tiles are written as 8-bit PNG, but the photo "
-                                     f"is {tile.dtype}; export whole photos (tile size 0).")
                 place(s, im, lambda dst: write_bytes(dst, imagecodecs.png_encode(tile, **PNG_FAST)))
-            prog.set(65 + 30 * (k + 1) / len(tiled))
+            prog.set(75 + 20 * (k + 1) / len(tiled))
 
 
 def _write_labels(folder, images, categories, result):
     index = {c: k for k, c in enumerate(categories)}
     present = [s for s in SPLITS]
     for s in SPLITS:
-        ims = [im for sp, im, _, _ in images if sp == s]
+        ims = [im for sp, im, *_ in images if sp == s]
         result.files.append(write_coco(folder / "coco" / f"instances_{s}.json", ims, categories,
                                        f"EasyIDP training set, {s}"))
         for im in ims:
@@ -387,4 +546,5 @@ def _write_labels(folder, images, categories, result):
         result.files.append(str(root / "data.yaml"))
 
 
-__all__ = ["export_training_set", "TrainingSet", "point_discs", "tile_origins", "SPLIT_MODES"]
+__all__ = ["export_training_set", "TrainingSet", "point_discs", "photo_stem", "tile_origins",
+           "SPLIT_MODES", "MAX_TILES_PER_PHOTO"]

@@ -15,6 +15,22 @@ from ..rois import rois_from_source
 from ..values import is_null
 from .base import CoreStep, EasyIDPAlgorithm
 
+
+def show_lasting_warning(title: str, text: str, bar=None) -> bool:
+    """A warning in the message bar (default the desktop's) that stays until dismissed
+    (duration 0); False without a desktop (qgis_process: the log's WARNING lines say it)."""
+    if bar is None:
+        try:
+            from qgis.utils import iface
+        except ImportError:
+            return False
+        if iface is None or not hasattr(iface, "messageBar"):
+            return False
+        bar = iface.messageBar()
+    from qgis.core import Qgis
+    bar.pushMessage(title, text, Qgis.Warning, 0)
+    return True
+
 SPLITS = ("region", "photo")
 
 
@@ -49,18 +65,26 @@ class ExportTrainingSet(EasyIDPAlgorithm):
         "Each object is back-projected into every photo that sees it (heights from the DSM, "
         "lens distortion, occlusion tested on the DSM, photos ranked as Back-project ROIs does). "
         "An object is labelled in a photo when at least the minimum visible share of it is in the "
-        "frame and not hidden by the DSM; its outline is clipped to the frame (hidden parts are "
+        "frame and not hidden by anything outside it (what its own canopy hides of it, such as "
+        "the soil between its rows, does not count); its outline is clipped to the frame (hidden parts are "
         "not cut out). Best photos per object: keep only the k best-ranked (0 = all).\n\n"
         "Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlapping by "
         "the overlap; outlines are clipped to each tile and a part smaller than the minimum "
         "visible share of the object is dropped. Without, whole photos are copied.\n\n"
-        "Split: objects go to train or validation by field region (square cells of the region "
-        "size, in the DSM's map units) or by photo (the split of the object's best photo); an "
-        "image holding objects of both splits is left out, so no object is in both.\n\n"
+        "Photos that do not decode (truncated, or not images) are named in the log and left "
+        "out with their labels.\n\n"
+        "Split: whole images go to train or validation, none is left out: by field region "
+        "(square cells of the region size, in the DSM's map units; an image goes with the region "
+        "of most of its objects) or by photo. The log gives the images and labels of each set "
+        "and warns when validation is empty or under half the fraction asked. An object seen in "
+        "images of both sets is counted.\n\n"
+        "Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.\n\n"
         "Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segment), "
         "yolo_detect/ (YOLO detect), coco/instances_{train,val}.json, labelme/{train,val} and "
-        "training_set.json (counts and rules). Existing files are never replaced unless "
-        "'Overwrite existing files' is on.")
+        "training_set.json (counts, rules and the list of files written). The folder holds only "
+        "the set: other files in it are refused, with a list of them; an older set is replaced "
+        "only with 'Overwrite existing files', which removes exactly the files its "
+        "training_set.json lists.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFeatureSource(
@@ -148,8 +172,31 @@ class ExportTrainingSet(EasyIDPAlgorithm):
             feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
         for name, why in list(result.unseen.items())[:50]:
             feedback.pushWarning(self.tr("Object '{name}': {why}").format(name=name, why=why))
+        for note in result.notes:
+            feedback.pushInfo(note)
+        if result.removed:
+            feedback.pushInfo(self.tr("Removed {n} file(s) of the older training set in the "
+                                      "folder.").format(n=len(result.removed)))
+        for split in ("train", "val"):
+            feedback.pushInfo(self.tr("{split}: {images} images, {labels} labels of {objects} "
+                                      "objects").format(
+                split=split, images=result.images.get(split, 0),
+                labels=result.annotations.get(split, 0), objects=result.objects.get(split, 0)))
         feedback.pushInfo(result.summary())
+        self._warnings = []
+        for w in result.warnings:
+            text = self.tr("Training set: {warning}").format(warning=w)
+            feedback.pushWarning(text)
+            self._warnings.append(text)
         return {self.OUTPUT_FOLDER: result.folder}
+
+    def postProcessAlgorithm(self, context, feedback):  # noqa: N802 (QGIS API)
+        """In the desktop, the split's warnings also go to the message bar, where they stay
+        until dismissed (the log scrolls away)."""
+        warnings = getattr(self, "_warnings", [])
+        if warnings:
+            show_lasting_warning(self.tr("EasyIDP"), " ".join(warnings))
+        return {}
 
     def _objects(self, parameters, context, feedback, source, class_field, id_field, crs):
         """(ROISet in the DSM's CRS, classes): polygons as they are, points as discs."""
