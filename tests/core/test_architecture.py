@@ -38,7 +38,7 @@ PACKAGE = "easyidp_toolbox"       # the repository root is the plugin package
 LAYERS: Tuple[Tuple[str, ...], ...] = (
     ("basics",),                     # errors, crs, progress, geometry, ragged, rotations, wkb,
                                      # files, naming, gpkg, indices, photo_files,
-                                     # height_statistics (the heights vocabulary)
+                                     # height_statistics (the heights vocabulary), safe_xml
     ("annotations",),                # shapes on raw photos (LabelMe, COCO, YOLO), pixel space
     ("roi",),                        # ROI, ROISet and their readers (LabelMe via annotations)
     ("raster", "pointcloud"),        # the raster engine; point clouds
