@@ -14,7 +14,6 @@ The truths: the demo survey's truth file (written by the generator, independent 
 under test) in the tutorials' own checks; the file tree for the names; the English page for the
 translations. The site in a browser: ``test_docs_site.py``.
 """
-import os
 import re
 import shutil
 import subprocess

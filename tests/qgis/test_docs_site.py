@@ -11,7 +11,6 @@ same-site link once, and posts the report back to the server. The negative contr
 crawl on a small site with one fault of each kind and must find all three.
 """
 import json
-import os
 import shutil
 import subprocess
 import tempfile
@@ -20,7 +19,6 @@ from functools import partial
 from http.server import SimpleHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
 
-import pytest
 
 ROOT = Path(__file__).resolve().parents[2]
 SITE = ROOT / "site"
