@@ -343,7 +343,7 @@ def hold_lock(path: PathLike, token: str = "") -> HeldLock:
         fd = os.open(path, os.O_CREAT | os.O_RDWR, 0o644)
         if not _try_lock(fd):
             os.close(fd)
-            raise LockHeld(path, _read_lock(path))
+            raise LockHeld(path, _holder(path))
         try:                                 # its holder may have removed it between our open
             same = os.path.samestat(os.fstat(fd), os.stat(path))    # and our lock: try again
         except OSError:
@@ -357,6 +357,18 @@ def hold_lock(path: PathLike, token: str = "") -> HeldLock:
                                  "started": time.strftime("%Y-%m-%d %H:%M:%S")}).encode())
         return HeldLock(path, fd)
     raise LockHeld(path, {})
+
+
+def _holder(path: Path, wait: float = 1.0) -> dict:
+    """What the lock file says of its holder. A holder writes that just after taking the lock,
+    so a run refused in between finds the file empty or half written: read again for up to
+    ``wait`` s before giving up (then the message says the holder is unknown)."""
+    deadline = time.monotonic() + wait
+    while True:
+        holder = _read_lock(path)
+        if holder.get("pid") is not None or time.monotonic() > deadline:
+            return holder
+        time.sleep(0.02)
 
 
 def file_lock_name(path: PathLike) -> Path:
