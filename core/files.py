@@ -332,7 +332,7 @@ class HeldLock:
         self.fd = -1
 
 
-def hold_lock(path: PathLike, token: str = "") -> HeldLock:
+def hold_lock(path: PathLike, run_id: Optional[str] = None) -> HeldLock:
     """Create (or take over) the lock file ``path`` and lock it exclusively, writing who holds it
     (process, host, start time) into it; raises :class:`LockHeld` when another run (another
     process, or another thread of this one) holds it. Exclusive by the system's file lock, not by
@@ -353,7 +353,7 @@ def hold_lock(path: PathLike, token: str = "") -> HeldLock:
             continue
         os.ftruncate(fd, 0)
         os.lseek(fd, 0, os.SEEK_SET)
-        os.write(fd, json.dumps({"pid": os.getpid(), "host": socket.gethostname(), "token": token,
+        os.write(fd, json.dumps({"pid": os.getpid(), "host": socket.gethostname(), "run": run_id,
                                  "started": time.strftime("%Y-%m-%d %H:%M:%S")}).encode())
         return HeldLock(path, fd)
     raise LockHeld(path, {})

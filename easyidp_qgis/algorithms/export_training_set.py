@@ -5,8 +5,9 @@ from qgis.core import (QgsCoordinateTransform, QgsFeatureRequest, QgsProcessingE
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
                        QgsProcessingParameterRasterLayer, QgsWkbTypes)
 
-from ..compat import (GeometryType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
-                      ProcessingParameterFlag, ProcessingSourceType)
+from ..compat import (GeometryType, MessageLevel, ProcessingFileParameterBehavior,
+                      ProcessingNumberParameterType, ProcessingParameterFlag,
+                      ProcessingSourceType)
 from ..crs import crs_string
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
@@ -27,8 +28,7 @@ def show_lasting_warning(title: str, text: str, bar=None) -> bool:
         if iface is None or not hasattr(iface, "messageBar"):
             return False
         bar = iface.messageBar()
-    from qgis.core import Qgis
-    bar.pushMessage(title, text, Qgis.Warning, 0)
+    bar.pushMessage(title, text, MessageLevel.Warning, 0)
     return True
 
 SPLITS = ("region", "photo")

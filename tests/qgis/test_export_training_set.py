@@ -268,21 +268,33 @@ def test_kill_9_then_overwrite_leaves_a_complete_set(survey, qp_env, tmp_path):
     s, objs, folder = survey
     root = tmp_path / "set"
     rng = random.Random(7)
-    lock = root / ".easyidp.lock"
-    landed = []
-    for k in range(5):            # killed while it writes: after it locks the folder, at random
-        args = _params(s, folder, root, OVERWRITE=True, TILE_SIZE=400 if k % 2 else 0)
+
+    def start(k, target):
+        args = _params(s, folder, target, OVERWRITE=True, TILE_SIZE=400 if k % 2 else 0)
         proc = subprocess.Popen([EXE, *args], env=qp_env, stdout=subprocess.DEVNULL,
                                 stderr=subprocess.DEVNULL)
         t0 = time.time()
         while proc.poll() is None and time.time() - t0 < 120:
             try:                  # this run's lock (a killed run's stays until taken over)
-                if json.loads(lock.read_text()).get("pid") == proc.pid:
+                if json.loads((target / ".easyidp.lock").read_text()).get("pid") == proc.pid:
                     break
             except (OSError, ValueError):
                 pass
             time.sleep(0.01)
-        time.sleep(rng.uniform(0.0, 1.5))
+        return proc
+
+    # how long a run writes after it locks its folder, measured here: the kills land inside it
+    # on a quiet machine as on a loaded one
+    took = []
+    for k in range(2):
+        proc = start(k, tmp_path / f"timed{k}")
+        t0 = time.time()
+        proc.wait()
+        took.append(time.time() - t0)
+    landed = []
+    for k in range(5):            # killed while it writes: after it locks the folder, at random
+        proc = start(k, root)
+        time.sleep(rng.uniform(0.1, 0.8) * took[k % 2])
         alive = proc.poll() is None
         proc.send_signal(signal.SIGKILL)
         proc.wait()
