@@ -4,10 +4,11 @@ from qgis.core import QgsCoordinateReferenceSystem
 from .compat import CrsWktVariant
 
 
-UNDEFINED_NAMES = ("undefined geographic srs", "undefined cartesian srs")
+UNDEFINED_NAMES = ("undefined geographic srs", "undefined cartesian srs", "undefined srs")
 """What QGIS shows for a GeoPackage layer without a CRS: GDAL writes such a layer with
 ``srs_id`` 0 ("Undefined geographic SRS") or -1 ("Undefined Cartesian SRS"), and QGIS reads
-each as a valid CRS of that name (OGC 12-128r18, 1.1.2.1.1)."""
+each as a valid CRS of that name (OGC 12-128r18, 1.1.2.1.1); newer GDAL (3.10 in Debian 13)
+writes ``srs_id`` 99999 ("Undefined SRS") instead."""
 
 
 def has_crs(crs: QgsCoordinateReferenceSystem) -> bool:

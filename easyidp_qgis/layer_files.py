@@ -53,8 +53,11 @@ def unreadable_why(alg, path: str) -> str:
     gdal.PushErrorHandler("CPLQuietErrorHandler")
     try:
         gdal.ErrorReset()
-        ds = gdal.OpenEx(path, gdal.OF_VECTOR | gdal.OF_RASTER | gdal.OF_READONLY)
-        error = gdal.GetLastErrorMsg()
+        try:                         # GDAL raises instead of returning None where another
+            ds = gdal.OpenEx(path, gdal.OF_VECTOR | gdal.OF_RASTER | gdal.OF_READONLY)
+            error = gdal.GetLastErrorMsg()
+        except RuntimeError as exc:  # module in this process called UseExceptions
+            ds, error = None, str(exc)
     finally:
         gdal.PopErrorHandler()
     if ds is None:

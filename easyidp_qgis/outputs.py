@@ -83,8 +83,11 @@ def _leftover_why(alg, path: str) -> str:
         if not fh.read(16).startswith(b"SQLite format 3"):
             return ""                # not a database at all: someone else's file, kept
     gdal.PushErrorHandler("CPLQuietErrorHandler")
-    try:
-        ds = gdal.OpenEx(path, gdal.OF_VECTOR | gdal.OF_READONLY, allowed_drivers=["GPKG"])
+    try:                             # GDAL raises instead of returning None where another
+        ds = gdal.OpenEx(path, gdal.OF_VECTOR | gdal.OF_READONLY,    # module in this process
+                         allowed_drivers=["GPKG"])                  # called UseExceptions
+    except RuntimeError:
+        ds = None
     finally:
         gdal.PopErrorHandler()
     if ds is None:
