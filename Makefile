@@ -23,6 +23,7 @@ VENV := $(ROOT)/.venv
 VENV_CORE := $(ROOT)/.venv-core
 VENV_REF := $(ROOT)/.venv-ref
 VENV_EXACT := $(ROOT)/.venv-exactextract
+VENV_OTY := $(ROOT)/.venv-orthority
 VENV_CHECK := $(ROOT)/.venv-check
 # where the real test data is (tests/*/conftest.py look there too)
 REALDATA ?= $(or $(EASYIDP_REALDATA),$(abspath $(ROOT)/../shared/realdata))
@@ -37,6 +38,8 @@ export PROJ_DATA := /usr/share/proj
 export PYTHONDONTWRITEBYTECODE := 1
 # where tests, the demo and the benchmarks find easyidp 2.0.4 (scripts/reference.py)
 export EASYIDP_REF_PYTHON = $(VENV_REF)/bin/python
+# where tests and the benchmarks find Orthority's command line (scripts: make env-orthority)
+export EASYIDP_ORTHORITY = $(VENV_OTY)/bin/oty
 DEMO_DIR ?= $(ROOT)/demo_output
 
 # The QGIS matrix: one Debian release per QGIS. This machine's is tested here, the others in roots.
@@ -45,7 +48,7 @@ CODENAME := $(shell . /etc/os-release 2>/dev/null && echo $$VERSION_CODENAME)
 HOST_SUITE := $(if $(filter bookworm trixie,$(CODENAME)),$(CODENAME),sid)
 OTHER_SUITES := $(filter-out $(HOST_SUITE),$(SUITES))
 
-.PHONY: check realdata changelog env env-qgis env-ref env-exactextract test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
+.PHONY: check realdata changelog env env-qgis env-ref env-exactextract env-orthority test test-core test-core-current test-qgis test-roots test-root apt-packages demo \
         bench package screenshots clean
 
 env: env-qgis $(VENV_CORE)/.done
@@ -107,6 +110,16 @@ $(VENV_EXACT)/.done: requirements/exactextract.txt | apt
 	$(VENV_EXACT)/bin/pip install -q --disable-pip-version-check -r requirements/exactextract.txt
 	touch $@
 
+# Orthority 0.7.0, the peer of the photo-folder cameras (tests) and of Orthorectify ROIs (bench):
+# its own venv from the registry; tests and benchmarks find its oty through EASYIDP_ORTHORITY
+env-orthority: apt $(VENV_OTY)/.done
+
+$(VENV_OTY)/.done: requirements/orthority.txt | apt
+	@echo "== creating $(VENV_OTY) (Orthority 0.7.0, a peer; never imported by the plugin)"
+	@test -x $(VENV_OTY)/bin/python || $(PY_SYS) -m venv $(VENV_OTY)
+	$(VENV_OTY)/bin/pip install -q --disable-pip-version-check --prefer-binary -r requirements/orthority.txt
+	touch $@
+
 # make check: a venv of Python 3 (python3-venv on Debian) with the current stack and ruff
 $(VENV_CHECK)/.done: requirements/current.txt requirements/check.txt | $(PLUGINS)/easyidp_toolbox
 	@echo "== creating $(VENV_CHECK) (ruff and the current stack, from the registry; no QGIS)"
@@ -129,7 +142,7 @@ realdata:
 changelog:
 	$(PY_SYS) $(ROOT)/scripts/changelog.py
 
-test: check env env-ref
+test: check env env-ref env-orthority
 	$(MAKE) --no-print-directory test-core test-core-current test-qgis test-roots
 
 # The other QGIS of the matrix, each in a Debian root built once and cached (.ci/debian_root.sh,
@@ -142,10 +155,10 @@ test-roots:
 	    bash $(ROOT)/.ci/debian_root.sh $$s run "make --no-print-directory test-root SUITE=$$s" || exit 1; done
 
 # Inside a root (SUITE=trixie|sid|bookworm): a venv of its own beside the host's.
-ROOT_VARS = VENV=$(ROOT)/.venv-$(SUITE) VENV_REF=$(ROOT)/.venv-ref-$(SUITE) DEMO_DIR=$(ROOT)/demo_output-$(SUITE)
+ROOT_VARS = VENV=$(ROOT)/.venv-$(SUITE) VENV_REF=$(ROOT)/.venv-ref-$(SUITE) VENV_OTY=$(ROOT)/.venv-orthority-$(SUITE) DEMO_DIR=$(ROOT)/demo_output-$(SUITE)
 test-root:
 	$(if $(filter trixie,$(SUITE)),rm -rf $(ROOT)/demo_output-$(SUITE) && $(MAKE) --no-print-directory $(ROOT_VARS) demo)
-	$(MAKE) --no-print-directory $(ROOT_VARS) env-qgis env-ref test-core test-qgis
+	$(MAKE) --no-print-directory $(ROOT_VARS) env-qgis env-ref env-orthority test-core test-qgis
 
 apt-packages:
 	@echo $(APT_PACKAGES)
@@ -165,7 +178,7 @@ test-qgis:
 demo: env-qgis env-ref
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.demo $(DEMO_DIR)
 
-bench: env env-ref env-exactextract
+bench: env env-ref env-exactextract env-orthority
 	$(VENV)/bin/python -m easyidp_toolbox.bench.run_all
 
 # The documentation site: MkDocs in a venv of its own (.venv-docs, requirements/docs.txt), strict:
