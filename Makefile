@@ -59,6 +59,9 @@ env-qgis: apt $(VENV)/.done
 APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip xvfb xauth
 # chromium: the documentation site opened in a real browser (tests/qgis/test_docs_site.py)
 APT_PACKAGES += chromium
+# fonts-noto-cjk: the Chinese and Japanese tool names drawn and measured in the desktop
+# (tests/qgis/test_desktop.py: no name is elided in the toolbox)
+APT_PACKAGES += fonts-noto-cjk
 
 # Debian packages: installed when any is missing (checked on every run; takes a moment).
 .PHONY: apt

@@ -7,6 +7,13 @@ from qgis.core import QgsProcessingException, QgsProcessingParameterNumber
 from .compat import ProcessingNumberParameterType, ProcessingParameterFlag
 
 
+def with_help(p, text: str):
+    """``p`` with ``text`` as its help (the dialog's tooltip): the details that do not fit the
+    one-line label (labels stay under about 60 characters, so a dialog shows them on one line)."""
+    p.setHelp(text)
+    return p
+
+
 def optional_number(alg, parameters, name: str, context):
     """The value of an optional number parameter, or None when it is not set."""
     if parameters.get(name) in (None, ""):

@@ -5,6 +5,7 @@ from qgis.core import QgsProcessingException, QgsProcessingParameterCrs, QgsProc
 
 from .compat import ProcessingFileParameterBehavior
 from .crs import crs_string
+from .parameters import with_help
 
 POINT_CLOUD_FILTER = "Point clouds (*.las *.laz *.ply *.LAS *.LAZ *.PLY);;All files (*.*)"
 
@@ -14,9 +15,10 @@ def add_point_cloud_parameters(alg):
     alg.addParameter(QgsProcessingParameterFile(
         alg.INPUT, alg.tr("Point cloud (.las, .laz or .ply)"),
         behavior=ProcessingFileParameterBehavior.File, fileFilter=POINT_CLOUD_FILTER))
-    alg.addParameter(QgsProcessingParameterCrs(
-        alg.INPUT_CRS, alg.tr("Point cloud CRS (needed for PLY and for LAS without a CRS; "
-                              "otherwise read from the file)"), optional=True))
+    alg.addParameter(with_help(QgsProcessingParameterCrs(
+        alg.INPUT_CRS, alg.tr("Point cloud CRS"), optional=True),
+        alg.tr("Needed for PLY, and for LAS/LAZ without a CRS; otherwise read from the file (a "
+               "CRS given here replaces the file's)")))
 
 
 def read_point_cloud_parameter(alg, parameters, context, feedback):

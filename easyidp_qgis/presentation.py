@@ -17,7 +17,8 @@ API (every tool uses it the same way; new tools too):
   loaded, give it a descriptive name (unless a model named it), a style and a place.
 - :func:`load_files` (alg, context, feedback, project, files, names, hint, group): queue many
   files (rasters, point clouds) with their layer type, into one collapsed :class:`MapGroup`;
-  nothing above :data:`MAX_LAYERS_TO_LOAD`.
+  nothing above :data:`MAX_LAYERS_TO_LOAD`. Tools that write many files ask first:
+  :func:`add_open_files_parameter` (OPEN_FILES, default off) and :func:`files_project`.
 - :class:`MapGroup` (name, anchor_layer_id, expanded): one layer-tree group per run, placed
   below the anchor (the ROI layer) or at the top.
 - Styles, callables ``style(layer)``: :func:`outline_style`, :func:`points_style`,
@@ -32,17 +33,27 @@ import os
 from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, QgsFillSymbol,
                        QgsGraduatedSymbolRenderer, QgsLayerTreeLayer, QgsMarkerSymbol,
                        QgsPalLayerSettings, QgsProcessingContext,
-                       QgsProcessingLayerPostProcessorInterface,
+                       QgsProcessingLayerPostProcessorInterface, QgsProcessingParameterBoolean,
                        QgsProcessingOutputLayerDefinition, QgsProject, QgsRendererCategory,
                        QgsRuleBasedRenderer, QgsSingleSymbolRenderer, QgsStyle,
                        QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
                        QgsVectorLayerSimpleLabeling, QgsWkbTypes)
+from qgis.PyQt.QtCore import QCoreApplication
 from qgis.PyQt.QtGui import QColor
 
 from .compat import INTEGER_TYPES, GeometryType, LabelPlacement, LayerHint
 
 MAX_LAYERS_TO_LOAD = 100
 """Above this many files a run loads none of them (the log says where they are)."""
+
+
+OPEN_FILES = "OPEN_FILES"
+"""The parameter of the tools that write many files (crops, images): open them too."""
+
+
+def tr(text: str) -> str:
+    """A legend label or help text translated (the tools' context, ``EasyIDP``)."""
+    return QCoreApplication.translate("EasyIDP", text)
 
 RASTER = LayerHint.Raster
 POINT_CLOUD = LayerHint.PointCloud
@@ -129,6 +140,25 @@ def _presenter(**kw) -> _Presenter:
     return p
 
 
+def add_open_files_parameter(alg, description: str) -> None:
+    """OPEN_FILES (default off): open the files a run writes too, not only its index. A run of
+    2,000 plots must not bury the map, so the files load only when asked, in one collapsed
+    group, and none above :data:`MAX_LAYERS_TO_LOAD`."""
+    p = QgsProcessingParameterBoolean(OPEN_FILES, description, False)
+    p.setHelp(tr("Off: only the index opens (when it is set to open). On: the files too, in one "
+                 "collapsed group below the ROI layer; none when there are more than {n} (the "
+                 "log says where they are).").format(n=MAX_LAYERS_TO_LOAD))
+    alg.addParameter(p)
+
+
+def files_project(alg, parameters, context, index_output: str = "OUTPUT_INDEX"):
+    """The project to open a run's files in: with OPEN_FILES on, the index's project when the
+    index is to be opened, else the run's project; None when OPEN_FILES is off."""
+    if not alg.parameterAsBool(parameters, OPEN_FILES, context):
+        return None
+    return load_project(parameters, index_output) or context.project()
+
+
 def present(alg, context, dest, output: str, style=None, name: str = None,
             group: MapGroup = None, rank: float = 0) -> bool:
     """When the output ``dest`` (the id ``parameterAsSink`` returned for the parameter
@@ -147,7 +177,7 @@ def present(alg, context, dest, output: str, style=None, name: str = None,
 
 
 def load_files(alg, context, feedback, project, files, names, hint, group: MapGroup,
-               output: str = "", style=None, limit: int = MAX_LAYERS_TO_LOAD,
+               output: str = "", style=None, limit: int = None,
                first_rank: int = 0) -> int:
     """Queue ``files`` (named ``names``, e.g. :func:`stems`) for loading into ``project`` as
     layers of type ``hint`` (so QGIS opens a .tif as a raster at once, not first as a vector),
@@ -155,6 +185,7 @@ def load_files(alg, context, feedback, project, files, names, hint, group: MapGr
     files (said in the log). Returns how many were queued."""
     if project is None or not files:
         return 0
+    limit = MAX_LAYERS_TO_LOAD if limit is None else limit
     if len(files) > limit:
         feedback.pushInfo(alg.tr("{n} files are more than the {limit} loaded into the map: open "
                                  "them from the output folder.").format(n=len(files), limit=limit))
@@ -234,20 +265,26 @@ def _outline_symbol(colour: str, width: float, dashed: bool = False, fill_alpha:
 
 def outline_style(colour: str, width: float = 0.4, dashed_when: str = None, label: str = None,
                   label_scale: float = 0.0, fill_alpha: int = 0, tip: str = None,
-                  dashed_colour: str = None, label_priority: int = 5):
+                  dashed_colour: str = None, label_priority: int = 5, legend=None):
     """Polygons as outlines of one colour (no fill, or a faint one with ``fill_alpha``),
     dashed (in ``dashed_colour``) where the expression ``dashed_when`` holds; optional labels
-    (only when zoomed in beyond 1:``label_scale``) and map tip."""
+    (only when zoomed in beyond 1:``label_scale``) and map tip. With ``dashed_when``,
+    ``legend`` is required: the (dashed, solid) legend entries' text, so that no entry of the
+    layers panel is blank."""
+    if dashed_when and not (legend and all(legend)):
+        raise ValueError("outline_style: dashed_when needs legend=(dashed text, solid text)")
+
     def apply(layer):
         if not isinstance(layer, QgsVectorLayer):
             return
         if dashed_when:
             root = QgsRuleBasedRenderer.Rule(None)
-            for expression, dashed in ((f"coalesce({dashed_when}, false)", True),
-                                       (f"NOT coalesce({dashed_when}, false)", False)):
+            for expression, dashed, text in ((f"coalesce({dashed_when}, false)", True, legend[0]),
+                                             (f"NOT coalesce({dashed_when}, false)", False,
+                                              legend[1])):
                 rule = QgsRuleBasedRenderer.Rule(
                     _outline_symbol(dashed_colour or colour if dashed else colour, width, dashed,
-                                    fill_alpha), 0, 0, expression)
+                                    fill_alpha), 0, 0, expression, text)
                 root.appendChild(rule)
             layer.setRenderer(QgsRuleBasedRenderer(root))
         else:
@@ -283,7 +320,8 @@ def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str =
     through, the outline in the class colour, and the value as label (above other layers'
     labels). Quantile classes from a colour-blind-safe ramp; a field with no more distinct
     values than ``classes`` (or an integer field with at most 12: counts) gets one colour per
-    value. NULL: no colour."""
+    value. NULL: no colour. ``unit`` follows every value in the legend (e.g. "3 photos") and,
+    with ``label``, on the map."""
     def apply(layer):
         index = layer.fields().indexFromName(field) if isinstance(layer, QgsVectorLayer) else -1
         if index < 0:
@@ -299,7 +337,8 @@ def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str =
             renderer = QgsCategorizedSymbolRenderer(field, [
                 QgsRendererCategory(v, _translucent(colours.color(k / max(len(values) - 1, 1))
                                                     if colours else QColor("#3182bd"), fill_alpha),
-                                    f"{v:.{decimals}f}" if isinstance(v, float) else str(v))
+                                    (f"{v:.{decimals}f}" if isinstance(v, float) else str(v))
+                                    + (f" {unit}" if unit else ""))
                 for k, v in enumerate(values)])
         else:
             renderer = QgsGraduatedSymbolRenderer(field)
@@ -309,6 +348,8 @@ def graduated_style(field: str, decimals: int = 2, classes: int = 5, ramp: str =
             method = QgsClassificationQuantile()
             method.setLabelPrecision(decimals)
             method.setLabelTrimTrailingZeroes(False)
+            if unit:
+                method.setLabelFormat(f"%1 – %2 {unit}")
             renderer.setClassificationMethod(method)
             renderer.updateClasses(layer, classes)
             for i, r in enumerate(renderer.ranges()):
@@ -327,15 +368,18 @@ def _translucent(colour: QColor, fill_alpha: int):
 
 
 def rank_style(colour_best: str, colour_other: str, field: str = "rank", label: str = None):
-    """Photo-pixel polygons: the best-ranked view (``field`` = 1) bold, the others thin."""
+    """Photo-pixel polygons: the best-ranked view (``field`` = 1) bold, the others thin; the
+    legend says which is which."""
     def apply(layer):
         if not isinstance(layer, QgsVectorLayer):
             return
         root = QgsRuleBasedRenderer.Rule(None)
         root.appendChild(QgsRuleBasedRenderer.Rule(_outline_symbol(colour_other, 0.3), 0, 0,
-                                                   f"\"{field}\" <> 1 OR \"{field}\" IS NULL"))
+                                                   f"\"{field}\" <> 1 OR \"{field}\" IS NULL",
+                                                   tr("Other photos of the ROI")))
         root.appendChild(QgsRuleBasedRenderer.Rule(_outline_symbol(colour_best, 0.7), 0, 0,
-                                                   f"\"{field}\" = 1"))
+                                                   f"\"{field}\" = 1",
+                                                   tr("The ROI's best photo (rank 1)")))
         layer.setRenderer(QgsRuleBasedRenderer(root))
         if label:
             _label(layer, label)
@@ -345,7 +389,8 @@ def rank_style(colour_best: str, colour_other: str, field: str = "rank", label: 
 def index_style(file_field: str = "crop_file"):
     """The index of a tool's files: thin dark outlines; ROIs without a file dashed red."""
     return outline_style("#202020", 0.2, dashed_when=f"\"{file_field}\" IS NULL",
-                         dashed_colour="#e31a1c")
+                         dashed_colour="#e31a1c",
+                         legend=(tr("No file (skipped: see its status)"), tr("File written")))
 
 
 def first_field(layer_fields, candidates):

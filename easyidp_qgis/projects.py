@@ -4,6 +4,7 @@ from qgis.core import (QgsProcessingException, QgsProcessingParameterCrs,
 
 from .compat import ProcessingFileParameterBehavior, ProcessingParameterFlag
 from .crs import crs_string
+from .parameters import with_help
 
 PROJECT_HELP = ("Metashape .psx/.psz or cameras .xml; Pix4D .p4d, project folder or any file of "
                 "its 1_initial/params folder; OpenDroneMap project folder or its "
@@ -13,17 +14,19 @@ PROJECT_HELP = ("Metashape .psx/.psz or cameras .xml; Pix4D .p4d, project folder
 def add_project_parameters(alg):
     """PROJECT (a file or a folder: no file filter, so folders are accepted too), CHUNK and
     PROJECT_CRS (advanced)."""
-    alg.addParameter(QgsProcessingParameterFile(
-        alg.PROJECT, alg.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, "
-                            "project or params folder; OpenDroneMap folder or reconstruction.json)"),
-        behavior=ProcessingFileParameterBehavior.File))
-    alg.addParameter(QgsProcessingParameterString(
-        alg.CHUNK, alg.tr("Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index "
-                          "(needed when there are several)"), optional=True))
-    p = QgsProcessingParameterCrs(
-        alg.PROJECT_CRS, alg.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without "
-                                "OpenDroneMap; Metashape chunk CRS that PROJ cannot use)"),
-        optional=True)
+    alg.addParameter(with_help(QgsProcessingParameterFile(
+        alg.PROJECT, alg.tr("Photogrammetry project"),
+        behavior=ProcessingFileParameterBehavior.File),
+        alg.tr("Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap "
+               "folder or reconstruction.json; OPF project.opf")))
+    alg.addParameter(with_help(QgsProcessingParameterString(
+        alg.CHUNK, alg.tr("Chunk or reconstruction"), optional=True),
+        alg.tr("Metashape chunk (label or index) or OpenSfM reconstruction index: needed when "
+               "the project has several")))
+    p = with_help(QgsProcessingParameterCrs(
+        alg.PROJECT_CRS, alg.tr("Project CRS (override)"), optional=True),
+        alg.tr("For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape "
+               "chunk CRS that PROJ cannot use"))
     p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
     alg.addParameter(p)
 

@@ -4,7 +4,7 @@
   <context>
     <name>EasyIDP</name>
     <message>
-      <source>Back-project ROIs to raw photos</source>
+      <source>Back-project ROIs</source>
       <translation>ROI を元画像へ逆投影</translation>
     </message>
     <message>
@@ -34,6 +34,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Margin around the crops (pixels)</source>
       <translation>切り出しの周囲の余白（ピクセル）</translation>
+    </message>
+    <message>
+      <source>photos</source>
+      <translation>枚の写真</translation>
     </message>
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
@@ -124,11 +128,15 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>写真 {label} をスキップしました：{why}</translation>
     </message>
     <message>
-      <source>Overwrite existing files (otherwise the tool stops before writing anything when an output already exists)</source>
-      <translation>既存のファイルを上書き（オフの場合、出力が既に存在すると何も書き出さずにツールを停止します）</translation>
+      <source>Overwrite existing files</source>
+      <translation>既存のファイルを上書き</translation>
     </message>
     <message>
-      <source>Camera positions and footprints</source>
+      <source>Otherwise the tool stops before writing anything when an output already exists</source>
+      <translation>オフの場合、出力が既に存在すると、何も書き込まずにツールを停止します</translation>
+    </message>
+    <message>
+      <source>Cameras and footprints</source>
       <translation>カメラ位置と撮影範囲</translation>
     </message>
     <message>
@@ -156,8 +164,12 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
 出力は、出力の座標参照系（CRS）が選択されていればその CRS、なければ DSM の CRS、なければ地図の CRS、なければ写真測量プロジェクトの CRS で作成されます（どれを使ったかはログに示されます）。*_wkt.prj のない Pix4D の params フォルダには、プロジェクトの CRS が必要です。ODM プロジェクトは ODM の CRS（そのオルソフォトと DSM の CRS）を使用します。ODM を伴わない OpenSfM データセットは、プロジェクトの CRS が設定されていなければ、基準点の WGS 84 / UTM ゾーンを使用します。DSM の高さまたは地面の高さは、プロジェクトの高さ基準で指定する必要があります（地理座標系の Metashape チャンクでは楕円体高、ODM ではその DSM の高さ）。</translation>
     </message>
     <message>
-      <source>Output CRS (default: the DSM's, else the map's, else the photogrammetry project's)</source>
-      <translation>出力の座標参照系（既定：DSM の CRS、なければ地図の CRS、なければ写真測量プロジェクトの CRS）</translation>
+      <source>Output CRS</source>
+      <translation>出力の座標参照系</translation>
+    </message>
+    <message>
+      <source>Default: the DSM's, else the map's, else the photogrammetry project's</source>
+      <translation>既定：DSM のもの、なければ地図のもの、なければ写真測量プロジェクトのもの</translation>
     </message>
     <message>
       <source>DSM (GeoTIFF) for the footprints</source>
@@ -192,8 +204,8 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
       <translation>{n} 台のカメラは DSM をまったく捉えていません。これらの対地高度は、他のカメラ直下の地面の中央値から求めます。</translation>
     </message>
     <message>
-      <source>Ground height when no DSM is given (project vertical reference)</source>
-      <translation>DSM がない場合の地面の高さ（プロジェクトの高さ基準）</translation>
+      <source>Ground height when no DSM is given</source>
+      <translation>DSM がないときの地面の高さ</translation>
     </message>
     <message>
       <source>DSM</source>
@@ -444,6 +456,10 @@ CRS はメートル単位の投影座標系でなければなりません：地�
       <translation>行と列</translation>
     </message>
     <message>
+      <source>How far the given corners may be from a rectangle</source>
+      <translation>与えた四隅が長方形からずれてよい距離</translation>
+    </message>
+    <message>
       <source>Anchor</source>
       <translation>アンカー</translation>
     </message>
@@ -484,12 +500,12 @@ CRS はメートル単位の投影座標系でなければなりません：地�
       <translation>プロット行の間の通路（m。空欄：求める）</translation>
     </message>
     <message>
-      <source>Spacing of the columns, centre to centre (m; instead of the gap)</source>
-      <translation>列の中心間距離（m。間隔の代わり）</translation>
+      <source>Column spacing, centre to centre (m; not the gap)</source>
+      <translation>列の間隔、中心間（m。すき間ではない）</translation>
     </message>
     <message>
-      <source>Spacing of the rows, centre to centre (m; instead of the alley)</source>
-      <translation>行の中心間距離（m。通路の代わり）</translation>
+      <source>Row spacing, centre to centre (m; not the alley)</source>
+      <translation>行の間隔、中心間（m。通路ではない）</translation>
     </message>
     <message>
       <source>Blocks along a row</source>
@@ -532,8 +548,8 @@ CRS はメートル単位の投影座標系でなければなりません：地�
       <translation>フィールドブックの結合キー</translation>
     </message>
     <message>
-      <source>Field-book column of the plot id or number (default: plot_id or plot_no)</source>
-      <translation>フィールドブックのプロット ID または番号の列（既定：plot_id または plot_no）</translation>
+      <source>Field-book column of the plot id or number</source>
+      <translation>フィールドブックの区画 ID または番号の列</translation>
     </message>
     <message>
       <source>Field-book column of the row (default: row)</source>
@@ -542,6 +558,10 @@ CRS はメートル単位の投影座標系でなければなりません：地�
     <message>
       <source>Field-book column of the column (default: col)</source>
       <translation>フィールドブックの列番号の列（既定：col）</translation>
+    </message>
+    <message>
+      <source>Corner tolerance (m)</source>
+      <translation>四隅の許容誤差（m）</translation>
     </message>
     <message>
       <source>Output CRS (projected, in metres; default: the anchor's)</source>
@@ -558,10 +578,6 @@ CRS はメートル単位の投影座標系でなければなりません：地�
     <message>
       <source>Buffer (m; negative shrinks every plot on each side)</source>
       <translation>バッファ（m。負の値は各プロットを各辺で縮める）</translation>
-    </message>
-    <message>
-      <source>Corner tolerance (m: how far the corners may be from a rectangle)</source>
-      <translation>四隅の許容差（m：四隅が矩形から離れてよい距離）</translation>
     </message>
     <message>
       <source>Origin: give the upper-left corner of the field (or choose another anchor).</source>
@@ -632,16 +648,20 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
       <translation>LAZ（圧縮 LAS）</translation>
     </message>
     <message>
-      <source>Index of the crops (optional): the ROIs with the file ('crop_file'), the number of points ('points') and the outcome ('crop_status') of each. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group below the ROI layer, where this QGIS can display point clouds (PDAL provider).</source>
-      <translation>切り出しのインデックス（オプション）：各 ROI のファイル（'crop_file'）、点の数（'points'）、結果（'crop_status'）を持つ ROI です。実行後に開いた場合（またはバッチモードで 'Load layers on completion' がオンの場合、あるいは開くよう設定したモデルの出力の場合）、この QGIS が点群を表示できれば（PDAL プロバイダ）、最大 100 件の LAS/LAZ の切り出しも、ROI レイヤの下の折りたたまれた 1 つのグループに読み込まれます。</translation>
+      <source>Index of the crops (optional): the ROIs with the file ('crop_file'), the number of points ('points') and the outcome ('crop_status') of each. 'Open the crops in the map too' (off by default) opens up to 100 LAS/LAZ crops in one collapsed group below the ROI layer, where this QGIS can display point clouds (PDAL provider); a larger run opens the index only.</source>
+      <translation>切り出しの索引（任意）：各 ROI とそのファイル（'crop_file'）、点数（'points'）、結果（'crop_status'）。「切り出しも地図で開く」（既定はオフ）をオンにすると、この QGIS が点群を表示できる場合（PDAL プロバイダ）、最大 100 個の LAS/LAZ の切り出しを ROI レイヤの下の折りたたんだグループに開きます。それより大きな実行では索引だけを開きます。</translation>
     </message>
     <message>
       <source>Write empty files for ROIs without any point</source>
       <translation>点のない ROI にも空のファイルを書き出す</translation>
     </message>
     <message>
-      <source>Index of the crops (open it to see the crops)</source>
-      <translation>切り出しのインデックス（開くと切り出しを表示）</translation>
+      <source>Index of the crops</source>
+      <translation>切り出しのインデックス</translation>
+    </message>
+    <message>
+      <source>Open the crops in the map too</source>
+      <translation>切り出しも地図で開く</translation>
     </message>
     <message>
       <source>Index of the point cloud crops</source>
@@ -704,8 +724,8 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
 ラスタは 1 回のパスで、各タイルまたはストリップを 1 度だけ読み込むため、メモリより大きいラスタ上の数千の ROI でも高速です。切り出しはラスタのピクセルグリッド、CRS、データ型を保持します。ROI 外のピクセルはマスクされます：RGB にはアルファバンドが追加され、RGBA ではアルファが合成され、DSM とマルチスペクトルには NoData 値が設定されます（ラスタ自身の値、ない場合は浮動小数点では -32767、整数では型の極値）。ピクセルの中心が ROI 内にあるとき、そのピクセルは ROI に属します（GDAL の規則）。「接触する全ピクセル」では、ROI が触れるすべてのピクセルが含まれます。穴とマルチパートポリゴンも考慮されます。別の CRS の ROI は再投影されます。ラスタの範囲外の ROI は報告され、スキップされます。</translation>
     </message>
     <message>
-      <source>Index of the crops (optional): the ROIs with the file of each ('crop_file', empty for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.</source>
-      <translation>切り出しのインデックス（オプション）：各 ROI のファイル（'crop_file'。スキップした ROI では空）と 'crop_status' を持つ ROI です。実行後に開いた場合（またはバッチモードで 'Load layers on completion' がオンの場合、あるいは開くよう設定したモデルの出力の場合）、最大 100 件の切り出しも ROI レイヤの下の折りたたまれた 1 つのグループに読み込まれます。</translation>
+      <source>Index of the crops (optional): the ROIs with the file of each ('crop_file', empty for a skipped ROI) and 'crop_status'. 'Open the crops in the map too' (off by default) opens up to 100 crops in one collapsed group below the ROI layer; a larger run opens the index only.</source>
+      <translation>切り出しの索引（任意）：各 ROI とそのファイル（'crop_file'。スキップした ROI では空）と 'crop_status'。「切り出しも地図で開く」（既定はオフ）をオンにすると、最大 100 個の切り出しを ROI レイヤの下の折りたたんだグループに開きます。それより大きな実行では索引だけを開きます。</translation>
     </message>
     <message>
       <source>All touched (include every pixel the ROI touches)</source>
@@ -714,10 +734,6 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Raster</source>
       <translation>ラスタ</translation>
-    </message>
-    <message>
-      <source>Index of the crops</source>
-      <translation>切り出しのインデックス</translation>
     </message>
     <message>
       <source>Raster (GeoTIFF: orthomosaic, DSM or multispectral)</source>
@@ -748,8 +764,8 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
       <translation>ROI '{name}' をスキップしました：{reason}</translation>
     </message>
     <message>
-      <source>Export a training set on the raw photos</source>
-      <translation>生写真上に学習データセットを書き出す</translation>
+      <source>Export a training set</source>
+      <translation>学習データセットを書き出す</translation>
     </message>
     <message>
       <source>Turns objects labelled once on the map (polygons, or points with a radius) into a deep-learning training set on the raw photos: COCO instances (polygons and boxes), YOLO segment and detect labels with their data.yaml, and LabelMe files.
@@ -889,7 +905,7 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     </message>
     <message>
       <source>Fit plot grid to crop rows</source>
-      <translation>プロットグリッドを作物の条に合わせる</translation>
+      <translation>グリッドを作物の条に合わせる</translation>
     </message>
     <message>
       <source>Moves a plot grid onto the crop that was really planted, as the orthomosaic shows it.
@@ -920,12 +936,20 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>NDVI (NIR − R)/(NIR + R)、マルチスペクトル</translation>
     </message>
     <message>
-      <source>Plot grid (polygons)</source>
-      <translation>プロットグリッド（ポリゴン）</translation>
+      <source>Name field</source>
+      <translation>名前フィールド</translation>
     </message>
     <message>
-      <source>Name field (labels and the log; default: plot_id or the feature id)</source>
-      <translation>名前フィールド（ラベルとログ用。既定：plot_id または地物 ID）</translation>
+      <source>The plots' names in labels and the log; default: plot_id, else the feature id</source>
+      <translation>ラベルとログでの区画名。既定：plot_id、なければ地物 ID</translation>
+    </message>
+    <message>
+      <source>Empty: 0.6 m + 9 % of the grid's half extent</source>
+      <translation>空欄：0.6 m + グリッドの半幅の 9 %</translation>
+    </message>
+    <message>
+      <source>Plot grid (polygons)</source>
+      <translation>プロットグリッド（ポリゴン）</translation>
     </message>
     <message>
       <source>Orthomosaic (GeoTIFF)</source>
@@ -952,6 +976,10 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>近赤外バンド（NDVI）</translation>
     </message>
     <message>
+      <source>Search radius of the global correction (m)</source>
+      <translation>全体補正の探索半径（m）</translation>
+    </message>
+    <message>
       <source>Fitted plot grid</source>
       <translation>合わせたプロットグリッド</translation>
     </message>
@@ -960,16 +988,20 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>プロットグリッド：レイヤにプロットがありません。</translation>
     </message>
     <message>
+      <source>Left in place (see fit_flag)</source>
+      <translation>元の位置のまま（fit_flag を参照）</translation>
+    </message>
+    <message>
+      <source>Fitted to the rows</source>
+      <translation>条に合わせた</translation>
+    </message>
+    <message>
       <source>Largest per-plot shift (m)</source>
       <translation>プロットごとの最大移動量（m）</translation>
     </message>
     <message>
       <source>Report plots moved by more than (m)</source>
       <translation>この値より大きく移動したプロットを報告（m）</translation>
-    </message>
-    <message>
-      <source>Search radius of the global correction (m; empty: 0.6 m + 9 % of the grid's half extent)</source>
-      <translation>全体補正の探索半径（m。空欄：0.6 m + グリッドの半幅の 9 %）</translation>
     </message>
     <message>
       <source>Bare below this share of the median plot's row strength</source>
@@ -1000,7 +1032,7 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>… ほかに {n} 個のプロットをその場に残しました。</translation>
     </message>
     <message>
-      <source>Forward-project photo polygons to the map</source>
+      <source>Forward-project polygons</source>
       <translation>写真上のポリゴンを地図へ投影</translation>
     </message>
     <message>
@@ -1022,16 +1054,8 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
 「融合」（fuse）はスコア付きの検出（COCO 結果と COCO 画像ファイル、信頼度付き YOLO、LabelMe）向けです：写真内の重複を抑制し、同じオブジェクトの複数のビューを重なりと距離でまとめ、各オブジェクトに多数のビューが一致する輪郭、ビュー数、それを写し得た写真数（expected_views）、平均・最大スコア、位置と DSM 高さ、信頼度（平均スコア × ビュー数 / 期待ビュー数）を与えます。フィールド expected_views、max_score、confidence。</translation>
     </message>
     <message>
-      <source>Annotation file (LabelMe .json, COCO .json or YOLO .txt)</source>
-      <translation>アノテーションファイル（LabelMe .json、COCO .json または YOLO .txt）</translation>
-    </message>
-    <message>
-      <source>…or a folder of LabelMe .json or YOLO .txt files</source>
-      <translation>…または LabelMe .json か YOLO .txt ファイルのフォルダ</translation>
-    </message>
-    <message>
-      <source>…or a photo-pixel polygon layer (x = column, y = −row)</source>
-      <translation>…または写真ピクセルのポリゴンレイヤ（x = 列、y = −行）</translation>
+      <source>Give exactly one of the three annotation inputs: a file, a folder or a photo-pixel layer.</source>
+      <translation>3 つのアノテーション入力（ファイル、フォルダ、写真ピクセルのレイヤ）のうち、ちょうど 1 つを指定してください。</translation>
     </message>
     <message>
       <source>Merge the same object seen in several photos</source>
@@ -1042,8 +1066,8 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>COCO 結果リストが参照する COCO 画像ファイル</translation>
     </message>
     <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>タイル索引（タイル分割した学習データセットの tiles.json）：注釈がそのタイル上にある場合</translation>
+      <source>Tile index (tiles.json), for annotations on tiles</source>
+      <translation>タイルの索引（tiles.json）：タイル上のアノテーション用</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -1056,6 +1080,30 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>Give exactly one input: an annotation file, a folder of annotation files, or a photo-pixel layer.</source>
       <translation>入力は 1 つだけ指定してください：アノテーションファイル、アノテーションファイルのフォルダ、または写真ピクセルのレイヤ。</translation>
+    </message>
+    <message>
+      <source>Incomplete: a vertex found no DSM</source>
+      <translation>不完全：DSM に当たらない頂点あり</translation>
+    </message>
+    <message>
+      <source>Complete</source>
+      <translation>完全</translation>
+    </message>
+    <message>
+      <source>Annotations, 1 of 3: a LabelMe, COCO or YOLO file</source>
+      <translation>アノテーション（3 つから 1 つ）：LabelMe、COCO、YOLO ファイル</translation>
+    </message>
+    <message>
+      <source>Annotations, 2 of 3: a LabelMe or YOLO folder</source>
+      <translation>アノテーション（3 つから 1 つ）：LabelMe か YOLO のフォルダ</translation>
+    </message>
+    <message>
+      <source>Annotations, 3 of 3: a photo-pixel polygon layer</source>
+      <translation>アノテーション（3 つから 1 つ）：写真ピクセルのポリゴンレイヤ</translation>
+    </message>
+    <message>
+      <source>Layer coordinates: x = column, y = −row.</source>
+      <translation>レイヤの座標：x = 列、y = −行。</translation>
     </message>
     <message>
       <source>{what} on the map (through {project} onto {dsm})</source>
@@ -1090,7 +1138,7 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>'{label}' は不完全です（{why}）。</translation>
     </message>
     <message>
-      <source>Orthorectify ROIs from raw photos</source>
+      <source>Orthorectify ROIs</source>
       <translation>元画像から ROI をオルソ補正</translation>
     </message>
     <message>
@@ -1106,20 +1154,20 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
 ROI の外、DSM の NoData 値の上、写真の外、または DSM によってカメラから隠れている（遮蔽）出力ピクセルは透明になります（アルファ 0）。出力フォルダに ROI ごと（「ROI が写るすべての写真」では写真ごと）に 1 つの GeoTIFF を、DSM の CRS で、写真のバンドとアルファを付けて書き出します。写真はプロジェクトに保存されたパスから読み込みます。元画像のフォルダを指定した場合はそこから読み込みます（ファイル名で照合）。</translation>
     </message>
     <message>
-      <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 images are loaded too, in one collapsed group below the ROI layer.</source>
-      <translation>画像のインデックス（オプション）：画像ごとに 1 地物で、ファイル（'image_file'）、写真、見える割合、ピクセルサイズを持つ ROI です。実行後に開いた場合（またはバッチモードで 'Load layers on completion' がオンの場合、あるいは開くよう設定したモデルの出力の場合）、最大 100 件の画像も ROI レイヤの下の折りたたまれた 1 つのグループに読み込まれます。</translation>
+      <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. 'Open the images in the map too' (off by default) opens up to 100 images in one collapsed group below the ROI layer; a larger run opens the index only.</source>
+      <translation>画像の索引（任意）：画像ごとに 1 地物で、ROI とそのファイル（'image_file'）、写真、見える割合、画素サイズ。「画像も地図で開く」（既定はオフ）をオンにすると、最大 100 枚の画像を ROI レイヤの下の折りたたんだグループに開きます。それより大きな実行では索引だけを開きます。</translation>
     </message>
     <message>
       <source>Pixel size (DSM CRS units; 0: the photo's native resolution)</source>
       <translation>ピクセルサイズ（DSM の CRS の単位。0：写真本来の解像度）</translation>
     </message>
     <message>
-      <source>Index of the images (open it to see the images)</source>
-      <translation>画像のインデックス（開くと画像を表示）</translation>
-    </message>
-    <message>
       <source>Index of the images</source>
       <translation>画像のインデックス</translation>
+    </message>
+    <message>
+      <source>Open the images in the map too</source>
+      <translation>画像も地図で開く</translation>
     </message>
     <message>
       <source>Folder of the raw photos (default: the paths in the project)</source>
@@ -1166,7 +1214,7 @@ ROI の外、DSM の NoData 値の上、写真の外、または DSM によっ�
       <translation>{what}：画像なし（{why}）。</translation>
     </message>
     <message>
-      <source>Plot statistics from raw photos</source>
+      <source>Plot statistics from photos</source>
       <translation>元画像からの区画統計</translation>
     </message>
     <message>
@@ -1194,12 +1242,16 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
 出力：ROI × 写真ごとの統計量の表；ビュー間の値を持つ ROI；任意で ROI ごとに 1 枚の PNG（使用したビューとその値を並べて表示）。</translation>
     </message>
     <message>
-      <source>Band names of the photos, comma-separated (default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir)</source>
-      <translation>写真のバンド名、カンマ区切り（既定：3 バンドなら red,green,blue；例 blue,green,red,rededge,nir）</translation>
+      <source>Band names of the photos (comma-separated)</source>
+      <translation>写真のバンド名（カンマ区切り）</translation>
     </message>
     <message>
-      <source>Back-projection: the photo-pixel layer of Back-project ROIs (empty: run it here)</source>
-      <translation>逆投影：「ROI を元画像へ逆投影」の写真ピクセルレイヤ（空：ここで実行）</translation>
+      <source>Default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir</source>
+      <translation>既定：3 バンドなら red,green,blue。例：blue,green,red,rededge,nir</translation>
+    </message>
+    <message>
+      <source>Back-projection (photo-pixel layer; empty: run it here)</source>
+      <translation>逆投影（写真ピクセルのレイヤ。空欄：ここで実行）</translation>
     </message>
     <message>
       <source>Leave out pixels hidden by the DSM (when a DSM is given)</source>
@@ -1310,12 +1362,12 @@ LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たない
       <translation>ROI（ポリゴン）</translation>
     </message>
     <message>
-      <source>Ground: DSM/DTM raster (GeoTIFF; optional)</source>
-      <translation>地面：DSM/DTM ラスタ（GeoTIFF、オプション）</translation>
+      <source>Ground: DSM or DTM raster (GeoTIFF)</source>
+      <translation>地面：DSM または DTM のラスタ（GeoTIFF）</translation>
     </message>
     <message>
-      <source>Ground without raster or height: this percentile of each ROI's Z</source>
-      <translation>ラスタも高さもない場合の地面：各 ROI の Z のこのパーセンタイル</translation>
+      <source>Ground otherwise: percentile of each ROI's Z</source>
+      <translation>それ以外の地面：各 ROI の Z のパーセンタイル</translation>
     </message>
     <message>
       <source>Height percentiles (comma separated)</source>
@@ -1338,8 +1390,8 @@ LAS/LAZ ファイルは CRS を持ちますが、PLY ファイルは持たない
       <translation>ROI レイヤ自体にある、統計量と同じ名前のフィールドは新しい値で置き換えられます。</translation>
     </message>
     <message>
-      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
-      <translation>地面：すべての ROI に共通の高さ（点群の Z の単位、オプション）</translation>
+      <source>Ground: one height for all ROIs (cloud Z units)</source>
+      <translation>地面：全 ROI に共通の高さ（点群の Z の単位）</translation>
     </message>
     <message>
       <source>{rois}: point cloud heights of {cloud}</source>
@@ -1424,8 +1476,8 @@ NoData 値のピクセルは無視されます。有効なピクセルが 1 つ�
       <translation>高さ付き ROI</translation>
     </message>
     <message>
-      <source>Percentile (0–100, for the percentile, pmin and pmax statistics)</source>
-      <translation>パーセンタイル（0–100。percentile、pmin、pmax の統計量用）</translation>
+      <source>Percentile (0–100; for percentile, pmin and pmax)</source>
+      <translation>パーセンタイル（0–100。percentile、pmin、pmax 用）</translation>
     </message>
     <message>
       <source>{rois}: height {what} from {dsm}</source>
@@ -1484,8 +1536,12 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
 出力：縦長の表（roi、date、trait、value）、最新の日付の形質を持つ ROI（高さで色分け）、PNG の生育曲線（ROI ごと、または ROI が多くグループフィールドがある場合はグループごとに 1 パネル）、オプションで &lt;date&gt;/&lt;orthomosaic|dsm|point_cloud&gt;/ フォルダ内の切り出し。</translation>
     </message>
     <message>
-      <source>Dask scheduler (tcp://host:port, or 'local'; empty: processes here)</source>
-      <translation>Dask スケジューラ（tcp://host:port または 'local'。空欄：このコンピュータのプロセス）</translation>
+      <source>Dask scheduler (tcp://host:port or 'local')</source>
+      <translation>Dask スケジューラ（tcp://host:port または 'local'）</translation>
+    </message>
+    <message>
+      <source>Empty: processes on this computer</source>
+      <translation>空欄：このコンピュータ上のプロセス</translation>
     </message>
     <message>
       <source>Survey table (CSV file or table layer)</source>
@@ -1504,24 +1560,24 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>形質</translation>
     </message>
     <message>
-      <source>Ground: bare-soil DSM or DTM of the season (optional)</source>
-      <translation>地面：シーズンの裸地の DSM または DTM（オプション）</translation>
+      <source>Ground: bare-soil DSM or DTM of the season</source>
+      <translation>地面：シーズンの裸地 DSM または DTM</translation>
     </message>
     <message>
-      <source>Ground without a DTM: percentile of each ROI's lowest heights</source>
-      <translation>DTM がない場合の地面：各 ROI の最も低い高さのパーセンタイル</translation>
+      <source>Ground without a DTM: percentile of the lowest heights</source>
+      <translation>DTM がないときの地面：最も低い高さのパーセンタイル</translation>
     </message>
     <message>
-      <source>Cover threshold on the vegetation index (empty: Otsu per orthomosaic)</source>
-      <translation>植生指数に対する植被のしきい値（空欄：オルソモザイクごとに大津の方法）</translation>
+      <source>Cover threshold on the vegetation index (empty: Otsu)</source>
+      <translation>植生指数の被覆しきい値（空欄：大津の方法）</translation>
     </message>
     <message>
       <source>Worker processes</source>
       <translation>ワーカープロセス</translation>
     </message>
     <message>
-      <source>Crops per date (optional folder)</source>
-      <translation>日付ごとの切り出し（オプションのフォルダ）</translation>
+      <source>Crops per date (folder)</source>
+      <translation>日付ごとの切り出し（フォルダ）</translation>
     </message>
     <message>
       <source>Traits per ROI and date (long table)</source>
@@ -1808,24 +1864,60 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>点群（.las、.laz または .ply）</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点群の座標参照系（PLY と CRS のない LAS で必要。それ以外はファイルから読み取り）</translation>
+      <source>Needed for PLY, and for LAS/LAZ without a CRS; otherwise read from the file (a CRS given here replaces the file's)</source>
+      <translation>PLY と、座標参照系のない LAS/LAZ で必要。それ以外はファイルから読みます（ここで指定するとファイルのものを置き換えます）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS</source>
+      <translation>点群の座標参照系</translation>
+    </message>
+    <message>
+      <source>Off: only the index opens (when it is set to open). On: the files too, in one collapsed group below the ROI layer; none when there are more than {n} (the log says where they are).</source>
+      <translation>オフ：索引だけを開きます（開く設定の場合）。オン：ファイルも ROI レイヤの下の折りたたんだグループに開きます。{n} 個を超えるときは開きません（ログに場所を示します）。</translation>
+    </message>
+    <message>
+      <source>Other photos of the ROI</source>
+      <translation>ROI のその他の写真</translation>
+    </message>
+    <message>
+      <source>The ROI's best photo (rank 1)</source>
+      <translation>ROI の最良の写真（順位 1）</translation>
+    </message>
+    <message>
+      <source>No file (skipped: see its status)</source>
+      <translation>ファイルなし（スキップ：状態を参照）</translation>
+    </message>
+    <message>
+      <source>File written</source>
+      <translation>ファイルを書き出し済み</translation>
     </message>
     <message>
       <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
       <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系）</translation>
+      <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use</source>
+      <translation>*_wkt.prj ファイルのない Pix4D、OpenDroneMap のない OpenSfM、または PROJ が扱えない Metashape チャンクの座標参照系の場合</translation>
     </message>
     <message>
-      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
-      <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap フォルダまたは reconstruction.json）</translation>
+      <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf</source>
+      <translation>Metashape の .psx/.psz/.xml、Pix4D の .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap のフォルダまたは reconstruction.json、OPF の project.opf</translation>
     </message>
     <message>
-      <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
-      <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
+      <source>Metashape chunk (label or index) or OpenSfM reconstruction index: needed when the project has several</source>
+      <translation>Metashape のチャンク（ラベルまたは番号）または OpenSfM の再構成の番号：プロジェクトに複数あるときに必要</translation>
+    </message>
+    <message>
+      <source>Project CRS (override)</source>
+      <translation>プロジェクトの座標参照系（上書き）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project</source>
+      <translation>写真測量プロジェクト</translation>
+    </message>
+    <message>
+      <source>Chunk or reconstruction</source>
+      <translation>チャンクまたは再構成</translation>
     </message>
     <message>
       <source>Photogrammetry project: none given ({what}).</source>

@@ -4,7 +4,7 @@
   <context>
     <name>EasyIDP</name>
     <message>
-      <source>Back-project ROIs to raw photos</source>
+      <source>Back-project ROIs</source>
       <translation>将感兴趣区反投影到原始照片</translation>
     </message>
     <message>
@@ -34,6 +34,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Margin around the crops (pixels)</source>
       <translation>裁剪图四周的边距（像素）</translation>
+    </message>
+    <message>
+      <source>photos</source>
+      <translation>张照片</translation>
     </message>
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
@@ -124,11 +128,15 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>已跳过照片 {label}：{why}</translation>
     </message>
     <message>
-      <source>Overwrite existing files (otherwise the tool stops before writing anything when an output already exists)</source>
-      <translation>覆盖已有文件（否则当输出已存在时，工具会在写出任何内容之前停止）</translation>
+      <source>Overwrite existing files</source>
+      <translation>覆盖已有文件</translation>
     </message>
     <message>
-      <source>Camera positions and footprints</source>
+      <source>Otherwise the tool stops before writing anything when an output already exists</source>
+      <translation>否则，当输出已存在时，工具在写入任何内容之前停止</translation>
+    </message>
+    <message>
+      <source>Cameras and footprints</source>
       <translation>相机位置与地面覆盖范围</translation>
     </message>
     <message>
@@ -156,8 +164,12 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
 如果选择了输出坐标系，则输出采用该坐标系，否则依次采用 DSM 的坐标系、地图的坐标系、摄影测量工程的坐标系（日志会说明采用哪个）。没有 *_wkt.prj 的 Pix4D params 文件夹需要设置工程坐标系。ODM 工程采用 ODM 的坐标系（即其正射影像和 DSM 的坐标系）；没有 ODM 的 OpenSfM 数据集使用其参考点所在的 WGS 84 / UTM 带，除非设置了工程坐标系。DSM 的高度或地面高度必须采用工程的高程基准（对于地理坐标系中的 Metashape 块：椭球高；对于 ODM：其 DSM 的高度）。</translation>
     </message>
     <message>
-      <source>Output CRS (default: the DSM's, else the map's, else the photogrammetry project's)</source>
-      <translation>输出坐标系（默认：DSM 的坐标系，否则为地图的，再否则为摄影测量工程的）</translation>
+      <source>Output CRS</source>
+      <translation>输出坐标参考系</translation>
+    </message>
+    <message>
+      <source>Default: the DSM's, else the map's, else the photogrammetry project's</source>
+      <translation>默认：DSM 的，否则为地图的，否则为摄影测量项目的</translation>
     </message>
     <message>
       <source>DSM (GeoTIFF) for the footprints</source>
@@ -192,8 +204,8 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
       <translation>{n} 台相机完全看不到 DSM：其离地高度取其他相机下方地面高度的中位数。</translation>
     </message>
     <message>
-      <source>Ground height when no DSM is given (project vertical reference)</source>
-      <translation>未提供 DSM 时的地面高度（工程高程基准）</translation>
+      <source>Ground height when no DSM is given</source>
+      <translation>未提供 DSM 时的地面高度</translation>
     </message>
     <message>
       <source>DSM</source>
@@ -444,6 +456,10 @@ The CRS must be projected in metres: a geographic CRS is refused with the UTM zo
       <translation>行和列</translation>
     </message>
     <message>
+      <source>How far the given corners may be from a rectangle</source>
+      <translation>给定角点与矩形之间允许的最大偏差</translation>
+    </message>
+    <message>
       <source>Anchor</source>
       <translation>锚定</translation>
     </message>
@@ -484,12 +500,12 @@ The CRS must be projected in metres: a geographic CRS is refused with the UTM zo
       <translation>地块行之间的走道（米；留空：求解）</translation>
     </message>
     <message>
-      <source>Spacing of the columns, centre to centre (m; instead of the gap)</source>
-      <translation>列的中心间隔（米；代替间距）</translation>
+      <source>Column spacing, centre to centre (m; not the gap)</source>
+      <translation>列间距，中心到中心（米；不是间隔）</translation>
     </message>
     <message>
-      <source>Spacing of the rows, centre to centre (m; instead of the alley)</source>
-      <translation>行的中心间隔（米；代替走道）</translation>
+      <source>Row spacing, centre to centre (m; not the alley)</source>
+      <translation>行间距，中心到中心（米；不是走道）</translation>
     </message>
     <message>
       <source>Blocks along a row</source>
@@ -532,8 +548,8 @@ The CRS must be projected in metres: a geographic CRS is refused with the UTM zo
       <translation>田间记录本的连接依据</translation>
     </message>
     <message>
-      <source>Field-book column of the plot id or number (default: plot_id or plot_no)</source>
-      <translation>田间记录本中地块 ID 或编号的列（默认：plot_id 或 plot_no）</translation>
+      <source>Field-book column of the plot id or number</source>
+      <translation>田间记录表中小区编号或序号的列</translation>
     </message>
     <message>
       <source>Field-book column of the row (default: row)</source>
@@ -542,6 +558,10 @@ The CRS must be projected in metres: a geographic CRS is refused with the UTM zo
     <message>
       <source>Field-book column of the column (default: col)</source>
       <translation>田间记录本中列号的列（默认：col）</translation>
+    </message>
+    <message>
+      <source>Corner tolerance (m)</source>
+      <translation>角点容差（米）</translation>
     </message>
     <message>
       <source>Output CRS (projected, in metres; default: the anchor's)</source>
@@ -558,10 +578,6 @@ The CRS must be projected in metres: a geographic CRS is refused with the UTM zo
     <message>
       <source>Buffer (m; negative shrinks every plot on each side)</source>
       <translation>缓冲距离（米；负值使每个地块各边内缩）</translation>
-    </message>
-    <message>
-      <source>Corner tolerance (m: how far the corners may be from a rectangle)</source>
-      <translation>角点容差（米：角点距矩形的最大偏差）</translation>
     </message>
     <message>
       <source>Origin: give the upper-left corner of the field (or choose another anchor).</source>
@@ -632,16 +648,20 @@ ROIs outside the cloud are named in the log and skipped; ROIs over the cloud wit
       <translation>LAZ（压缩的 LAS）</translation>
     </message>
     <message>
-      <source>Index of the crops (optional): the ROIs with the file ('crop_file'), the number of points ('points') and the outcome ('crop_status') of each. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group below the ROI layer, where this QGIS can display point clouds (PDAL provider).</source>
-      <translation>裁剪索引（可选）：包含各感兴趣区的文件（crop_file）、点数（points）和结果（crop_status）。运行后打开该索引时（或在批处理模式下勾选了“完成后加载图层”，或它是设为打开的模型输出），若此 QGIS 能显示点云（PDAL 数据提供程序），最多 100 个 LAS/LAZ 裁剪结果也会一并加载，放在感兴趣区图层下方的一个折叠分组中。</translation>
+      <source>Index of the crops (optional): the ROIs with the file ('crop_file'), the number of points ('points') and the outcome ('crop_status') of each. 'Open the crops in the map too' (off by default) opens up to 100 LAS/LAZ crops in one collapsed group below the ROI layer, where this QGIS can display point clouds (PDAL provider); a larger run opens the index only.</source>
+      <translation>裁剪索引（可选）：各感兴趣区及其文件（'crop_file'）、点数（'points'）和结果（'crop_status'）。勾选“同时在地图中打开裁剪结果”（默认关闭）时，若此 QGIS 能显示点云（PDAL 提供程序），最多 100 个 LAS/LAZ 裁剪结果会在感兴趣区图层下方的一个折叠组中打开；更大的运行只打开索引。</translation>
     </message>
     <message>
       <source>Write empty files for ROIs without any point</source>
       <translation>为没有点的感兴趣区写出空文件</translation>
     </message>
     <message>
-      <source>Index of the crops (open it to see the crops)</source>
-      <translation>裁剪索引（打开它即可查看裁剪结果）</translation>
+      <source>Index of the crops</source>
+      <translation>裁剪索引</translation>
+    </message>
+    <message>
+      <source>Open the crops in the map too</source>
+      <translation>同时在地图中打开裁剪结果</translation>
     </message>
     <message>
       <source>Index of the point cloud crops</source>
@@ -704,8 +724,8 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
 栅格只需读取一遍，每个瓦片或条带只读一次，因此即使栅格大于内存，处理数千个感兴趣区也很快。裁剪结果保留栅格的像元格网、坐标系和数据类型。感兴趣区外的像元会被掩膜：RGB 添加 alpha 波段，RGBA 与其 alpha 合并，DSM 和多光谱设为无数据值（使用栅格自身的无数据值；若没有，浮点型用 -32767，整型用该类型的极值）。像元中心位于感兴趣区内时，该像元属于此感兴趣区（GDAL 的规则）；“全部接触”则包含感兴趣区接触到的所有像元。考虑孔洞和多部件多边形。其他坐标系中的感兴趣区会被重投影；栅格范围外的感兴趣区会被报告并跳过。</translation>
     </message>
     <message>
-      <source>Index of the crops (optional): the ROIs with the file of each ('crop_file', empty for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.</source>
-      <translation>裁剪索引（可选）：包含各感兴趣区及其文件（crop_file，跳过的感兴趣区为空）和 crop_status。运行后打开该索引时（或在批处理模式下勾选了“完成后加载图层”，或它是设为打开的模型输出），最多 100 个裁剪结果也会一并加载，放在感兴趣区图层下方的一个折叠分组中。</translation>
+      <source>Index of the crops (optional): the ROIs with the file of each ('crop_file', empty for a skipped ROI) and 'crop_status'. 'Open the crops in the map too' (off by default) opens up to 100 crops in one collapsed group below the ROI layer; a larger run opens the index only.</source>
+      <translation>裁剪索引（可选）：各感兴趣区及其文件（'crop_file'，跳过的感兴趣区为空）和 'crop_status'。勾选“同时在地图中打开裁剪结果”（默认关闭）时，最多 100 个裁剪结果会在感兴趣区图层下方的一个折叠组中打开；更大的运行只打开索引。</translation>
     </message>
     <message>
       <source>All touched (include every pixel the ROI touches)</source>
@@ -714,10 +734,6 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
     <message>
       <source>Raster</source>
       <translation>栅格</translation>
-    </message>
-    <message>
-      <source>Index of the crops</source>
-      <translation>裁剪索引</translation>
     </message>
     <message>
       <source>Raster (GeoTIFF: orthomosaic, DSM or multispectral)</source>
@@ -748,7 +764,7 @@ The raster is read in a single pass, each tile or strip once, so thousands of RO
       <translation>已跳过感兴趣区“{name}”：{reason}</translation>
     </message>
     <message>
-      <source>Export a training set on the raw photos</source>
+      <source>Export a training set</source>
       <translation>在原始照片上导出训练集</translation>
     </message>
     <message>
@@ -920,12 +936,20 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>NDVI (NIR − R)/(NIR + R)，多光谱</translation>
     </message>
     <message>
-      <source>Plot grid (polygons)</source>
-      <translation>地块网格（多边形）</translation>
+      <source>Name field</source>
+      <translation>名称字段</translation>
     </message>
     <message>
-      <source>Name field (labels and the log; default: plot_id or the feature id)</source>
-      <translation>名称字段（用于标注和日志；默认：plot_id 或要素 ID）</translation>
+      <source>The plots' names in labels and the log; default: plot_id, else the feature id</source>
+      <translation>标注和日志中的小区名称；默认：plot_id，否则为要素 ID</translation>
+    </message>
+    <message>
+      <source>Empty: 0.6 m + 9 % of the grid's half extent</source>
+      <translation>留空：0.6 米 + 网格半幅宽的 9 %</translation>
+    </message>
+    <message>
+      <source>Plot grid (polygons)</source>
+      <translation>地块网格（多边形）</translation>
     </message>
     <message>
       <source>Orthomosaic (GeoTIFF)</source>
@@ -952,6 +976,10 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>近红外波段（NDVI）</translation>
     </message>
     <message>
+      <source>Search radius of the global correction (m)</source>
+      <translation>整体校正的搜索半径（米）</translation>
+    </message>
+    <message>
       <source>Fitted plot grid</source>
       <translation>拟合后的地块网格</translation>
     </message>
@@ -960,16 +988,20 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>地块网格：图层中没有地块。</translation>
     </message>
     <message>
+      <source>Left in place (see fit_flag)</source>
+      <translation>保留原位（见 fit_flag）</translation>
+    </message>
+    <message>
+      <source>Fitted to the rows</source>
+      <translation>已拟合到作物行</translation>
+    </message>
+    <message>
       <source>Largest per-plot shift (m)</source>
       <translation>每个地块的最大平移（米）</translation>
     </message>
     <message>
       <source>Report plots moved by more than (m)</source>
       <translation>报告平移超过此值的地块（米）</translation>
-    </message>
-    <message>
-      <source>Search radius of the global correction (m; empty: 0.6 m + 9 % of the grid's half extent)</source>
-      <translation>全局校正的搜索半径（m；留空：0.6 m + 网格半幅的 9 %）</translation>
     </message>
     <message>
       <source>Bare below this share of the median plot's row strength</source>
@@ -1000,7 +1032,7 @@ The log gives the global correction and how many plots moved by more than the th
       <translation>… 另有 {n} 个地块保持原位。</translation>
     </message>
     <message>
-      <source>Forward-project photo polygons to the map</source>
+      <source>Forward-project polygons</source>
       <translation>将照片多边形正向投影到地图</translation>
     </message>
     <message>
@@ -1022,16 +1054,8 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
 “融合”（fuse）用于带分数的检测（COCO 结果加 COCO 图像文件、带置信度的 YOLO、LabelMe）：抑制同一照片中的重复检测，按重叠和距离将同一对象的多个视图分组，每个对象得到多数视图一致的轮廓、视图数、本可看到它的照片数（expected_views）、平均和最大分数、位置及 DSM 高度，以及置信度（平均分数 × 视图数 / 期望视图数）；字段 expected_views、max_score、confidence。</translation>
     </message>
     <message>
-      <source>Annotation file (LabelMe .json, COCO .json or YOLO .txt)</source>
-      <translation>标注文件（LabelMe .json、COCO .json 或 YOLO .txt）</translation>
-    </message>
-    <message>
-      <source>…or a folder of LabelMe .json or YOLO .txt files</source>
-      <translation>…或 LabelMe .json 或 YOLO .txt 文件所在的文件夹</translation>
-    </message>
-    <message>
-      <source>…or a photo-pixel polygon layer (x = column, y = −row)</source>
-      <translation>…或照片像素多边形图层（x = 列，y = −行）</translation>
+      <source>Give exactly one of the three annotation inputs: a file, a folder or a photo-pixel layer.</source>
+      <translation>请在三种标注输入中恰好提供一种：文件、文件夹或照片像素图层。</translation>
     </message>
     <message>
       <source>Merge the same object seen in several photos</source>
@@ -1042,8 +1066,8 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>COCO 结果列表所引用的 COCO 图像文件</translation>
     </message>
     <message>
-      <source>Tile index (tiles.json of a tiled training set) when the annotations are on its tiles</source>
-      <translation>分块索引（分块训练集的 tiles.json），当标注位于其分块上时</translation>
+      <source>Tile index (tiles.json), for annotations on tiles</source>
+      <translation>切片索引（tiles.json），用于切片上的标注</translation>
     </message>
     <message>
       <source>Densify edges: a vertex every … photo pixels (0: off)</source>
@@ -1056,6 +1080,30 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
     <message>
       <source>Give exactly one input: an annotation file, a folder of annotation files, or a photo-pixel layer.</source>
       <translation>请只给出一个输入：标注文件、标注文件所在的文件夹，或照片像素图层。</translation>
+    </message>
+    <message>
+      <source>Incomplete: a vertex found no DSM</source>
+      <translation>不完整：有顶点未命中 DSM</translation>
+    </message>
+    <message>
+      <source>Complete</source>
+      <translation>完整</translation>
+    </message>
+    <message>
+      <source>Annotations, 1 of 3: a LabelMe, COCO or YOLO file</source>
+      <translation>标注（三选一）：LabelMe、COCO 或 YOLO 文件</translation>
+    </message>
+    <message>
+      <source>Annotations, 2 of 3: a LabelMe or YOLO folder</source>
+      <translation>标注（三选一）：LabelMe 或 YOLO 文件夹</translation>
+    </message>
+    <message>
+      <source>Annotations, 3 of 3: a photo-pixel polygon layer</source>
+      <translation>标注（三选一）：照片像素多边形图层</translation>
+    </message>
+    <message>
+      <source>Layer coordinates: x = column, y = −row.</source>
+      <translation>图层坐标：x = 列，y = −行。</translation>
     </message>
     <message>
       <source>{what} on the map (through {project} onto {dsm})</source>
@@ -1090,7 +1138,7 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
       <translation>“{label}”不完整（{why}）。</translation>
     </message>
     <message>
-      <source>Orthorectify ROIs from raw photos</source>
+      <source>Orthorectify ROIs</source>
       <translation>基于原始照片正射校正感兴趣区</translation>
     </message>
     <message>
@@ -1106,20 +1154,20 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
 位于感兴趣区外、DSM 无数据值处、照片外，或被 DSM 遮挡而相机看不到（遮挡）的输出像元为透明（alpha 0）。在输出文件夹中为每个感兴趣区（选择“所有照片”时为每个感兴趣区和照片）生成一个 GeoTIFF，采用 DSM 的坐标系，包含照片的波段及 alpha 波段。照片从工程中存储的路径读取；若给出了照片文件夹，则从该文件夹读取（按文件名匹配）。</translation>
     </message>
     <message>
-      <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. When it is opened after the run (or 'Load layers on completion' is ticked in batch mode, or it is a model output set to open), up to 100 images are loaded too, in one collapsed group below the ROI layer.</source>
-      <translation>图像索引（可选）：每幅图像一个要素，包含感兴趣区及其文件（image_file）、照片、可见比例和像元大小。运行后打开该索引时（或在批处理模式下勾选了“完成后加载图层”，或它是设为打开的模型输出），最多 100 幅图像也会一并加载，放在感兴趣区图层下方的一个折叠分组中。</translation>
+      <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. 'Open the images in the map too' (off by default) opens up to 100 images in one collapsed group below the ROI layer; a larger run opens the index only.</source>
+      <translation>影像索引（可选）：每幅影像一个要素，含感兴趣区及其文件（'image_file'）、照片、可见比例和像元大小。勾选“同时在地图中打开影像”（默认关闭）时，最多 100 幅影像会在感兴趣区图层下方的一个折叠组中打开；更大的运行只打开索引。</translation>
     </message>
     <message>
       <source>Pixel size (DSM CRS units; 0: the photo's native resolution)</source>
       <translation>像元大小（DSM 坐标系单位；0：照片的原始分辨率）</translation>
     </message>
     <message>
-      <source>Index of the images (open it to see the images)</source>
-      <translation>图像索引（打开它即可查看图像）</translation>
-    </message>
-    <message>
       <source>Index of the images</source>
       <translation>图像索引</translation>
+    </message>
+    <message>
+      <source>Open the images in the map too</source>
+      <translation>同时在地图中打开影像</translation>
     </message>
     <message>
       <source>Folder of the raw photos (default: the paths in the project)</source>
@@ -1166,7 +1214,7 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
       <translation>{what}：无图像（{why}）。</translation>
     </message>
     <message>
-      <source>Plot statistics from raw photos</source>
+      <source>Plot statistics from photos</source>
       <translation>原始照片的小区统计</translation>
     </message>
     <message>
@@ -1194,12 +1242,16 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
 输出：每个 ROI × 照片及其统计量的表；带跨视图值的 ROI；可选地，每个 ROI 一张 PNG，并排显示所用视图及其数值。</translation>
     </message>
     <message>
-      <source>Band names of the photos, comma-separated (default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir)</source>
-      <translation>照片的波段名称，逗号分隔（默认：3 个波段为 red,green,blue；例如 blue,green,red,rededge,nir）</translation>
+      <source>Band names of the photos (comma-separated)</source>
+      <translation>照片的波段名称（逗号分隔）</translation>
     </message>
     <message>
-      <source>Back-projection: the photo-pixel layer of Back-project ROIs (empty: run it here)</source>
-      <translation>反投影：“将感兴趣区反投影到原始照片”的照片像素图层（留空：在此运行）</translation>
+      <source>Default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir</source>
+      <translation>默认：3 个波段时为 red,green,blue；例如 blue,green,red,rededge,nir</translation>
+    </message>
+    <message>
+      <source>Back-projection (photo-pixel layer; empty: run it here)</source>
+      <translation>反投影结果（照片像素图层；留空：在此运行）</translation>
     </message>
     <message>
       <source>Leave out pixels hidden by the DSM (when a DSM is given)</source>
@@ -1310,12 +1362,12 @@ LAS/LAZ 文件自带坐标系；PLY 文件没有，因此需要为其设置“�
       <translation>感兴趣区（多边形）</translation>
     </message>
     <message>
-      <source>Ground: DSM/DTM raster (GeoTIFF; optional)</source>
-      <translation>地面：DSM/DTM 栅格（GeoTIFF；可选）</translation>
+      <source>Ground: DSM or DTM raster (GeoTIFF)</source>
+      <translation>地面：DSM 或 DTM 栅格（GeoTIFF）</translation>
     </message>
     <message>
-      <source>Ground without raster or height: this percentile of each ROI's Z</source>
-      <translation>无栅格或高度时的地面：每个感兴趣区 Z 的此百分位数</translation>
+      <source>Ground otherwise: percentile of each ROI's Z</source>
+      <translation>其他情况下的地面：每个感兴趣区 Z 值的百分位数</translation>
     </message>
     <message>
       <source>Height percentiles (comma separated)</source>
@@ -1338,8 +1390,8 @@ LAS/LAZ 文件自带坐标系；PLY 文件没有，因此需要为其设置“�
       <translation>感兴趣区图层中与统计量同名的原有字段将被新值替换。</translation>
     </message>
     <message>
-      <source>Ground: one height for all ROIs (cloud Z units; optional)</source>
-      <translation>地面：所有感兴趣区使用同一高度（点云 Z 单位；可选）</translation>
+      <source>Ground: one height for all ROIs (cloud Z units)</source>
+      <translation>地面：所有感兴趣区使用同一高度（点云 Z 单位）</translation>
     </message>
     <message>
       <source>{rois}: point cloud heights of {cloud}</source>
@@ -1424,8 +1476,8 @@ Nodata pixels are ignored. An ROI without any valid pixel keeps an empty (NULL) 
       <translation>带高度的感兴趣区</translation>
     </message>
     <message>
-      <source>Percentile (0–100, for the percentile, pmin and pmax statistics)</source>
-      <translation>百分位数（0–100，用于百分位数、pmin 和 pmax 统计量）</translation>
+      <source>Percentile (0–100; for percentile, pmin and pmax)</source>
+      <translation>百分位数（0–100；用于 percentile、pmin 和 pmax）</translation>
     </message>
     <message>
       <source>{rois}: height {what} from {dsm}</source>
@@ -1484,8 +1536,12 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
 输出：长表（roi、date、trait、value）；带最新日期性状的感兴趣区（按高度设置样式）；PNG 格式的生长曲线（每个感兴趣区一个面板，若感兴趣区很多且设置了分组字段，则每组一个面板）；可选的裁剪结果，位于 &lt;date&gt;/&lt;orthomosaic|dsm|point_cloud&gt;/ 文件夹中。</translation>
     </message>
     <message>
-      <source>Dask scheduler (tcp://host:port, or 'local'; empty: processes here)</source>
-      <translation>Dask 调度器（tcp://host:port 或 'local'；留空：使用本机进程）</translation>
+      <source>Dask scheduler (tcp://host:port or 'local')</source>
+      <translation>Dask 调度器（tcp://host:port 或 'local'）</translation>
+    </message>
+    <message>
+      <source>Empty: processes on this computer</source>
+      <translation>留空：使用本机上的进程</translation>
     </message>
     <message>
       <source>Survey table (CSV file or table layer)</source>
@@ -1504,24 +1560,24 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>性状</translation>
     </message>
     <message>
-      <source>Ground: bare-soil DSM or DTM of the season (optional)</source>
-      <translation>地面：该生长季的裸土 DSM 或 DTM（可选）</translation>
+      <source>Ground: bare-soil DSM or DTM of the season</source>
+      <translation>地面：本季的裸土 DSM 或 DTM</translation>
     </message>
     <message>
-      <source>Ground without a DTM: percentile of each ROI's lowest heights</source>
-      <translation>无 DTM 时的地面：每个感兴趣区最低高度的百分位数</translation>
+      <source>Ground without a DTM: percentile of the lowest heights</source>
+      <translation>无 DTM 时的地面：最低高度的百分位数</translation>
     </message>
     <message>
-      <source>Cover threshold on the vegetation index (empty: Otsu per orthomosaic)</source>
-      <translation>植被指数的覆盖度阈值（留空：每幅正射影像使用 Otsu 阈值）</translation>
+      <source>Cover threshold on the vegetation index (empty: Otsu)</source>
+      <translation>植被指数的覆盖度阈值（留空：Otsu）</translation>
     </message>
     <message>
       <source>Worker processes</source>
       <translation>工作进程数</translation>
     </message>
     <message>
-      <source>Crops per date (optional folder)</source>
-      <translation>按日期的裁剪结果（可选文件夹）</translation>
+      <source>Crops per date (folder)</source>
+      <translation>各日期的裁剪结果（文件夹）</translation>
     </message>
     <message>
       <source>Traits per ROI and date (long table)</source>
@@ -1808,24 +1864,60 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>点云（.las、.laz 或 .ply）</translation>
     </message>
     <message>
-      <source>Point cloud CRS (needed for PLY and for LAS without a CRS; otherwise read from the file)</source>
-      <translation>点云坐标系（PLY 以及没有坐标系的 LAS 需要；否则从文件读取）</translation>
+      <source>Needed for PLY, and for LAS/LAZ without a CRS; otherwise read from the file (a CRS given here replaces the file's)</source>
+      <translation>PLY 以及没有坐标参考系的 LAS/LAZ 需要；否则从文件读取（此处给出的坐标参考系会替代文件中的）</translation>
+    </message>
+    <message>
+      <source>Point cloud CRS</source>
+      <translation>点云坐标参考系</translation>
+    </message>
+    <message>
+      <source>Off: only the index opens (when it is set to open). On: the files too, in one collapsed group below the ROI layer; none when there are more than {n} (the log says where they are).</source>
+      <translation>关闭：只打开索引（若设为打开）。开启：文件也在感兴趣区图层下方的一个折叠组中打开；超过 {n} 个时一个也不打开（日志会说明文件位置）。</translation>
+    </message>
+    <message>
+      <source>Other photos of the ROI</source>
+      <translation>该感兴趣区的其他照片</translation>
+    </message>
+    <message>
+      <source>The ROI's best photo (rank 1)</source>
+      <translation>该感兴趣区的最佳照片（排名 1）</translation>
+    </message>
+    <message>
+      <source>No file (skipped: see its status)</source>
+      <translation>无文件（已跳过：见其状态）</translation>
+    </message>
+    <message>
+      <source>File written</source>
+      <translation>已写入文件</translation>
     </message>
     <message>
       <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
       <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
+      <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use</source>
+      <translation>用于没有 *_wkt.prj 文件的 Pix4D、没有 OpenDroneMap 的 OpenSfM，或 PROJ 无法使用其坐标参考系的 Metashape 块</translation>
     </message>
     <message>
-      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
-      <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d、工程文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json）</translation>
+      <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf</source>
+      <translation>Metashape .psx/.psz/.xml；Pix4D .p4d、项目文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json；OPF project.opf</translation>
     </message>
     <message>
-      <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
-      <translation>块（chunk）：Metashape 块（标签或索引）或 OpenSfM 重建索引（存在多个时需要）</translation>
+      <source>Metashape chunk (label or index) or OpenSfM reconstruction index: needed when the project has several</source>
+      <translation>Metashape 块（名称或序号）或 OpenSfM 重建序号：项目中有多个时需要</translation>
+    </message>
+    <message>
+      <source>Project CRS (override)</source>
+      <translation>项目坐标参考系（覆盖）</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project</source>
+      <translation>摄影测量项目</translation>
+    </message>
+    <message>
+      <source>Chunk or reconstruction</source>
+      <translation>块或重建</translation>
     </message>
     <message>
       <source>Photogrammetry project: none given ({what}).</source>

@@ -243,6 +243,7 @@ class Session:
         self.zoom_to("Demo plots", 1.15)
         self.found["tree_demo"] = tree()
         self.toolbox_open()
+        self.found["toolbox_fit"] = self.toolbox_fit()
         self.shot("desktop_toolbox.png")
         if self.toolbox is not None:
             self.toolbox.hide()
@@ -252,7 +253,8 @@ class Session:
         dsm = QgsProject.instance().mapLayersByName("Demo DSM")[0]
         self.run_dialog("crop", "easyidp:croprasterbyrois", {
             "INPUT": ortho.id(), "ROIS": plots.id(), "NAME_FIELD": "plot_id",
-            "OUTPUT_FOLDER": os.path.join(self.work, "crops")}, shot="desktop_crop_dialog.png")
+            "OUTPUT_FOLDER": os.path.join(self.work, "crops"), "OPEN_FILES": True},
+            shot="desktop_crop_dialog.png")
         self.run_dialog("heights", "easyidp:roiheightsfromdsm", {
             "ROIS": plots.id(), "DSM": dsm.id(), "MODE": 0, "STATISTIC": 4, "PERCENTILE": 95})
         self.run_dialog("footprints", "easyidp:camerafootprints", {
@@ -347,6 +349,55 @@ class Session:
                     view.expand(model.index(child, 0, index))
                 view.scrollTo(index, view.PositionAtTop)
         _pump(0.3)
+
+    def toolbox_fit(self) -> list:
+        """Whether each EasyIDP tool name fits the toolbox at its default dock width, without
+        eliding: ``[language, name, text width, room]`` per tool, in pixels. The text width is
+        the view font's ``QFontMetrics`` advance (CJK glyphs from the installed fonts, as the
+        view draws them); the room is what the item's row leaves for text: from the item's left
+        edge (after the tree's indentation) to the viewport's right edge, less the icon and the
+        delegate's margins. The zh_CN and ja names (from ``i18n/*.ts``) are measured at the
+        same place: the indentation and the font do not depend on the language."""
+        from xml.etree import ElementTree   # the plugin's own translation files
+
+        from qgis.gui import QgsProcessingToolboxTreeView
+        from qgis.PyQt.QtGui import QFontMetrics
+        from qgis.PyQt.QtWidgets import QStyle
+        view = self.toolbox.findChild(QgsProcessingToolboxTreeView) if self.toolbox else None
+        if view is None:
+            return []
+        model, items = view.model(), []
+
+        def walk(parent):
+            for row in range(model.rowCount(parent)):
+                index = model.index(row, 0, parent)
+                if model.rowCount(index):
+                    walk(index)
+                else:
+                    items.append(index)
+        for row in range(model.rowCount()):
+            top = model.index(row, 0)
+            if "EasyIDP" in str(model.data(top)):
+                walk(top)
+        i18n = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "i18n")
+        names = {}
+        for lang in ("zh_CN", "ja"):
+            root = ElementTree.parse(os.path.join(i18n, f"easyidp_{lang}.ts")).getroot()
+            names[lang] = {m.findtext("source"): m.findtext("translation")
+                           for m in root.iter("message")}
+        metrics = QFontMetrics(view.font())
+        margin = view.style().pixelMetric(QStyle.PM_FocusFrameHMargin, None, view) + 1
+        icon = view.iconSize().width() if view.iconSize().width() > 0 else \
+            view.style().pixelMetric(QStyle.PM_SmallIconSize, None, view)
+        out = []
+        for index in items:
+            rect = view.visualRect(index)
+            room = min(rect.right(), view.viewport().width()) - rect.left() - icon - 3 * margin
+            text = str(model.data(index))
+            for lang, name in [("en", text)] + [(lang, names[lang].get(text)) for lang in names]:
+                if name:
+                    out.append([lang, name, metrics.horizontalAdvance(name), room])
+        return out
 
     def model(self, plots, dsm):
         """The example model from the toolbox (the user's models folder), run with the crop

@@ -1,5 +1,5 @@
 """Plot statistics of ROIs from the raw photos in one call: back-projection (or one given),
-then the measurement of every view (what *Plot statistics from raw photos* runs)."""
+then the measurement of every view (what *Plot statistics from photos* runs)."""
 from ..errors import ROIError
 from ..progress import as_progress
 from .backward import back_project

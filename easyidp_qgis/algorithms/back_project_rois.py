@@ -1,4 +1,4 @@
-"""Processing tool: Back-project ROIs to raw photos (easyidp:backprojectrois)."""
+"""Processing tool: Back-project ROIs (easyidp:backprojectrois)."""
 import math
 import os
 
@@ -49,7 +49,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
     PREVIEW_FOLDER = "PREVIEW_FOLDER"
 
     NAME = "backprojectrois"
-    DISPLAY = "Back-project ROIs to raw photos"
+    DISPLAY = "Back-project ROIs"
     GROUP = "Projection"
     GROUP_ID = "projection"
     HELP = (
@@ -256,7 +256,8 @@ def pixel_style():
 
 def summary_style():
     """ROIs on the map coloured by how many photos see them (the legend gives the counts)."""
-    return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu", label=False)
+    return presentation.graduated_style("photos", decimals=0, ramp="YlGnBu", label=False,
+                                        unit=presentation.tr("photos"))
 
 
 def _numbers(values) -> list:

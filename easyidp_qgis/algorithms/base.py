@@ -157,9 +157,9 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
 
     def add_overwrite_parameter(self) -> None:
         """The advanced OVERWRITE option (default off): replace files that already exist."""
-        p = QgsProcessingParameterBoolean(
-            self.OVERWRITE, self.tr("Overwrite existing files (otherwise the tool stops before "
-                                    "writing anything when an output already exists)"), False)
+        p = QgsProcessingParameterBoolean(self.OVERWRITE, self.tr("Overwrite existing files"), False)
+        p.setHelp(self.tr("Otherwise the tool stops before writing anything when an output "
+                          "already exists"))
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
 

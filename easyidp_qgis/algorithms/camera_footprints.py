@@ -1,4 +1,4 @@
-"""Processing tool: Camera positions and footprints (easyidp:camerafootprints)."""
+"""Processing tool: Cameras and footprints (easyidp:camerafootprints)."""
 import math
 import os
 
@@ -30,7 +30,7 @@ class CameraFootprints(EasyIDPAlgorithm):
     OUTPUT_FOOTPRINTS = "OUTPUT_FOOTPRINTS"
 
     NAME = "camerafootprints"
-    DISPLAY = "Camera positions and footprints"
+    DISPLAY = "Cameras and footprints"
     GROUP = "Photogrammetry projects"
     GROUP_ID = "projects"
     HELP = (
@@ -66,11 +66,11 @@ class CameraFootprints(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.DSM, self.tr("DSM (GeoTIFF) for the footprints"), optional=True))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
-            self.GROUND_HEIGHT, self.tr("Ground height when no DSM is given (project vertical reference)"),
+            self.GROUND_HEIGHT, self.tr("Ground height when no DSM is given"),
             ProcessingNumberParameterType.Double, optional=True), 3))
-        p = QgsProcessingParameterCrs(
-            self.OUTPUT_CRS, self.tr("Output CRS (default: the DSM's, else the map's, else the "
-                                     "photogrammetry project's)"), optional=True)
+        p = QgsProcessingParameterCrs(self.OUTPUT_CRS, self.tr("Output CRS"), optional=True)
+        p.setHelp(self.tr("Default: the DSM's, else the map's, else the photogrammetry "
+                          "project's"))
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(

@@ -130,8 +130,8 @@ class CreatePlotGrid(EasyIDPAlgorithm):
                 name, self.tr(text), ProcessingNumberParameterType.Double, optional=True,
                 minValue=0.0), 3))
         advanced = []
-        for name, text in ((self.SPACING_X, translatable("Spacing of the columns, centre to centre (m; instead of the gap)")),
-                           (self.SPACING_Y, translatable("Spacing of the rows, centre to centre (m; instead of the alley)"))):
+        for name, text in ((self.SPACING_X, translatable("Column spacing, centre to centre (m; not the gap)")),
+                           (self.SPACING_Y, translatable("Row spacing, centre to centre (m; not the alley)"))):
             advanced.append(self.decimals(QgsProcessingParameterNumber(
                 name, self.tr(text), ProcessingNumberParameterType.Double, optional=True,
                 minValue=0.0), 3))
@@ -165,14 +165,16 @@ class CreatePlotGrid(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterEnum(
             self.JOIN_BY, self.tr("Join the field book by"), options=[self.tr(j[1]) for j in JOINS],
             defaultValue=0))
-        for name, text in ((self.BOOK_ID, translatable("Field-book column of the plot id or number (default: plot_id or plot_no)")),
+        for name, text in ((self.BOOK_ID, translatable("Field-book column of the plot id or number")),
                            (self.BOOK_ROW, translatable("Field-book column of the row (default: row)")),
                            (self.BOOK_COL, translatable("Field-book column of the column (default: col)"))):
             self.addParameter(QgsProcessingParameterField(
                 name, self.tr(text), parentLayerParameterName=self.FIELD_BOOK, optional=True))
-        advanced.append(self.decimals(QgsProcessingParameterNumber(
-            self.TOLERANCE, self.tr("Corner tolerance (m: how far the corners may be from a rectangle)"),
-            ProcessingNumberParameterType.Double, defaultValue=0.25, minValue=0.0), 3))
+        tolerance = self.decimals(QgsProcessingParameterNumber(
+            self.TOLERANCE, self.tr("Corner tolerance (m)"),
+            ProcessingNumberParameterType.Double, defaultValue=0.25, minValue=0.0), 3)
+        tolerance.setHelp(self.tr("How far the given corners may be from a rectangle"))
+        advanced.append(tolerance)
         advanced.append(QgsProcessingParameterCrs(
             self.CRS, self.tr("Output CRS (projected, in metres; default: the anchor's)"),
             optional=True))
@@ -327,10 +329,16 @@ class CreatePlotGrid(EasyIDPAlgorithm):
         close_sink(sink)
         presentation.present(
             self, context, dest_id, self.OUTPUT,
-            presentation.outline_style("#ffd400", 0.5, label='"plot_id"', label_scale=2000),
+            grid_style(),
             self.tr("Plot grid {rows} × {cols}").format(rows=int(grid.row.max()),
                                                        cols=int(grid.col.max())))
         feedback.pushInfo(self.tr("{n} plots in {crs}.").format(n=len(grid), crs=crs.authid() or
                                                                crs.description()))
         feedback.setProgress(100)
         return {self.OUTPUT: dest_id}
+
+
+def grid_style():
+    """A new plot grid: blue outlines (not the yellow of the demo plots, so that a grid laid
+    over existing plots stands apart), labelled with plot_id when zoomed in beyond 1:2000."""
+    return presentation.outline_style("#3d8bff", 0.5, label='"plot_id"', label_scale=2000)

@@ -65,10 +65,10 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
     def shortHelpString(self):  # noqa: N802 (QGIS API)
         return super().shortHelpString() + "\n\n" + self.tr(
             "Index of the crops (optional): the ROIs with the file ('crop_file'), the number of "
-            "points ('points') and the outcome ('crop_status') of each. When it is opened after "
-            "the run (or 'Load layers on completion' is ticked in batch mode, or it is a model "
-            "output set to open), up to 100 LAS/LAZ crops are loaded too, in one collapsed group "
-            "below the ROI layer, where this QGIS can display point clouds (PDAL provider).")
+            "points ('points') and the outcome ('crop_status') of each. 'Open the crops in the "
+            "map too' (off by default) opens up to 100 LAS/LAZ crops in one collapsed group below "
+            "the ROI layer, where this QGIS can display point clouds (PDAL provider); a larger "
+            "run opens the index only.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_point_cloud_parameters(self)
@@ -83,7 +83,8 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
             defaultValue=0))
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
-        add_index_parameter(self, self.tr("Index of the crops (open it to see the crops)"))
+        add_index_parameter(self, self.tr("Index of the crops"))
+        presentation.add_open_files_parameter(self, self.tr("Open the crops in the map too"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Cropped point clouds")))
@@ -135,7 +136,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
             presentation.anchor_id(self, parameters, self.ROIS, context))
         presentation.present(self, context, index, self.OUTPUT_INDEX, presentation.index_style(),
                              self.tr("Index of the point cloud crops"), group, rank=-1)
-        self._load(written, group, presentation.load_project(parameters, self.OUTPUT_INDEX),
+        self._load(written, group, presentation.files_project(self, parameters, context),
                    context, feedback)
         feedback.pushInfo(self.tr("{cropped} ROIs cropped ({points:,} points), {n_empty} without "
                                   "points, {n_missed} outside the cloud.").format(

@@ -44,9 +44,9 @@ class CropRasterByROIs(EasyIDPAlgorithm):
     def shortHelpString(self):  # noqa: N802 (QGIS API)
         return super().shortHelpString() + "\n\n" + self.tr(
             "Index of the crops (optional): the ROIs with the file of each ('crop_file', empty "
-            "for a skipped ROI) and 'crop_status'. When it is opened after the run (or 'Load "
-            "layers on completion' is ticked in batch mode, or it is a model output set to "
-            "open), up to 100 crops are loaded too, in one collapsed group below the ROI layer.")
+            "for a skipped ROI) and 'crop_status'. 'Open the crops in the map too' (off by "
+            "default) opens up to 100 crops in one collapsed group below the ROI layer; a larger "
+            "run opens the index only.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterRasterLayer(
@@ -58,7 +58,8 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
-        add_index_parameter(self, self.tr("Index of the crops (open it to see the crops)"))
+        add_index_parameter(self, self.tr("Index of the crops"))
+        presentation.add_open_files_parameter(self, self.tr("Open the crops in the map too"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES, self.tr("Cropped rasters")))
         self.addOutput(QgsProcessingOutputNumber(self.CROPPED, self.tr("Number of ROIs cropped")))
@@ -99,7 +100,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         presentation.present(self, context, index, self.OUTPUT_INDEX, presentation.index_style(),
                              self.tr("Index of the crops"), group, rank=-1)
         presentation.load_files(self, context, feedback,
-                                presentation.load_project(parameters, self.OUTPUT_INDEX),
+                                presentation.files_project(self, parameters, context),
                                 result.files, presentation.stems(result.files),
                                 presentation.RASTER, group, self.OUTPUT_FILES)
         feedback.pushInfo(self.tr("{n_files} GeoTIFFs written, {n_skipped} ROIs skipped.").format(

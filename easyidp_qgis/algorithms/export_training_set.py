@@ -1,4 +1,4 @@
-"""Processing tool: Export a training set on the raw photos (easyidp:exporttrainingset)."""
+"""Processing tool: Export a training set (easyidp:exporttrainingset)."""
 from qgis.core import (QgsCoordinateTransform, QgsFeatureRequest, QgsProcessingException,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProcessingParameterFile,
@@ -55,7 +55,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
     OUTPUT_FOLDER = "OUTPUT_FOLDER"
 
     NAME = "exporttrainingset"
-    DISPLAY = "Export a training set on the raw photos"
+    DISPLAY = "Export a training set"
     GROUP = "Projection"
     GROUP_ID = "projection"
     HELP = (

@@ -72,10 +72,11 @@ class FitPlotGrid(EasyIDPAlgorithm):
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         self.addParameter(QgsProcessingParameterFeatureSource(
             self.GRID, self.tr("Plot grid (polygons)"), [ProcessingSourceType.VectorPolygon]))
-        self.addParameter(QgsProcessingParameterField(
-            self.NAME_FIELD, self.tr("Name field (labels and the log; default: plot_id or the "
-                                     "feature id)"),
-            parentLayerParameterName=self.GRID, optional=True))
+        p = QgsProcessingParameterField(self.NAME_FIELD, self.tr("Name field"),
+                                        parentLayerParameterName=self.GRID, optional=True)
+        p.setHelp(self.tr("The plots' names in labels and the log; default: plot_id, else the "
+                          "feature id"))
+        self.addParameter(p)
         self.addParameter(QgsProcessingParameterRasterLayer(
             self.ORTHOMOSAIC, self.tr("Orthomosaic (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterEnum(
@@ -94,10 +95,11 @@ class FitPlotGrid(EasyIDPAlgorithm):
                                     (self.NIR, translatable("Near-infrared band (NDVI)"), 4)):
             advanced.append(QgsProcessingParameterBand(
                 name, self.tr(text), default, self.ORTHOMOSAIC, optional=True))
-        advanced.append(self.decimals(QgsProcessingParameterNumber(
-            self.SEARCH, self.tr("Search radius of the global correction (m; empty: 0.6 m + 9 % "
-                                 "of the grid's half extent)"),
-            ProcessingNumberParameterType.Double, optional=True, minValue=0.0), 3))
+        search = self.decimals(QgsProcessingParameterNumber(
+            self.SEARCH, self.tr("Search radius of the global correction (m)"),
+            ProcessingNumberParameterType.Double, optional=True, minValue=0.0), 3)
+        search.setHelp(self.tr("Empty: 0.6 m + 9 % of the grid's half extent"))
+        advanced.append(search)
         advanced.append(self.decimals(QgsProcessingParameterNumber(
             self.MIN_COVER, self.tr("Bare below this share of the median plot's row strength"),
             ProcessingNumberParameterType.Double, defaultValue=0.3, minValue=0.0, maxValue=1.0), 2))
@@ -211,10 +213,17 @@ class FitPlotGrid(EasyIDPAlgorithm):
         label = f'"{name_field}"' if name_field else None
         presentation.present(
             self, context, dest_id, self.OUTPUT,
-            presentation.outline_style("#00e5ff", 0.5, dashed_when='"moved" = 0',
-                                       dashed_colour="#ff3b30", label=label, label_scale=2000),
+            fitted_style(label),
             self.tr("{grid}: fitted to {ortho}").format(grid=source.sourceName(),
                                                         ortho=layer.name()))
         feedback.setProgress(100)
         return {self.OUTPUT: dest_id}
 
+
+def fitted_style(label: str = None):
+    """The fitted grid: cyan outlines; plots left in place (moved = 0) dashed red, the legend
+    saying so; labelled with the plot names when zoomed in."""
+    return presentation.outline_style(
+        "#00e5ff", 0.5, dashed_when='"moved" = 0', dashed_colour="#ff3b30", label=label,
+        label_scale=2000, legend=(presentation.tr("Left in place (see fit_flag)"),
+                                  presentation.tr("Fitted to the rows")))

@@ -1,4 +1,4 @@
-"""Processing tool: Forward-project photo polygons to the map (easyidp:forwardprojectpolygons)."""
+"""Processing tool: Forward-project polygons (easyidp:forwardprojectpolygons)."""
 import os
 
 from qgis.core import (QgsProcessingException, QgsProcessingParameterEnum,
@@ -11,6 +11,7 @@ from ..compat import (FieldType, ProcessingFileParameterBehavior, ProcessingNumb
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..crs import crs_string
 from ..geometries import multipolygon
+from ..parameters import with_help
 from ..photo_layers import photo_layer_annotations
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
@@ -36,7 +37,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
     OUTPUT = "OUTPUT"
 
     NAME = "forwardprojectpolygons"
-    DISPLAY = "Forward-project photo polygons to the map"
+    DISPLAY = "Forward-project polygons"
     GROUP = "Projection"
     GROUP_ID = "projection"
     HELP = (
@@ -69,16 +70,20 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
         "the DSM's CRS, heights from the DSM.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
-        self.addParameter(QgsProcessingParameterFile(
-            self.INPUT, self.tr("Annotation file (LabelMe .json, COCO .json or YOLO .txt)"),
+        # one of three inputs is needed: QGIS marks each [optional], so each label says so
+        one_of = self.tr("Give exactly one of the three annotation inputs: a file, a folder or a "
+                         "photo-pixel layer.")
+        self.addParameter(with_help(QgsProcessingParameterFile(
+            self.INPUT, self.tr("Annotations, 1 of 3: a LabelMe, COCO or YOLO file"),
             behavior=ProcessingFileParameterBehavior.File, optional=True,
-            fileFilter="Annotations (*.json *.txt);;All files (*.*)"))
-        self.addParameter(QgsProcessingParameterFile(
-            self.INPUT_FOLDER, self.tr("…or a folder of LabelMe .json or YOLO .txt files"),
-            behavior=ProcessingFileParameterBehavior.Folder, optional=True))
-        self.addParameter(QgsProcessingParameterFeatureSource(
-            self.INPUT_LAYER, self.tr("…or a photo-pixel polygon layer (x = column, y = −row)"),
-            [ProcessingSourceType.VectorPolygon], optional=True))
+            fileFilter="Annotations (*.json *.txt);;All files (*.*)"), one_of))
+        self.addParameter(with_help(QgsProcessingParameterFile(
+            self.INPUT_FOLDER, self.tr("Annotations, 2 of 3: a LabelMe or YOLO folder"),
+            behavior=ProcessingFileParameterBehavior.Folder, optional=True), one_of))
+        self.addParameter(with_help(QgsProcessingParameterFeatureSource(
+            self.INPUT_LAYER, self.tr("Annotations, 3 of 3: a photo-pixel polygon layer"),
+            [ProcessingSourceType.VectorPolygon], optional=True),
+            one_of + " " + self.tr("Layer coordinates: x = column, y = −row.")))
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterRasterLayer(self.DSM, self.tr("DSM (GeoTIFF)")))
         self.addParameter(QgsProcessingParameterEnum(
@@ -92,8 +97,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
             behavior=ProcessingFileParameterBehavior.File, optional=True,
             fileFilter="COCO (*.json)"))
         self.addParameter(QgsProcessingParameterFile(
-            self.TILES, self.tr("Tile index (tiles.json of a tiled training set) when the "
-                                "annotations are on its tiles"),
+            self.TILES, self.tr("Tile index (tiles.json), for annotations on tiles"),
             behavior=ProcessingFileParameterBehavior.File, optional=True,
             fileFilter="Tile index (tiles.json);;JSON (*.json)"))
         p = self.decimals(QgsProcessingParameterNumber(
@@ -188,6 +192,8 @@ def detection_style():
     """Polygons brought from the photos: magenta outlines over a faint fill, labelled; dashed
     where a vertex's ray found no DSM (complete = false)."""
     return presentation.outline_style("#ff00c8", 0.5, dashed_when='NOT "complete"',
+                                      legend=(presentation.tr("Incomplete: a vertex found no DSM"),
+                                              presentation.tr("Complete")),
                                       label='"label"', fill_alpha=40,
                                       tip='<b>[% "label" %]</b><br>[% round("area_m2", 3) %] m², '
                                           '[% "views" %] view(s)')

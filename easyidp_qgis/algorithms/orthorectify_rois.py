@@ -1,4 +1,4 @@
-"""Processing tool: Orthorectify ROIs from raw photos (easyidp:orthorectifyrois)."""
+"""Processing tool: Orthorectify ROIs (easyidp:orthorectifyrois)."""
 from qgis.core import (QgsProcessingOutputMultipleLayers, QgsProcessingOutputNumber,
                        QgsProcessingParameterEnum, QgsProcessingParameterFile,
                        QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
@@ -36,7 +36,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     WRITTEN = "WRITTEN"
 
     NAME = "orthorectifyrois"
-    DISPLAY = "Orthorectify ROIs from raw photos"
+    DISPLAY = "Orthorectify ROIs"
     GROUP = "Projection"
     GROUP_ID = "projection"
     HELP = (
@@ -58,10 +58,9 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     def shortHelpString(self):  # noqa: N802 (QGIS API)
         return super().shortHelpString() + "\n\n" + self.tr(
             "Index of the images (optional): one feature per image, the ROI with its file "
-            "('image_file'), photo, visible share and pixel size. When it is opened after the run "
-            "(or 'Load layers on completion' is ticked in batch mode, or it is a model output set "
-            "to open), up to 100 images are loaded too, in one collapsed group below the ROI "
-            "layer.")
+            "('image_file'), photo, visible share and pixel size. 'Open the images in the map too' "
+            "(off by default) opens up to 100 images in one collapsed group below the ROI layer; "
+            "a larger run opens the index only.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_roi_parameters(self)
@@ -83,7 +82,8 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Output folder")))
-        add_index_parameter(self, self.tr("Index of the images (open it to see the images)"))
+        add_index_parameter(self, self.tr("Index of the images"))
+        presentation.add_open_files_parameter(self, self.tr("Open the images in the map too"))
         self.add_overwrite_parameter()
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
@@ -124,7 +124,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
                              presentation.index_style("image_file"),
                              self.tr("Index of the images"), group, rank=-1)
         presentation.load_files(self, context, feedback,
-                                presentation.load_project(parameters, self.OUTPUT_INDEX),
+                                presentation.files_project(self, parameters, context),
                                 result.files, presentation.stems(result.files), presentation.RASTER,
                                 group, self.OUTPUT_FILES)
         feedback.pushInfo(self.tr("{n} orthorectified ROI images written to {folder}; {s} "

@@ -1,4 +1,4 @@
-"""Processing tool: Plot statistics from raw photos (easyidp:photostatistics)."""
+"""Processing tool: Plot statistics from photos (easyidp:photostatistics)."""
 import os
 
 from qgis.core import (QgsCoordinateReferenceSystem,
@@ -52,7 +52,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
     PREVIEW_FOLDER = "PREVIEW_FOLDER"
 
     NAME = "photostatistics"
-    DISPLAY = "Plot statistics from raw photos"
+    DISPLAY = "Plot statistics from photos"
     GROUP = "Projection"
     GROUP_ID = "projection"
     HELP = (
@@ -88,8 +88,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         add_roi_parameters(self)
         add_project_parameters(self)
         self.addParameter(QgsProcessingParameterVectorLayer(
-            self.BACKPROJECTION, self.tr("Back-projection: the photo-pixel layer of Back-project "
-                                         "ROIs (empty: run it here)"),
+            self.BACKPROJECTION, self.tr("Back-projection (photo-pixel layer; empty: run it here)"),
             [ProcessingSourceType.VectorPolygon], optional=True))
         add_height_parameters(self)
         self.addParameter(QgsProcessingParameterFile(
@@ -121,9 +120,9 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterBoolean(
             self.WEIGHTED, self.tr("Weight the views by their score (weighted median)"), False))
         p = QgsProcessingParameterString(
-            self.BANDS, self.tr("Band names of the photos, comma-separated (default: red,green,"
-                                "blue for 3 bands; e.g. blue,green,red,rededge,nir)"),
+            self.BANDS, self.tr("Band names of the photos (comma-separated)"),
             optional=True)
+        p.setHelp(self.tr("Default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir"))
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterBoolean(

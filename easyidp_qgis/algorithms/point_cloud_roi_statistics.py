@@ -68,13 +68,13 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFeatureSource(
             self.ROIS, self.tr("ROIs (polygons)"), [ProcessingSourceType.VectorPolygon]))
         self.addParameter(QgsProcessingParameterRasterLayer(
-            self.GROUND_DSM, self.tr("Ground: DSM/DTM raster (GeoTIFF; optional)"), optional=True))
+            self.GROUND_DSM, self.tr("Ground: DSM or DTM raster (GeoTIFF)"), optional=True))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
-            self.GROUND_HEIGHT, self.tr("Ground: one height for all ROIs (cloud Z units; optional)"),
+            self.GROUND_HEIGHT, self.tr("Ground: one height for all ROIs (cloud Z units)"),
             ProcessingNumberParameterType.Double, optional=True), 3))
         p = self.decimals(QgsProcessingParameterNumber(
             self.GROUND_PERCENTILE,
-            self.tr("Ground without raster or height: this percentile of each ROI's Z"),
+            self.tr("Ground otherwise: percentile of each ROI's Z"),
             ProcessingNumberParameterType.Double, defaultValue=1.0, minValue=0.0, maxValue=100.0), 1)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)

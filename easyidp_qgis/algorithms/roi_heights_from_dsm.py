@@ -65,7 +65,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterEnum(
             self.STATISTIC, self.tr("Statistic"), options=STATS, defaultValue=0))
         self.addParameter(self.decimals(QgsProcessingParameterNumber(
-            self.PERCENTILE, self.tr("Percentile (0–100, for the percentile, pmin and pmax statistics)"),
+            self.PERCENTILE, self.tr("Percentile (0–100; for percentile, pmin and pmax)"),
             ProcessingNumberParameterType.Double, defaultValue=50.0, minValue=0.0, maxValue=100.0), 1))
         self.addParameter(QgsProcessingParameterNumber(
             self.BUFFER, self.tr("Buffer (DSM map units; negative shrinks the polygon)"),

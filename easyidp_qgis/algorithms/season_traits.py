@@ -94,11 +94,11 @@ class SeasonTraits(EasyIDPAlgorithm):
                      self.tr("Heights from the point cloud")],
             allowMultiple=True, defaultValue=list(range(len(TRAITS)))))
         self.addParameter(QgsProcessingParameterRasterLayer(
-            self.GROUND, self.tr("Ground: bare-soil DSM or DTM of the season (optional)"),
+            self.GROUND, self.tr("Ground: bare-soil DSM or DTM of the season"),
             optional=True))
         p = self.decimals(QgsProcessingParameterNumber(
             self.GROUND_PERCENTILE,
-            self.tr("Ground without a DTM: percentile of each ROI's lowest heights"),
+            self.tr("Ground without a DTM: percentile of the lowest heights"),
             ProcessingNumberParameterType.Double, defaultValue=2.0, minValue=0.0, maxValue=50.0), 1)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
@@ -109,7 +109,7 @@ class SeasonTraits(EasyIDPAlgorithm):
         self.addParameter(p)
         p = self.decimals(QgsProcessingParameterNumber(
             self.COVER_THRESHOLD,
-            self.tr("Cover threshold on the vegetation index (empty: Otsu per orthomosaic)"),
+            self.tr("Cover threshold on the vegetation index (empty: Otsu)"),
             ProcessingNumberParameterType.Double, optional=True, minValue=-1.0, maxValue=2.0), 3)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
@@ -118,12 +118,13 @@ class SeasonTraits(EasyIDPAlgorithm):
             defaultValue=min(os.cpu_count() or 1, 8), minValue=1, maxValue=256))
         p = QgsProcessingParameterString(
             self.DASK_SCHEDULER,
-            self.tr("Dask scheduler (tcp://host:port, or 'local'; empty: processes here)"),
+            self.tr("Dask scheduler (tcp://host:port or 'local')"),
             optional=True)
+        p.setHelp(self.tr("Empty: processes on this computer"))
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         self.addParameter(QgsProcessingParameterFolderDestination(
-            self.CROPS, self.tr("Crops per date (optional folder)"), optional=True,
+            self.CROPS, self.tr("Crops per date (folder)"), optional=True,
             createByDefault=False))
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_TABLE, self.tr("Traits per ROI and date (long table)"),

@@ -1,4 +1,4 @@
-"""Back-project ROIs to raw photos in real QGIS (offscreen) and through qgis_process.
+"""Back-project ROIs in real QGIS (offscreen) and through qgis_process.
 
 The photo-pixel layer's convention (x = column, y = −row) is checked against how QGIS itself
 places a raw photo opened without georeference: that is the truth here, not our code.

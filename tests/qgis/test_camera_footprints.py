@@ -1,4 +1,4 @@
-"""Camera positions and footprints in real QGIS, on the real Metashape and Pix4D projects."""
+"""Cameras and footprints in real QGIS, on the real Metashape and Pix4D projects."""
 import numpy as np
 import pytest
 from qgis.core import (QgsGeometry, QgsPointXY, QgsProcessingContext, QgsProcessingException,

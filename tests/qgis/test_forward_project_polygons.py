@@ -1,4 +1,4 @@
-"""Forward-project photo polygons to the map, in real QGIS and through qgis_process, on the
+"""Forward-project polygons, in real QGIS and through qgis_process, on the
 demo survey (truth: the LabelMe vertices' map coordinates written by the survey generator)."""
 import json
 import os

@@ -42,7 +42,7 @@ def test_a_tool_speaks_chinese_and_japanese(plugin):
         assert tr.load(str(I18N / f"easyidp_{lang}.qm"))
         QCoreApplication.installTranslator(tr)
         try:
-            assert alg.displayName() != "Back-project ROIs to raw photos"
+            assert alg.displayName() != "Back-project ROIs"
             assert not alg.shortHelpString().startswith(alg.HELP[:40])
         finally:
             QCoreApplication.removeTranslator(tr)

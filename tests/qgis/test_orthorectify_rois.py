@@ -1,4 +1,4 @@
-"""Orthorectify ROIs from raw photos, in real QGIS and through qgis_process, on the demo survey."""
+"""Orthorectify ROIs, in real QGIS and through qgis_process, on the demo survey."""
 import os
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Plot statistics from raw photos (easyidp:photostatistics) in real QGIS and through qgis_process.
+"""Plot statistics from photos (easyidp:photostatistics) in real QGIS and through qgis_process.
 
 The values are the core's (tests/core/test_photo_statistics.py checks them against brute force
 and the demo's truth); here: the tool's two routes (running the backward projection itself, or

@@ -1,4 +1,4 @@
-"""Camera positions and footprints in real QGIS on goya_test (rolling-shutter compensation on in
+"""Cameras and footprints in real QGIS on goya_test (rolling-shutter compensation on in
 Metashape): the log says that the compensation is applied. (The footprint rings of moving
 cameras are checked on the rolling-shutter demo survey in tests/core.)"""
 from qgis.core import QgsProcessingContext, QgsProcessingFeedback
