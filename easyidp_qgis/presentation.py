@@ -144,7 +144,8 @@ def add_open_files_parameter(alg, description: str) -> None:
     """OPEN_FILES (default off): open the files a run writes too, not only its index. A run of
     2,000 plots must not bury the map, so the files load only when asked, in one collapsed
     group, and none above :data:`MAX_LAYERS_TO_LOAD`."""
-    p = QgsProcessingParameterBoolean(OPEN_FILES, description, False)
+    # optional, so that models saved before this parameter existed stay valid
+    p = QgsProcessingParameterBoolean(OPEN_FILES, description, False, optional=True)
     p.setHelp(tr("Off: only the index opens (when it is set to open). On: the files too, in one "
                  "collapsed group below the ROI layer; none when there are more than {n} (the "
                  "log says where they are).").format(n=MAX_LAYERS_TO_LOAD))
