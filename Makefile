@@ -207,5 +207,7 @@ package: env
 	$(VENV)/bin/python -m easyidp_toolbox.scripts.package --output $(ROOT)/dist $(if $(STRICT),--strict)
 
 clean:
-	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(VENV_CHECK) $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist \
-	    $(foreach s,$(SUITES),$(ROOT)/.venv-$(s) $(ROOT)/.venv-ref-$(s) $(ROOT)/demo_output-$(s))
+	rm -rf $(VENV) $(VENV_CORE) $(VENV_REF) $(VENV_CHECK) $(VENV_EXACT) $(VENV_OTY) $(VENV_DOCS) \
+	    $(PLUGINS) $(DEMO_DIR) $(ROOT)/dist $(ROOT)/site \
+	    $(foreach s,$(SUITES),$(ROOT)/.venv-$(s) $(ROOT)/.venv-ref-$(s) $(ROOT)/.venv-orthority-$(s) \
+	                          $(ROOT)/demo_output-$(s))
