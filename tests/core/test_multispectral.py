@@ -296,3 +296,27 @@ def test_captures_are_grouped_by_the_vendor_tags(tmp_path):
     assert all(sorted(band_key(b) for b in c.bands) == ["green", "nir", "red", "red_edge"] for c in dji)
     with pytest.raises(InputError, match=r"band 'Blue' of capture aaa is also in"):
         group_captures([paths[0], paths[0]])
+
+
+def test_demo_multispectral_camera_reads_back_to_its_truth(demo, tmp_path):
+    """[independent] of the reader: the demo's band files are written by the generator's own
+    inverse of MicaSense's model (core/demo/multispectral.py) from its spectral model's
+    reflectance; the product's reader recovers that reflectance pixel by pixel, glints masked,
+    while the stored digital numbers differ between captures by the light and the settings."""
+    from easyidp_toolbox.core.demo.multispectral import true_reflectance, write_multispectral_flight
+    from easyidp_toolbox.core.projection.photos import read_photo
+    photos = demo.photos[10:14]
+    flight = write_multispectral_flight(photos, tmp_path / "ms")
+    captures = group_captures(sorted((tmp_path / "ms").iterdir()))
+    assert len(captures) == 4 and all(sorted(c.bands) == ["NIR", "Red"] for c in captures)
+    ratios = []
+    for rec in flight:
+        truth = true_reflectance(read_photo(rec["photo"]))
+        for band, path in rec["files"].items():
+            got = reflectance_values(path)
+            assert 0 < (~got.valid).sum() < 0.01 * got.valid.size       # glints only
+            err = np.abs(got.values - truth[band])[got.valid]
+            assert err.mean() < 2e-4 and np.percentile(err, 99) < 2e-3, (path, err.mean())
+        ratios.append(rec["exposure"]["NIR"] * rec["gain"]["NIR"] * rec["irradiance"]["NIR"]
+                      / (rec["exposure"]["Red"] * rec["gain"]["Red"] * rec["irradiance"]["Red"]))
+    assert max(ratios) / min(ratios) > 1.3
