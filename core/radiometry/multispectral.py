@@ -68,7 +68,9 @@ class ReflectanceOptions:
 
     def key(self):
         albedo = tuple(sorted((band_key(k), float(v)) for k, v in (self.panel_albedo or {}).items()))
-        return (tuple(os.fspath(p) for p in self.panel_photos), albedo,
+        photos = tuple((os.fspath(p), os.stat(p).st_mtime_ns if os.path.exists(p) else 0)
+                       for p in self.panel_photos)
+        return (photos, albedo,
                 tuple(self.panel_region) if self.panel_region else None)
 
 
@@ -118,15 +120,13 @@ def _panel_mask(tags: PhotoTags, shape, region) -> np.ndarray:
                          f"(XMP Camera:ReflectArea, written when the camera detects the panel); "
                          f"give the panel's area in pixels (panel_region) or another panel capture")
     quad = np.asarray(corners[:8], float).reshape(4, 2)
+    x, y = quad[:, 0], quad[:, 1]
+    orientation = np.sign(np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y))   # shoelace sign
     yy, xx = np.mgrid[0:rows, 0:cols]
     px, py = xx + 0.5, yy + 0.5                      # pixel centres (corner convention)
     inside = np.ones(shape, bool)
-    sign = None
     for (x0, y0), (x1, y1) in zip(quad, np.roll(quad, -1, axis=0)):
-        cross = (x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)
-        edge_sign = np.sign(np.mean(cross)) if sign is None else sign
-        sign = edge_sign
-        inside &= cross * sign >= 0
+        inside &= ((x1 - x0) * (py - y0) - (y1 - y0) * (px - x0)) * orientation >= 0
     return inside
 
 
@@ -136,7 +136,7 @@ def _panel_factors(key) -> Dict[str, Tuple[float, str]]:
     paths, albedo, region = key
     albedo = dict(albedo)
     factors: Dict[str, Tuple[float, str]] = {}
-    for path in paths:
+    for path, _mtime in paths:
         tags, signal, saturated, _ = _signal(path)
         band = band_key(_band_name(tags))
         mask = _panel_mask(tags, signal.shape, region) & ~saturated

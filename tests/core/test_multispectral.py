@@ -243,7 +243,7 @@ def test_panel_calibration_and_a_panel_photo_without_a_panel(tmp_path):
     scene = np.full((ROWS, COLS), 0.12)
     scene[10:30, 20:44] = albedo                       # the panel
     panel_raw = micasense_raw_from_radiance(scene * irradiance / math.pi, 0.001, 1.0)
-    area = {"Camera:ReflectArea": "22,12,42,12,42,28,22,28", "Camera:Albedo": albedo}
+    area = {"Camera:ReflectArea": "22,12,22,28,42,28,42,12", "Camera:Albedo": albedo}
     panel = tmp_path / "IMG_0000_5.tif"
     write_micasense(panel, panel_raw, band="Red edge", exposure=0.001, iso=100, extra=area)
     field = 0.05 + 0.5 * cols / COLS
