@@ -26,7 +26,12 @@ and the first calibration's calibrated cameras. Conventions, from the OPF 1.0 sp
 * **Photos.** The camera list's URIs, relative to the folder of the file that lists them
   (``#page=n`` fragments dropped, ``file:`` URIs and Windows paths kept); the camera label is
   the image's file name. Cameras without a calibrated pose are kept, not aligned.
-* Rolling-shutter and rig parameters are not applied (said in the notes).
+* Rolling-shutter parameters are not applied (said in the notes).
+* **Rigs** (multispectral cameras: one capture, one camera per band). The specification gives
+  every calibrated camera its own position and orientation, so each band file is placed by its
+  own pose and the rig relatives are not needed. A band camera of a rig capture without a
+  calibrated pose is not placed from its reference camera through the rig relatives: it is left
+  unaligned, and a note names how many (no tool measures it).
 """
 import math
 import re
@@ -224,7 +229,8 @@ def open_opf(path, crs=None) -> Reconstruction:
         sensors[str(sid)] = Sensor(id=str(sid), label=f"{names[sid]} ({w}x{h})", width=w, height=h,
                                    calibration=cal, type="fisheye" if cal.model == FISHEYE else "frame")
         if s.rig_relatives is not None:
-            notes.append(f"sensor {names[sid]!r} is in a rig; the rig relatives are not applied")
+            notes.append(f"sensor {names[sid]!r} is in a rig: each of its cameras is placed by its "
+                         "own calibrated pose (the rig relatives are not needed)")
 
     base = _resource_folder(raw, "camera_list", opf)
     uris = {c.id.int: c.uri for c in camera_list.cameras}
@@ -257,6 +263,13 @@ def open_opf(path, crs=None) -> Reconstruction:
                               photo_path=photo, R=R, C=C))
     if rolling:
         notes.append(f"{rolling} camera(s) carry rolling-shutter parameters; they are not applied")
+    unplaced = [uris.get(cam.id.int, str(cam.id.int)) for cap in inputs.captures
+                if len(cap.cameras) > 1 for cam in cap.cameras if cam.id.int not in poses]
+    if unplaced:
+        notes.append(f"{len(unplaced)} band camera(s) of rig captures have no calibrated pose "
+                     f"(e.g. {file_name(unplaced[0])}); their pose is not derived from the rig "
+                     "relatives, so they are left unaligned and not measured: calibrate them in "
+                     "PIX4Dmatic, or use a Metashape project (its rig offsets are applied)")
     missing = len(cameras) - sum(c.aligned for c in cameras)
     if missing:
         notes.append(f"{missing} camera(s) have no calibrated pose (not aligned)")

@@ -11,6 +11,12 @@ Files used (any subset that determines the cameras; ``<name>`` is the project pr
   Inpho-style ``*_calibrated_internal_camera_parameters.cam`` (FOCAL/XPOFF/SYM_DIST).
 * ``<name>_wkt.prj``: the output CRS.
 
+Multispectral rigs: the calibrated camera parameters give every band file its own K,
+distortion and pose, so each band is placed by its own camera and no rig relatives are needed.
+Without that file, the pmatrix path takes the lens from the ``.cam`` file; one that holds
+several camera models (one per band of a rig: ``camera_calibration_file 0``, ``1``, …) does not
+say which image uses which, so such a project is refused with a message.
+
 Pix4D pixel coordinates: the principal point is measured from the top-left *corner* (in the
 .cam files cx = w/2 − XPOFF_px exactly, with fiducials at the sensor corners), the same
 convention as ours, so no half-pixel shift is applied. Distortion acts on normalised
@@ -290,6 +296,15 @@ def open_pix4d(path, crs=None) -> Reconstruction:
                                   R=e["R"], C=e["t"]))
     else:
         cam_file = files["cam"] or files["cam_inpho"]
+        if cam_file is not None:
+            models = len(re.findall(r"(?im)^\s*(?:camera_calibration_file|pix4d camera calibration file)\b",
+                                    cam_file.read_text(errors="replace")))
+            if models > 1:
+                raise InputError(
+                    f"{cam_file}: {models} camera models (a multi-camera rig: one per band of a "
+                    "multispectral camera), and without *_calibrated_camera_parameters.txt nothing "
+                    "says which band file uses which; export the params folder from Pix4D with "
+                    "its calibrated camera parameters, or use the Metashape or OPF project")
         for name, P in read_pmatrix(files["pmatrix"]).items():
             K, R, C = decompose_pmatrix(P)
             w, h = _image_size(K, cam_file)

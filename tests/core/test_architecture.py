@@ -41,7 +41,8 @@ LAYERS: Tuple[Tuple[str, ...], ...] = (
                                      # height_statistics (the heights vocabulary), safe_xml
     ("annotations",),                # shapes on raw photos (LabelMe, COCO, YOLO), pixel space
     ("roi",),                        # ROI, ROISet and their readers (LabelMe via annotations)
-    ("raster", "pointcloud"),        # the raster engine; point clouds
+    ("raster", "pointcloud", "radiometry"),  # the raster engine; point clouds; photo pixels in
+                                     # physical units (reflectance)
     ("reconstruction", "plotgrid"),  # the camera model; plot grids (they read an orthomosaic)
     ("projection",),                 # rays, footprints, backward, forward, ortho, statistics
     ("season",),                     # a season of surveys

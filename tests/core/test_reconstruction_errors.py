@@ -126,3 +126,15 @@ def test_unknown_path_and_unknown_crs(tmp_path, params):
     assert r.crs is None and any("CRS is unknown" in n for n in r.notes)
     with pytest.raises(Exception, match="project's CRS is unknown"):
         r.project_points(np.array([[139.5, 35.7, 100.0]]), "EPSG:4326")
+
+
+def test_pix4d_rig_without_calibrated_camera_parameters(tmp_path, params):
+    """A pmatrix-only params folder whose .cam file holds two camera models (a multispectral
+    rig, one model per band) is refused: nothing says which band file uses which lens (without
+    the check every band would silently take the last model's distortion)."""
+    folder = _pix4d_copy(tmp_path, params, drop=("_calibrated_camera_parameters.txt",))
+    cam = next(folder.glob("*_pix4d_calibrated_internal_camera_parameters.cam"))
+    text = cam.read_text()
+    cam.write_text(text + "\n" + text.replace("camera_calibration_file 0", "camera_calibration_file 1"))
+    with pytest.raises(InputError, match=r"\.cam: 2 camera models \(a multi-camera rig.*calibrated camera parameters"):
+        open_reconstruction(folder, crs="EPSG:32654")

@@ -371,3 +371,40 @@ def test_without_pyopf_the_message_says_how_to_install(good, monkeypatch):
     with pytest.raises(InputError, match=r"project\.opf: reading OPF projects needs the Python "
                                          r"package pyopf.*pip install pyopf"):
         open_reconstruction(good)
+
+
+def test_rig_band_cameras(tmp_path):
+    """[independent] a multispectral rig written per the specification: one capture, a camera per
+    band (sensors 5 and 6, calibrated rig relatives on sensor 6). A band camera with its own
+    calibrated pose is placed by it (OpenCV check); a band camera without one is not derived from
+    the rig relatives: it is left unaligned, and a note says so, naming the band file."""
+    cams = [(11, 5, (12.0, -3.5, 80.2), (3.1, -2.4, 37.0)), (12, 6, (12.05, -3.5, 80.2), (3.0, -2.3, 37.1)),
+            (21, 5, (30.5, 4.0, 79.1), (-1.7, 4.2, -141.0)), (22, 6, None, None)]
+    opf = write_opf(tmp_path / "rig", {5: (4000, 3000, PERSPECTIVE), 6: (4000, 3000, PERSPECTIVE)},
+                    [c for c in cams if c[2] is not None],
+                    photos={c[0]: f"images/IMG_{c[0] // 10:04d}_{c[1] - 4}.tif" for c in cams})
+    inputs = json.loads((tmp_path / "rig" / "input_cameras.json").read_text())
+    cap = inputs["captures"]
+    cam_doc = [dict(cap[0]["cameras"][0], id=cid, sensor_id=sid) for cid, sid, _, _ in cams]
+    inputs["captures"] = [dict(cap[0], id=1, reference_camera_id=11, rig_model_source="database",
+                               cameras=cam_doc[:2]),
+                          dict(cap[0], id=2, reference_camera_id=21, rig_model_source="database",
+                               cameras=cam_doc[2:])]
+    (tmp_path / "rig" / "input_cameras.json").write_text(json.dumps(inputs))
+    calib = tmp_path / "rig" / "calib" / "calibrated_cameras.json"
+    doc = json.loads(calib.read_text())
+    doc["sensors"][1]["rig_relatives"] = {"translation": [0.05, 0.0, 0.0],
+                                          "rotation_angles_deg": [0.1, -0.1, 0.05]}
+    calib.write_text(json.dumps(doc))
+    recon = open_reconstruction(opf)
+    labels = {c.label: c.aligned for c in recon.cameras}
+    assert labels == {"IMG_0001_1.tif": True, "IMG_0001_2.tif": True, "IMG_0002_1.tif": True,
+                      "IMG_0002_2.tif": False}
+    assert any("placed by its own calibrated pose" in n for n in recon.notes)
+    assert any("1 band camera(s) of rig captures have no calibrated pose (e.g. IMG_0002_2.tif)" in n
+               for n in recon.notes)
+    canonical = _ground()
+    p = recon.project_points(canonical, "EPSG:32654")
+    cv = _opencv_pixels(canonical, cams[1][2], cams[1][3], PERSPECTIVE)
+    inside = p.status[1] == INSIDE
+    assert inside.sum() > 20 and np.abs(p.pixels[1][inside] - cv[inside]).max() < 1e-6
