@@ -164,6 +164,7 @@ def orthority_rows(tmp, pairs: int):
     env = qgis_process_env(os.path.join(tmp, "profile"))
     oty_env = {k: v for k, v in os.environ.items() if k != "PROJ_DATA"}   # its wheels' own PROJ
     walls = {"oty": [], 0: [], 1: []}
+    cpus = {"oty": [], 0: [], 1: []}
     for i in range(pairs):
         out = os.path.join(tmp, f"oty{i}")
         os.makedirs(out)
@@ -171,6 +172,7 @@ def orthority_rows(tmp, pairs: int):
         if not r.ok:
             raise RuntimeError(f"oty odm failed:\n{r.stderr[-2000:]}")
         walls["oty"].append(r.wall)
+        cpus["oty"].append(r.cpu)
         for mask in (1, 0):
             r = run_child([EXE, "run", "easyidp:orthorectifyrois", "--", f"ROIS={rois}",
                            "NAME_FIELD=name", f"PROJECT={folder / 'opensfm' / 'reconstruction.json'}",
@@ -179,14 +181,19 @@ def orthority_rows(tmp, pairs: int):
             if not r.ok:
                 raise RuntimeError(f"qgis_process failed:\n{r.stderr[-3000:]}")
             walls[mask].append(r.wall)
+            cpus[mask].append(r.cpu)
     med = {k: statistics.median(v) for k, v in walls.items()}
+    cpu = {k: statistics.median(v) for k, v in cpus.items()}
+    r = run_child([EXE, "help", "easyidp:orthorectifyrois"], env=env)    # start-up: QGIS + plugin
     n_oty = len([f for f in os.listdir(out) if f.endswith(".tif")])
+    n_ours = len(os.listdir(os.path.join(tmp, f"ours0_{pairs - 1}")))
     print(f"\nReal survey, whole photos, beside Orthority 0.7.0 (median of {pairs} alternated "
           "runs, wall s from the command line, start-up included)")
-    print(table(["run", "wall s", "images", "Orthority / ours"], [
-        ["Orthority 0.7.0: oty odm (no occlusion mask)", med["oty"], n_oty, None],
-        ["ours: qgis_process, MASK none", med[1], None, med["oty"] / med[1]],
-        ["ours: qgis_process, occlusion mask", med[0], None, med["oty"] / med[0]]]))
+    print(table(["run", "wall s", "CPU s", "images", "Orthority / ours (wall)"], [
+        ["Orthority 0.7.0: oty odm (no occlusion mask)", med["oty"], cpu["oty"], n_oty, None],
+        ["ours: qgis_process, MASK none", med[1], cpu[1], n_ours, med["oty"] / med[1]],
+        ["ours: qgis_process, occlusion mask", med[0], cpu[0], n_ours, med["oty"] / med[0]],
+        ["qgis_process start-up alone (help of the tool; once)", r.wall, r.cpu, None, None]]))
     print_targets([target("real survey, no mask: Orthority wall / ours", med["oty"] / med[1], 1.5),
                    target("real survey, occlusion mask: Orthority wall / ours",
                           med["oty"] / med[0], 0.7)])

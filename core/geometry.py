@@ -59,8 +59,11 @@ def close_ring(ring: np.ndarray, keep: np.ndarray = None) -> np.ndarray:
 
 def _edges(rings: Rings) -> Tuple[np.ndarray, np.ndarray]:
     """All edges of all rings as start points (E, 2) and end points (E, 2)."""
+    if len(rings) == 1:
+        r = np.asarray(rings[0])
+        return r, np.concatenate([r[1:], r[:1]])
     starts = np.concatenate([r for r in rings])
-    ends = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
+    ends = np.concatenate([np.concatenate([r[1:], r[:1]]) for r in rings])
     return starts, ends
 
 
@@ -316,11 +319,22 @@ def rasterize(rings_px: Rings, shape: Tuple[int, int], all_touched: bool = False
         start = np.clip(start, 0, cols)
         stop = np.clip(stop, 0, cols)
         ok = stop > start
-        # spans of a row are disjoint: toggle at each start and stop, then XOR-accumulate
-        toggle = np.zeros((rows, cols + 1), dtype=bool)
-        np.logical_xor.at(toggle, (prow[ok], start[ok]), True)
-        np.logical_xor.at(toggle, (prow[ok], stop[ok]), True)
-        mask = np.logical_xor.accumulate(toggle[:, :cols], axis=1)
+        if prow.size < 2 or (prow[1:] != prow[:-1]).all():    # one span per row (convex)
+            s_row = np.zeros(rows, np.int64)
+            e_row = np.zeros(rows, np.int64)
+            s_row[prow], e_row[prow] = start, stop
+            c = np.arange(cols)
+            return _touch(rings_px, (c >= s_row[:, None]) & (c < e_row[:, None]), all_touched)
+        # spans of a row are disjoint: toggle at each start and stop, then the running parity
+        flat = np.concatenate([prow[ok] * (cols + 1) + start[ok], prow[ok] * (cols + 1) + stop[ok]])
+        toggle = np.bincount(flat, minlength=rows * (cols + 1)).reshape(rows, cols + 1)
+        mask = (np.cumsum(toggle[:, :cols], axis=1, dtype=np.int32) & 1).astype(bool)
+    return _touch(rings_px, mask, all_touched)
+
+
+def _touch(rings_px: Rings, mask: np.ndarray, all_touched: bool) -> np.ndarray:
+    """``mask`` with, for ``all_touched``, every pixel an edge of the rings passes through."""
+    rows, cols = mask.shape
     if all_touched:
         for ring in rings_px:
             for (x0, y0), (x1, y1) in zip(ring, np.roll(ring, -1, axis=0)):
@@ -362,11 +376,28 @@ def distance_to_rings(x: np.ndarray, y: np.ndarray, rings: Rings) -> np.ndarray:
     return best
 
 
+def _convex_simple(ring: np.ndarray) -> bool:
+    """True when the ring (open, (n, 2)) is a strictly convex polygon: every turn strictly to
+    the same side and the turns add up to one full turn (a star's add up to more), so no two
+    of its edges can meet except adjacent ones at their shared vertex."""
+    if len(ring) < 3:
+        return False
+    e = np.concatenate([ring[1:], ring[:1]]) - ring[:, :2]
+    f = np.concatenate([e[1:], e[:1]])
+    cross = e[:, 0] * f[:, 1] - e[:, 1] * f[:, 0]
+    if not ((cross > 0).all() or (cross < 0).all()):
+        return False
+    turn = np.arctan2(cross, e[:, 0] * f[:, 0] + e[:, 1] * f[:, 1])
+    return bool(abs(abs(turn.sum()) - 2 * np.pi) < 1e-6)
+
+
 def self_intersections(rings: Rings, max_report: int = 1) -> List[Tuple[float, float]]:
     """Points where edges of the rings cross or touch other than at shared ring vertices.
 
     An empty list means the rings form a simple (valid) polygon boundary.
     """
+    if len(rings) == 1 and _convex_simple(np.asarray(rings[0], np.float64)):
+        return []                   # a strictly convex ring turning once: simple
     a, b = _edges(rings)
     ring_id = np.concatenate([np.full(len(r), i) for i, r in enumerate(rings)])
     idx = np.concatenate([np.arange(len(r)) for r in rings])
