@@ -30,10 +30,14 @@ class PixelROI:
     all_touched: bool = False
     buffer: float = 0.0        # map units
     pixel_size: Tuple[float, float] = (1.0, 1.0)
+    spans: Optional[Tuple[np.ndarray, np.ndarray]] = None   # per row [start, stop), when known
 
     def mask(self) -> np.ndarray:
         """(rows, cols) bool over the window, True inside (see :func:`place_rois`)."""
         w = self.window
+        if self.spans is not None:
+            c = np.arange(w.cols)
+            return (c >= self.spans[0][:, None]) & (c < self.spans[1][:, None])
         if self.buffer == 0.0:
             return geometry.rasterize(self.rings, (w.rows, w.cols), self.all_touched)
         sx, sy = self.pixel_size   # distances in map units, also for non-square pixels
@@ -105,6 +109,12 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
             continue
         placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
                                all_touched, buffer, size))
+    if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks in one pass
+        simple = [p for p in placed if len(p.rings) == 1]
+        for p, sp in zip(simple, geometry.row_spans([p.rings[0] for p in simple],
+                                                    [(p.window.rows, p.window.cols)
+                                                     for p in simple])):
+            p.spans = sp
     return placed, skipped
 
 

@@ -129,3 +129,29 @@ def test_convex_fast_path_agrees_with_the_edge_pairs(seed):
             if orient(a, b, c) * orient(a, b, d) <= 0 and orient(c, d, a) * orient(c, d, b) <= 0:
                 crossing = True
     assert bool(geometry.self_intersections([ring])) == crossing
+
+
+def test_row_spans_agree_with_rasterize():
+    """[independent] The one-pass spans of many one-ring polygons against the winding-number
+    brute force above (convex, concave, off-grid and outside the grid); None only where a row
+    crosses the ring more than twice (then rasterize, also checked)."""
+    rng = np.random.default_rng(7)
+    rings, shapes = [], []
+    for k in range(60):
+        n = int(rng.integers(3, 9))
+        ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+        rad = rng.uniform(2, 9, n) if k % 2 else np.full(n, rng.uniform(2, 9))
+        rings.append(np.column_stack([8 + rad * np.cos(ang), 7 + rad * np.sin(ang)])
+                     + rng.uniform(-6, 6, 2))
+        shapes.append((int(rng.integers(1, 20)), int(rng.integers(1, 20))))
+    spans = geometry.row_spans(rings, shapes)
+    fallback = 0
+    for ring, shape, sp in zip(rings, shapes, spans):
+        truth = _centre_truth([ring], shape)
+        if sp is None:
+            fallback += 1
+            assert np.array_equal(geometry.rasterize([ring], shape), truth)   # the caller's way
+            continue
+        c = np.arange(shape[1])
+        assert np.array_equal((c >= sp[0][:, None]) & (c < sp[1][:, None]), truth)
+    assert 0 < fallback < len(rings)
