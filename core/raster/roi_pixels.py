@@ -13,6 +13,7 @@ from .sweep import Window
 from ..roi import ROI, ROISet
 
 
+SPAN_GROUP = 1_000_000     # edge × row crossings placed at once (:func:`geometry.row_spans`)
 NO_PIXEL = ("contains no pixel centre of the raster (it is smaller than a pixel or lies on the "
             "edge); use all-touched to include it")
 
@@ -109,12 +110,18 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
             continue
         placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
                                all_touched, buffer, size))
-    if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks in one pass
+    if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks, a few passes
         simple = [p for p in placed if len(p.rings) == 1]
-        for p, sp in zip(simple, geometry.row_spans([p.rings[0] for p in simple],
-                                                    [(p.window.rows, p.window.cols)
-                                                     for p in simple])):
-            p.spans = sp
+        work = np.cumsum([p.window.rows * len(p.rings[0]) for p in simple])
+        # groups of about SPAN_GROUP edge-row crossings each: memory stays a few tens of MB
+        cuts = np.searchsorted(work, np.arange(1, int(work[-1]) // SPAN_GROUP + 1) * SPAN_GROUP) \
+            if len(work) else []
+        for a, b in zip([0, *cuts], [*cuts, len(simple)]):
+            group = simple[a:b]
+            for p, sp in zip(group, geometry.row_spans([p.rings[0] for p in group],
+                                                       [(p.window.rows, p.window.cols)
+                                                        for p in group])):
+                p.spans = sp
     return placed, skipped
 
 
