@@ -4,6 +4,13 @@ Also: with and without the hidden-ground mask, on the demo and on the real OpenD
 (``../shared/realdata/orthority_odm``: 5 ROIs of 80 m × 80 m in its photos' overlaps, every
 photo that sees them), ROIs/s, ground pixels/s and the share of the time the mask costs.
 
+Also, beside Orthority 0.7.0 (``EASYIDP_ORTHORITY``, ``make env-orthority``) as users run
+each: ``oty odm`` on the real survey (every photo orthorectified whole, native resolution)
+against ``qgis_process run easyidp:orthorectifyrois`` over near whole-photo ROIs (each photo's
+footprint on the DSM, best photo: the photo itself), wall times from the command line with
+start-up on both sides, with the occlusion mask and without it (MASK none, Orthority's
+behaviour), the runs alternated.
+
 Run: ``python -m easyidp_toolbox.bench.bench_orthorectify [--quick]``.
 
 On the demo survey (small), each of the 40 plots is cut into 10 ROIs (400 in all, about
@@ -107,10 +114,102 @@ def real_survey():
     return rois, open_reconstruction(folder), str(folder / "odm_dem" / "dsm.tif")
 
 
+def footprint_rois_geojson(folder, path) -> None:
+    """Near whole-photo ROIs of the real survey: each photo's footprint on the DSM, densified to
+    10 m edges, each vertex pulled towards the centre until it lies on DSM data (the photos
+    reach beyond the DSM), named by the photo."""
+    from easyidp_toolbox.core import open_reconstruction
+    from easyidp_toolbox.core.projection import camera_footprints
+    from easyidp_toolbox.core.raster import DSM
+    dsm = DSM(str(folder / "odm_dem" / "dsm.tif"))
+    feats = []
+    for f in camera_footprints(open_reconstruction(folder), dsm):
+        ring = np.asarray(f.ring)[:, :2]
+        ring = ring[:-1] if np.allclose(ring[0], ring[-1]) else ring
+        dense = []
+        for a, b in zip(ring, np.roll(ring, -1, axis=0)):
+            k = max(1, int(np.ceil(np.hypot(*(b - a)) / 10.0)))
+            dense.extend(a + (b - a) * t for t in np.arange(k) / k)
+        ring = np.array(dense)
+        c = ring.mean(axis=0)
+        for s in np.linspace(1.0, 0.3, 36):
+            p = c + s * (ring - c)
+            ok = np.isfinite(dsm.heights(p[:, 0], p[:, 1]))
+            todo = ~np.isfinite(dsm.heights(ring[:, 0], ring[:, 1]))
+            ring[todo & ok] = p[todo & ok]
+        ring = np.vstack([ring, ring[:1]])
+        feats.append({"type": "Feature", "properties": {"name": f.label},
+                      "geometry": {"type": "Polygon", "coordinates": [ring.tolist()]}})
+    with open(path, "w") as fh:
+        json.dump({"type": "FeatureCollection", "features": feats, "crs": {
+            "type": "name", "properties": {"name": "urn:ogc:def:crs:EPSG::32651"}}}, fh)
+
+
+def orthority_rows(tmp, pairs: int):
+    """Orthority 0.7.0's ``oty odm`` against the tool through ``qgis_process`` (mask on, off),
+    wall times from the command line, alternated ``pairs`` times; (rows, target rows)."""
+    import statistics
+    from pathlib import Path
+    from .common import print_targets, run_child, target
+    from ..scripts.qgis_process import EXE, qgis_process_env
+    real = real_survey()
+    oty = os.environ.get("EASYIDP_ORTHORITY", os.path.join(ROOT, ".venv-orthority", "bin", "oty"))
+    if real is None or not os.path.exists(oty):
+        print("Orthority rows left out: " + ("the real survey is not there" if real is None else
+                                             f"no Orthority at {oty} (make env-orthority)"))
+        return
+    folder = Path(real[2]).parent.parent
+    rois = os.path.join(tmp, "footprints.geojson")
+    footprint_rois_geojson(folder, rois)
+    env = qgis_process_env(os.path.join(tmp, "profile"))
+    oty_env = {k: v for k, v in os.environ.items() if k != "PROJ_DATA"}   # its wheels' own PROJ
+    walls = {"oty": [], 0: [], 1: []}
+    cpus = {"oty": [], 0: [], 1: []}
+    for i in range(pairs):
+        out = os.path.join(tmp, f"oty{i}")
+        os.makedirs(out)
+        r = run_child([oty, "odm", "--dataset-dir", str(folder), "--out-dir", out], env=oty_env)
+        if not r.ok:
+            raise RuntimeError(f"oty odm failed:\n{r.stderr[-2000:]}")
+        walls["oty"].append(r.wall)
+        cpus["oty"].append(r.cpu)
+        for mask in (1, 0):
+            r = run_child([EXE, "run", "easyidp:orthorectifyrois", "--", f"ROIS={rois}",
+                           "NAME_FIELD=name", f"PROJECT={folder / 'opensfm' / 'reconstruction.json'}",
+                           f"DSM={real[2]}", "SELECTION=0", f"MASK={mask}",
+                           f"OUTPUT_FOLDER={os.path.join(tmp, f'ours{mask}_{i}')}"], env=env)
+            if not r.ok:
+                raise RuntimeError(f"qgis_process failed:\n{r.stderr[-3000:]}")
+            walls[mask].append(r.wall)
+            cpus[mask].append(r.cpu)
+    med = {k: statistics.median(v) for k, v in walls.items()}
+    cpu = {k: statistics.median(v) for k, v in cpus.items()}
+    r = run_child([EXE, "help", "easyidp:orthorectifyrois"], env=env)    # start-up: QGIS + plugin
+    n_oty = len([f for f in os.listdir(out) if f.endswith(".tif")])
+    n_ours = len(os.listdir(os.path.join(tmp, f"ours0_{pairs - 1}")))
+    print(f"\nReal survey, whole photos, beside Orthority 0.7.0 (median of {pairs} alternated "
+          "runs, wall s from the command line, start-up included)")
+    print(table(["run", "wall s", "CPU s", "images", "Orthority / ours (wall)"], [
+        ["Orthority 0.7.0: oty odm (no occlusion mask)", med["oty"], cpu["oty"], n_oty, None],
+        ["ours: qgis_process, MASK none", med[1], cpu[1], n_ours, med["oty"] / med[1]],
+        ["ours: qgis_process, occlusion mask", med[0], cpu[0], n_ours, med["oty"] / med[0]],
+        ["qgis_process start-up alone (help of the tool; once)", r.wall, r.cpu, None, None]]))
+    print_targets([target("real survey, no mask: Orthority wall / ours", med["oty"] / med[1], 1.5),
+                   target("real survey, occlusion mask: Orthority wall / ours",
+                          med["oty"] / med[0], 0.7)])
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--quick", action="store_true", help="100 ROIs")
+    ap.add_argument("--orthority-only", action="store_true",
+                    help="only the rows beside Orthority (real survey)")
+    ap.add_argument("--pairs", type=int, default=3, help="alternated runs beside Orthority")
     args = ap.parse_args(argv)
+    if args.orthority_only:
+        with tempfile.TemporaryDirectory() as tmp:
+            orthority_rows(tmp, args.pairs)
+        return 0
     from easyidp_toolbox.core import open_reconstruction, read_geojson
     from easyidp_toolbox.core.demo import make_demo_survey
     from easyidp_toolbox.core.projection.ortho import orthorectify_rois
@@ -169,6 +268,7 @@ def main(argv=None) -> int:
         print(table(["run", "ROI images/s", "ground Mpx/s", "wall s", "images"], mrows))
         for what, share in shares:
             print(f"{what}: the occlusion mask takes {100 * share:.0f} % of the time")
+        orthority_rows(tmp, 1 if args.quick else args.pairs)
     return 0
 
 

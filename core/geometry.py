@@ -59,8 +59,11 @@ def close_ring(ring: np.ndarray, keep: np.ndarray = None) -> np.ndarray:
 
 def _edges(rings: Rings) -> Tuple[np.ndarray, np.ndarray]:
     """All edges of all rings as start points (E, 2) and end points (E, 2)."""
+    if len(rings) == 1:
+        r = np.asarray(rings[0])
+        return r, np.concatenate([r[1:], r[:1]])
     starts = np.concatenate([r for r in rings])
-    ends = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
+    ends = np.concatenate([np.concatenate([r[1:], r[:1]]) for r in rings])
     return starts, ends
 
 
@@ -316,11 +319,72 @@ def rasterize(rings_px: Rings, shape: Tuple[int, int], all_touched: bool = False
         start = np.clip(start, 0, cols)
         stop = np.clip(stop, 0, cols)
         ok = stop > start
-        # spans of a row are disjoint: toggle at each start and stop, then XOR-accumulate
-        toggle = np.zeros((rows, cols + 1), dtype=bool)
-        np.logical_xor.at(toggle, (prow[ok], start[ok]), True)
-        np.logical_xor.at(toggle, (prow[ok], stop[ok]), True)
-        mask = np.logical_xor.accumulate(toggle[:, :cols], axis=1)
+        if prow.size < 2 or (prow[1:] != prow[:-1]).all():    # one span per row (convex)
+            s_row = np.zeros(rows, np.int64)
+            e_row = np.zeros(rows, np.int64)
+            s_row[prow], e_row[prow] = start, stop
+            c = np.arange(cols)
+            return _touch(rings_px, (c >= s_row[:, None]) & (c < e_row[:, None]), all_touched)
+        # spans of a row are disjoint: toggle at each start and stop, then the running parity
+        flat = np.concatenate([prow[ok] * (cols + 1) + start[ok], prow[ok] * (cols + 1) + stop[ok]])
+        toggle = np.bincount(flat, minlength=rows * (cols + 1)).reshape(rows, cols + 1)
+        mask = (np.cumsum(toggle[:, :cols], axis=1, dtype=np.int32) & 1).astype(bool)
+    return _touch(rings_px, mask, all_touched)
+
+
+def row_spans(rings: Sequence[np.ndarray], shapes: Sequence[Tuple[int, int]]) -> list:
+    """:func:`rasterize` (pixel centres) of many one-ring polygons at once, for those whose
+    every row holds one span (convex ones, among others): per polygon, ``(start, stop)`` column
+    arrays over its rows (mask: ``start[r] <= c < stop[r]``), or None where a row holds more
+    than one span (then call :func:`rasterize`). ``rings[k]`` is in pixel coordinates of a
+    grid of ``shapes[k]`` (rows, cols). One vectorised pass: the per-polygon cost of
+    :func:`rasterize` (its fixed numpy calls) is what many small ROIs pay."""
+    m = len(rings)
+    out: list = [None] * m
+    if not m:
+        return out
+    lens = np.array([len(r) for r in rings], np.int64)
+    a = np.concatenate([np.asarray(r, np.float64)[:, :2] for r in rings])
+    offs = offsets(lens)
+    nxt = np.arange(len(a)) + 1
+    nxt[offs[1:] - 1] = offs[:-1]
+    b = a[nxt]
+    owner = np.repeat(np.arange(m), lens)
+    rows_of = np.array([sh[0] for sh in shapes], np.int64)
+    cols_of = np.array([sh[1] for sh in shapes], np.int64)
+    ylo, yhi = np.minimum(a[:, 1], b[:, 1]), np.maximum(a[:, 1], b[:, 1])
+    r0 = np.maximum(np.ceil(ylo - 0.5), 0).astype(np.int64)
+    r1 = np.minimum(np.ceil(yhi - 0.5), rows_of[owner]).astype(np.int64)
+    n = np.maximum(r1 - r0, 0)
+    edge = np.repeat(np.arange(len(a)), n)
+    row = position_in_run(n) + r0[edge]
+    own = owner[edge]
+    ax, ay, bx, by = a[edge, 0], a[edge, 1], b[edge, 0], b[edge, 1]
+    xc = ax + (row + 0.5 - ay) * (bx - ax) / (by - ay)
+    order = np.lexsort((xc, row, own))
+    own, row, xc = own[order], row[order], xc[order]
+    # a closed ring crosses each row an even number of times: pairs never straddle polygons
+    pown, prow = own[0::2], row[0::2]
+    start = np.clip(np.floor(xc[0::2] + 0.5).astype(np.int64), 0, cols_of[pown])
+    stop = np.clip(np.floor(xc[1::2] + 0.5).astype(np.int64), 0, cols_of[pown])
+    more = np.zeros(m, bool)
+    dup = (pown[1:] == pown[:-1]) & (prow[1:] == prow[:-1])
+    more[pown[1:][dup]] = True
+    bounds = np.searchsorted(pown, np.arange(m + 1))
+    for k in range(m):
+        if more[k]:
+            continue
+        sl = slice(bounds[k], bounds[k + 1])
+        s_row = np.zeros(rows_of[k], np.int64)
+        e_row = np.zeros(rows_of[k], np.int64)
+        s_row[prow[sl]], e_row[prow[sl]] = start[sl], stop[sl]
+        out[k] = (s_row, e_row)
+    return out
+
+
+def _touch(rings_px: Rings, mask: np.ndarray, all_touched: bool) -> np.ndarray:
+    """``mask`` with, for ``all_touched``, every pixel an edge of the rings passes through."""
+    rows, cols = mask.shape
     if all_touched:
         for ring in rings_px:
             for (x0, y0), (x1, y1) in zip(ring, np.roll(ring, -1, axis=0)):
@@ -362,11 +426,28 @@ def distance_to_rings(x: np.ndarray, y: np.ndarray, rings: Rings) -> np.ndarray:
     return best
 
 
+def _convex_simple(ring: np.ndarray) -> bool:
+    """True when the ring (open, (n, 2)) is a strictly convex polygon: every turn strictly to
+    the same side and the turns add up to one full turn (a star's add up to more), so no two
+    of its edges can meet except adjacent ones at their shared vertex."""
+    if len(ring) < 3:
+        return False
+    e = np.concatenate([ring[1:], ring[:1]]) - ring[:, :2]
+    f = np.concatenate([e[1:], e[:1]])
+    cross = e[:, 0] * f[:, 1] - e[:, 1] * f[:, 0]
+    if not ((cross > 0).all() or (cross < 0).all()):
+        return False
+    turn = np.arctan2(cross, e[:, 0] * f[:, 0] + e[:, 1] * f[:, 1])
+    return bool(abs(abs(turn.sum()) - 2 * np.pi) < 1e-6)
+
+
 def self_intersections(rings: Rings, max_report: int = 1) -> List[Tuple[float, float]]:
     """Points where edges of the rings cross or touch other than at shared ring vertices.
 
     An empty list means the rings form a simple (valid) polygon boundary.
     """
+    if len(rings) == 1 and _convex_simple(np.asarray(rings[0], np.float64)):
+        return []                   # a strictly convex ring turning once: simple
     a, b = _edges(rings)
     ring_id = np.concatenate([np.full(len(r), i) for i, r in enumerate(rings)])
     idx = np.concatenate([np.arange(len(r)) for r in rings])

@@ -1146,12 +1146,20 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
 
 Photos: 'best' takes the best-scored photo of each ROI (the backward projection's score: visible share, view angle, resolution, distance from the centre); 'all' writes one image per photo that sees the ROI; 'named photo' uses the photo given. Pixel size: the GSD given (DSM CRS units), or 0 for the photo's native resolution at the ROI.
 
-Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the camera by the DSM (occlusion) are transparent (alpha 0). One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
+Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the camera by the DSM (occlusion) are transparent (alpha 0).
+
+Mask: 'occlusion mask' (the default) casts a ray from every output pixel's ground point to the camera and makes the pixel transparent where the DSM blocks it (a tree or a wall between them), so no pixel shows what stands in front of it; 'none' skips the rays and keeps every pixel the photo frames, as Orthority does (faster; hidden ground then shows the object that hides it).
+
+One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
       <translation>各 ROI について、オルソモザイクではなく元画像（撮影写真）からジオリファレンス付きの画像を作成します：より鮮明で（ブレンド、ゴースト、シームラインがなく）、正しい幾何形状を持ちます。出力の各ピクセルの地上点（高さは DSM から取得）を、解かれたカメラ（レンズ歪みを含む）で写真に投影し、その位置で写真をサンプリングします（バイリニア）。
 
 写真：「各 ROI の最良の写真」は、各 ROI で最もスコアの高い写真を使用します（逆投影のスコア：見える割合、視線角、解像度、中心からの距離）。「ROI が写るすべての写真」は、ROI が写る写真ごとに 1 枚の画像を書き出します。「指定した写真」は、指定された写真を使用します。ピクセルサイズ：指定した地上画素寸法（GSD）（DSM の CRS の単位）、または ROI における写真本来の解像度を使う場合は 0。
 
-ROI の外、DSM の NoData 値の上、写真の外、または DSM によってカメラから隠れている（遮蔽）出力ピクセルは透明になります（アルファ 0）。出力フォルダに ROI ごと（「ROI が写るすべての写真」では写真ごと）に 1 つの GeoTIFF を、DSM の CRS で、写真のバンドとアルファを付けて書き出します。写真はプロジェクトに保存されたパスから読み込みます。元画像のフォルダを指定した場合はそこから読み込みます（ファイル名で照合）。</translation>
+ROI の外、DSM の NoData 値の上、写真の外、または DSM によってカメラから隠れている（遮蔽）出力ピクセルは透明になります（アルファ 0）。
+
+マスク：「遮蔽マスク」（既定）は、出力の各ピクセルの地上点からカメラへ光線を投げ、DSM がそれを遮る場所（間にある木や壁）のピクセルを透明にします。これにより、手前にあるものを写したピクセルは残りません。「なし」は光線を投げず、写真に写るすべてのピクセルを残します（Orthority と同じ動作）。より速くなりますが、隠れた地面にはそれを隠している物体が写ります。
+
+出力フォルダに ROI ごと（「ROI が写るすべての写真」では写真ごと）に 1 つの GeoTIFF を、DSM の CRS で、写真のバンドとアルファを付けて書き出します。写真はプロジェクトに保存されたパスから読み込みます。元画像のフォルダを指定した場合はそこから読み込みます（ファイル名で照合）。</translation>
     </message>
     <message>
       <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. 'Open the images in the map too' (off by default) opens up to 100 images in one collapsed group below the ROI layer; a larger run opens the index only.</source>
@@ -1182,6 +1190,10 @@ ROI の外、DSM の NoData 値の上、写真の外、または DSM によっ�
       <translation>写真のラベル（「指定した写真」の場合）</translation>
     </message>
     <message>
+      <source>Mask</source>
+      <translation>マスク</translation>
+    </message>
+    <message>
       <source>Orthorectified ROI images</source>
       <translation>オルソ補正した ROI 画像</translation>
     </message>
@@ -1208,6 +1220,14 @@ ROI の外、DSM の NoData 値の上、写真の外、または DSM によっ�
     <message>
       <source>A named photo</source>
       <translation>指定した写真</translation>
+    </message>
+    <message>
+      <source>Occlusion mask (hide the ground the DSM hides from the camera)</source>
+      <translation>遮蔽マスク（DSM によってカメラから隠れている地面を隠す）</translation>
+    </message>
+    <message>
+      <source>None (every pixel the photo frames, as Orthority)</source>
+      <translation>なし（写真に写るすべてのピクセル、Orthority と同じ）</translation>
     </message>
     <message>
       <source>{what}: no image ({why}).</source>

@@ -1146,12 +1146,20 @@ Merge: 'none' keeps one polygon per photo; 'union' merges the overlapping polygo
 
 Photos: 'best' takes the best-scored photo of each ROI (the backward projection's score: visible share, view angle, resolution, distance from the centre); 'all' writes one image per photo that sees the ROI; 'named photo' uses the photo given. Pixel size: the GSD given (DSM CRS units), or 0 for the photo's native resolution at the ROI.
 
-Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the camera by the DSM (occlusion) are transparent (alpha 0). One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
+Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the camera by the DSM (occlusion) are transparent (alpha 0).
+
+Mask: 'occlusion mask' (the default) casts a ray from every output pixel's ground point to the camera and makes the pixel transparent where the DSM blocks it (a tree or a wall between them), so no pixel shows what stands in front of it; 'none' skips the rays and keeps every pixel the photo frames, as Orthority does (faster; hidden ground then shows the object that hides it).
+
+One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
       <translation>为每个感兴趣区基于原始照片（而非正射影像）生成一幅地理配准图像：更清晰（无融合、重影或拼接线），且几何真实。每个输出像元的地面点（高度取自 DSM）通过解算相机（含镜头畸变）投影到照片中，并在该处对照片采样（双线性）。
 
 照片：“每个感兴趣区的最佳照片”取各感兴趣区评分最高的照片（反投影的评分：可见比例、视角、分辨率、到中心的距离）；“能看到该感兴趣区的所有照片”为每张能看到该感兴趣区的照片各写出一幅图像；“指定的照片”使用给定的照片。像元大小：给定的 GSD（DSM 坐标系单位），或 0 表示照片在该感兴趣区处的原始分辨率。
 
-位于感兴趣区外、DSM 无数据值处、照片外，或被 DSM 遮挡而相机看不到（遮挡）的输出像元为透明（alpha 0）。在输出文件夹中为每个感兴趣区（选择“所有照片”时为每个感兴趣区和照片）生成一个 GeoTIFF，采用 DSM 的坐标系，包含照片的波段及 alpha 波段。照片从工程中存储的路径读取；若给出了照片文件夹，则从该文件夹读取（按文件名匹配）。</translation>
+位于感兴趣区外、DSM 无数据值处、照片外，或被 DSM 遮挡而相机看不到（遮挡）的输出像元为透明（alpha 0）。
+
+掩膜：“遮挡掩膜”（默认）从每个输出像元的地面点向相机投射一条射线，在 DSM 挡住射线的地方（两者之间有树或墙）将该像元设为透明，因此不会有像元显示挡在它前面的物体；“无”不投射射线，保留照片拍到的每个像元，与 Orthority 的行为相同（更快；被遮挡的地面会显示遮挡它的物体）。
+
+在输出文件夹中为每个感兴趣区（选择“所有照片”时为每个感兴趣区和照片）生成一个 GeoTIFF，采用 DSM 的坐标系，包含照片的波段及 alpha 波段。照片从工程中存储的路径读取；若给出了照片文件夹，则从该文件夹读取（按文件名匹配）。</translation>
     </message>
     <message>
       <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. 'Open the images in the map too' (off by default) opens up to 100 images in one collapsed group below the ROI layer; a larger run opens the index only.</source>
@@ -1182,6 +1190,10 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
       <translation>照片标签（用于“指定的照片”）</translation>
     </message>
     <message>
+      <source>Mask</source>
+      <translation>掩膜</translation>
+    </message>
+    <message>
       <source>Orthorectified ROI images</source>
       <translation>正射校正的感兴趣区图像</translation>
     </message>
@@ -1208,6 +1220,14 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
     <message>
       <source>A named photo</source>
       <translation>指定的照片</translation>
+    </message>
+    <message>
+      <source>Occlusion mask (hide the ground the DSM hides from the camera)</source>
+      <translation>遮挡掩膜（隐藏 DSM 使相机看不到的地面）</translation>
+    </message>
+    <message>
+      <source>None (every pixel the photo frames, as Orthority)</source>
+      <translation>无（照片拍到的每个像元，与 Orthority 相同）</translation>
     </message>
     <message>
       <source>{what}: no image ({why}).</source>

@@ -22,7 +22,7 @@ import numpy as np
 
 from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
-from ..geometry import points_in_rings
+from ..geometry import rasterize
 from ..naming import unique_names
 from ..progress import as_progress
 from ..raster import (HIT, MISS, TAG_GDAL_METADATA, RaySurface, as_dsm, first_hits,
@@ -243,16 +243,17 @@ def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, r
         if ncol * nrow > MAX_PIXELS:
             raise InputError(f"ROI {roi.name!r} at a pixel size of {g:g} would be {ncol}×{nrow} "
                              "px; give a larger GSD.")
-        X, Y = np.meshgrid(ox + (np.arange(ncol) + 0.5) * g, oy - (np.arange(nrow) + 0.5) * g)
-        inside = np.flatnonzero(points_in_rings(X.ravel(), Y.ravel(),
-                                                [np.asarray(r)[:, :2] for r in roi.rings]))
+        # the output pixels whose centre is inside the ROI: a scanline fill of the grid
+        rings_px = [np.column_stack([(np.asarray(r)[:, 0] - ox) / g, (oy - np.asarray(r)[:, 1]) / g])
+                    for r in roi.rings]
+        inside = np.flatnonzero(rasterize(rings_px, (nrow, ncol)))
         if not inside.size:
             whys[j] = "the ROI is smaller than one output pixel"
             grids.append(None)
             continue
         grids.append((ox, oy, g, ncol, nrow, inside.size))
-        xs.append(X.ravel()[inside])
-        ys.append(Y.ravel()[inside])
+        xs.append(ox + (inside % ncol + 0.5) * g)
+        ys.append(oy - (inside // ncol + 0.5) * g)
         owner.append(np.full(inside.size, j))
         cell.append(inside)
     if not xs:

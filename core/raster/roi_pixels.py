@@ -13,6 +13,7 @@ from .sweep import Window
 from ..roi import ROI, ROISet
 
 
+SPAN_GROUP = 1_000_000     # edge × row crossings placed at once (:func:`geometry.row_spans`)
 NO_PIXEL = ("contains no pixel centre of the raster (it is smaller than a pixel or lies on the "
             "edge); use all-touched to include it")
 
@@ -30,10 +31,14 @@ class PixelROI:
     all_touched: bool = False
     buffer: float = 0.0        # map units
     pixel_size: Tuple[float, float] = (1.0, 1.0)
+    spans: Optional[Tuple[np.ndarray, np.ndarray]] = None   # per row [start, stop), when known
 
     def mask(self) -> np.ndarray:
         """(rows, cols) bool over the window, True inside (see :func:`place_rois`)."""
         w = self.window
+        if self.spans is not None:
+            c = np.arange(w.cols)
+            return (c >= self.spans[0][:, None]) & (c < self.spans[1][:, None])
         if self.buffer == 0.0:
             return geometry.rasterize(self.rings, (w.rows, w.cols), self.all_touched)
         sx, sy = self.pixel_size   # distances in map units, also for non-square pixels
@@ -105,6 +110,18 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
             continue
         placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
                                all_touched, buffer, size))
+    if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks, a few passes
+        simple = [p for p in placed if len(p.rings) == 1]
+        work = np.cumsum([p.window.rows * len(p.rings[0]) for p in simple])
+        # groups of about SPAN_GROUP edge-row crossings each: memory stays a few tens of MB
+        cuts = np.searchsorted(work, np.arange(1, int(work[-1]) // SPAN_GROUP + 1) * SPAN_GROUP) \
+            if len(work) else []
+        for a, b in zip([0, *cuts], [*cuts, len(simple)]):
+            group = simple[a:b]
+            for p, sp in zip(group, geometry.row_spans([p.rings[0] for p in group],
+                                                       [(p.window.rows, p.window.cols)
+                                                        for p in group])):
+                p.spans = sp
     return placed, skipped
 
 

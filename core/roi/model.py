@@ -147,8 +147,14 @@ class ROISet(Sequence[ROI]):
         return ROISet([r.map_xy(lambda xy: transform_xy(self.crs, crs, xy)) for r in self.rois], crs)
 
     def validate(self) -> "ROISet":
+        """Raise :class:`ROIError` for an empty set or the first invalid ROI; the set as it was
+        validated is remembered (a tool validates, then the core function it calls again)."""
         if not self.rois:
             raise ROIError("The ROI layer has no features.")
+        key = tuple(map(id, self.rois))
+        if getattr(self, "_validated", None) == key:
+            return self
         for r in self.rois:
             r.validate()
+        self._validated = key
         return self

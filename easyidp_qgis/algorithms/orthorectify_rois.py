@@ -34,6 +34,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     OUTPUT_FILES = "OUTPUT_FILES"
     OUTPUT_INDEX = "OUTPUT_INDEX"
     WRITTEN = "WRITTEN"
+    MASK = "MASK"
 
     NAME = "orthorectifyrois"
     DISPLAY = "Orthorectify ROIs"
@@ -50,7 +51,13 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         "one image per photo that sees the ROI; 'named photo' uses the photo given. Pixel size: "
         "the GSD given (DSM CRS units), or 0 for the photo's native resolution at the ROI.\n\n"
         "Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from the "
-        "camera by the DSM (occlusion) are transparent (alpha 0). One GeoTIFF per ROI (and "
+        "camera by the DSM (occlusion) are transparent (alpha 0).\n\n"
+        "Mask: 'occlusion mask' (the default) casts a ray from every output pixel's ground "
+        "point to the camera and makes the pixel transparent where the DSM blocks it (a tree "
+        "or a wall between them), so no pixel shows what stands in front of it; 'none' skips "
+        "the rays and keeps every pixel the photo frames, as Orthority does (faster; hidden "
+        "ground then shows the object that hides it).\n\n"
+        "One GeoTIFF per ROI (and "
         "photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus "
         "alpha. The photos are read from the paths stored in the project, or from the photos "
         "folder when given (matched by file name).")
@@ -85,6 +92,11 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         add_index_parameter(self, self.tr("Index of the images"))
         presentation.add_open_files_parameter(self, self.tr("Open the images in the map too"))
         self.add_overwrite_parameter()
+        self.addParameter(QgsProcessingParameterEnum(
+            self.MASK, self.tr("Mask"),
+            options=[self.tr("Occlusion mask (hide the ground the DSM hides from the camera)"),
+                     self.tr("None (every pixel the photo frames, as Orthority)")],
+            defaultValue=0))
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
         self.addOutput(QgsProcessingOutputNumber(self.WRITTEN, self.tr("Number of images written")))
@@ -102,6 +114,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             photo=self.parameterAsString(parameters, self.PHOTO, context) or None,
             photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context) or None,
             gsd=self.parameterAsDouble(parameters, self.GSD, context) or None,
+            occlusion=self.parameterAsEnum(parameters, self.MASK, context) == 0,
             dsm_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
             progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled),
             dict(source=source, features=features))

@@ -2,7 +2,8 @@
 import math
 
 import numpy as np
-from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsPointXY,
+from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, QgsGeometry,
+                       QgsPointXY,
                        QgsProcessingException, QgsProcessingParameterEnum,
                        QgsProcessingParameterFeatureSink, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterNumber, QgsProcessingParameterRasterLayer,
@@ -10,13 +11,13 @@ from qgis.core import (QgsCoordinateTransform, QgsFeature, QgsField, QgsFields, 
 
 from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
-                      ProcessingParameterFlag, ProcessingSourceType)
+                      ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..crs import crs_string
 from ..geometries import multipolygon
 from ..progress import feedback_progress
 from ..rasters import geotiff_source
 from ..rois import rois_parameter
-from ..sinks import close_sink
+from ..sinks import BATCH, close_sink
 from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels inside")),
@@ -131,11 +132,17 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
                                              source.sourceCrs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        batch = []
         for feat, (height, zs) in zip(features, per_feature):
             out = QgsFeature(fields)
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
-            out.setGeometry(_with_z(_rings(feat.geometry()), height, zs))
-            sink.addFeature(out, FeatureSinkFlag.FastInsert)
+            out.setGeometry(_flat_z(feat.geometry(), height) if zs is None else
+                            _with_z(_rings(feat.geometry()), height, zs))
+            batch.append(out)
+            if len(batch) == BATCH:
+                sink.addFeatures(batch, FeatureSinkFlag.FastInsert)
+                batch = []
+        sink.addFeatures(batch, FeatureSinkFlag.FastInsert)
         close_sink(sink)
         for i, reason in missing.items():
             feedback.pushWarning(self.tr("ROI '{name}': {reason}; its height is left empty.").format(
@@ -169,6 +176,20 @@ def _rings(geom):
     """Polygons → rings → (x, y) tuples, closing vertices included, as QGIS stores them."""
     polys = geom.asMultiPolygon() if geom.isMultipart() else [geom.asPolygon()]
     return [[[(p.x(), p.y()) for p in ring] for ring in poly] for poly in polys]
+
+
+def _flat_z(geom, height):
+    """The ROI's polygons as a MultiPolygonZ with Z = ``height`` at every vertex (M dropped),
+    by QGIS's own geometry calls; a curved geometry goes through :func:`_with_z`."""
+    if QgsWkbTypes.flatType(geom.wkbType()) not in (WkbType.Polygon, WkbType.MultiPolygon):
+        return _with_z(_rings(geom), height, None)
+    g = QgsGeometry(geom)
+    g.convertToMultiType()
+    part = g.get()
+    part.dropZValue()
+    part.dropMValue()
+    part.addZValue(height)
+    return g
 
 
 def _with_z(polys, height, zs):

@@ -90,3 +90,68 @@ def test_names_are_safe_and_unique():
     assert safe_name("CON") == "_CON"
     assert safe_name("  ..  ") == "roi"
     assert unique_names(["A", "a", "a", "b/c", "b_c"]) == ["A", "a_2", "a_3", "b_c", "b_c_2"]
+
+
+@pytest.mark.parametrize("seed", range(30))
+def test_convex_fast_path_agrees_with_the_edge_pairs(seed):
+    """[independent] The strictly-convex shortcut of ``self_intersections`` against a brute
+    force written here (every pair of non-adjacent edges tested with orientation signs), on
+    random convex rings, stars (every turn to one side, winding twice), bow-ties and random
+    rings in either orientation."""
+    rng = np.random.default_rng(300 + seed)
+    n = int(rng.integers(3, 9))
+    kind = seed % 4
+    if kind == 0:      # convex
+        ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+        ring = np.column_stack([np.cos(ang), np.sin(ang)]) * rng.uniform(1, 50)
+    elif kind == 1:    # a star polygon {m/2}: turns to one side, winds twice
+        m = 5 + 2 * (seed % 3)
+        ang = 2 * np.pi * 2 * np.arange(m) / m
+        ring = np.column_stack([np.cos(ang), np.sin(ang)])
+    elif kind == 2:    # a bow-tie
+        ring = np.array([[0, 0], [2, 2], [2, 0], [0, 2]], float) + rng.uniform(-0.3, 0.3, (4, 2))
+    else:              # random vertex order
+        ring = rng.uniform(0, 10, (n, 2))
+    if rng.random() < 0.5:
+        ring = ring[::-1]
+    ring = ring + rng.uniform(-1e3, 1e3, 2)
+
+    def orient(p, q, r):
+        return np.sign((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]))
+
+    k = len(ring)
+    crossing = False
+    for i in range(k):
+        for j in range(i + 1, k):
+            if j == i + 1 or (i == 0 and j == k - 1):
+                continue
+            a, b, c, d = ring[i], ring[(i + 1) % k], ring[j], ring[(j + 1) % k]
+            if orient(a, b, c) * orient(a, b, d) <= 0 and orient(c, d, a) * orient(c, d, b) <= 0:
+                crossing = True
+    assert bool(geometry.self_intersections([ring])) == crossing
+
+
+def test_row_spans_agree_with_rasterize():
+    """[independent] The one-pass spans of many one-ring polygons against the winding-number
+    brute force above (convex, concave, off-grid and outside the grid); None only where a row
+    crosses the ring more than twice (then rasterize, also checked)."""
+    rng = np.random.default_rng(7)
+    rings, shapes = [], []
+    for k in range(60):
+        n = int(rng.integers(3, 9))
+        ang = np.sort(rng.uniform(0, 2 * np.pi, n))
+        rad = rng.uniform(2, 9, n) if k % 2 else np.full(n, rng.uniform(2, 9))
+        rings.append(np.column_stack([8 + rad * np.cos(ang), 7 + rad * np.sin(ang)])
+                     + rng.uniform(-6, 6, 2))
+        shapes.append((int(rng.integers(1, 20)), int(rng.integers(1, 20))))
+    spans = geometry.row_spans(rings, shapes)
+    fallback = 0
+    for ring, shape, sp in zip(rings, shapes, spans):
+        truth = _centre_truth([ring], shape)
+        if sp is None:
+            fallback += 1
+            assert np.array_equal(geometry.rasterize([ring], shape), truth)   # the caller's way
+            continue
+        c = np.arange(shape[1])
+        assert np.array_equal((c >= sp[0][:, None]) & (c < sp[1][:, None]), truth)
+    assert 0 < fallback < len(rings)

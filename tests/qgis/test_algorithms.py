@@ -96,6 +96,36 @@ def test_heights_missing_are_null_not_zero(provider, tmp_path):
     assert feat["height"] is None or str(feat["height"]) == "NULL"
 
 
+def test_heights_output_geometry_of_every_polygon_kind(provider, tmp_path):
+    """[independent] Per polygon, the output geometry is the ROI's own (x, y), closing vertices
+    and holes included, as a MultiPolygonZ with Z = the height at every vertex, whatever the
+    input carried (Z, M, single or multi), checked against the
+    input's vertices and the mean of the DSM written here (a plane z = 10 + x/100)."""
+    x0, y1 = 368000, 3956000
+    cols = np.arange(40) + 0.5
+    z = (10 + (x0 + cols) / 100)[None, :].repeat(40, axis=0).astype(np.float64)
+    dsm = write_tif(str(tmp_path / "plane.tif"), z, pixel=1.0, origin=(x0, y1))
+    wkts = [("zm", "PolygonZM", "POLYGON ZM((368002 3955998 5 1, 368012 3955998 5 1, 368012 3955990 5 1, "
+                   "368002 3955990 5 1, 368002 3955998 5 1))"),
+            ("holed", "MultiPolygon", "MULTIPOLYGON(((368020 3955998, 368036 3955998, 368036 3955982, "
+                      "368020 3955982, 368020 3955998), (368024 3955994, 368030 3955994, "
+                      "368030 3955988, 368024 3955988, 368024 3955994)))")]
+    for name, kind, wkt in wkts:
+        rois = memory_layer("EPSG:32654", [(name, wkt)], kind=kind)
+        assert next(rois.getFeatures()).geometry().wkbType() == QgsGeometry.fromWkt(wkt).wkbType()
+        res = _run("easyidp:roiheightsfromdsm", {"ROIS": rois, "DSM": dsm, "NAME_FIELD": "name",
+                                                 "OUTPUT": "memory:"})
+        feat = next(res["OUTPUT"].getFeatures())
+        g = feat.geometry()
+        assert QgsWkbTypes.hasZ(g.wkbType()) and g.isMultipart(), name
+        assert all(v.z() == pytest.approx(feat["height"]) for v in g.vertices()), name
+        src = QgsGeometry.fromWkt(wkt)
+        assert [(v.x(), v.y()) for v in g.vertices()] == [(v.x(), v.y()) for v in src.vertices()]
+        # the plane's mean over the polygon is the plane at the centroid of its pixel centres
+        assert 10 + 368000 / 100 < feat["height"] < 10 + 368040 / 100, name
+        assert feat["height"] == pytest.approx(10 + src.centroid().asPoint().x() / 100, abs=0.02), name
+
+
 # ---- bad input ---------------------------------------------------------------------------------
 
 def _crop(src, rois, out, **kw):

@@ -56,3 +56,25 @@ def test_headless(qp_env, survey, tmp_path):
     assert res["WRITTEN"] > 80
     assert len(os.listdir(tmp_path / "all")) == res["WRITTEN"]
     assert np.all([f.endswith(".tif") for f in res["OUTPUT_FILES"]])
+
+
+def test_mask_none_keeps_every_framed_pixel(provider, survey, tmp_path):
+    """[consistency only] MASK 'none' (Orthority's behaviour) against the occlusion mask, same
+    ROIs and photos: every pixel the mask keeps is kept with the same values, and the pixels
+    only 'none' keeps are the hidden ground (some, on the demo's oblique views of its trees)."""
+    from osgeo import gdal
+    runs = {}
+    for mask in (0, 1):
+        res = _run({"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+                    "PROJECT": survey.metashape_project, "DSM": survey.dsm, "SELECTION": 1,
+                    "GSD": 0.08, "MASK": mask, "OUTPUT_FOLDER": str(tmp_path / f"m{mask}")})
+        runs[mask] = sorted(res["OUTPUT_FILES"])
+    assert [os.path.basename(f) for f in runs[0]] == [os.path.basename(f) for f in runs[1]]
+    extra = 0
+    for fa, fb in zip(runs[0], runs[1]):
+        a, b = gdal.Open(fa).ReadAsArray(), gdal.Open(fb).ReadAsArray()
+        masked, none = a[3] > 0, b[3] > 0
+        assert not (masked & ~none).any()
+        assert np.array_equal(a[:3, masked], b[:3, masked])
+        extra += int((none & ~masked).sum())
+    assert extra > 0
