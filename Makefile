@@ -59,6 +59,8 @@ env-qgis: apt $(VENV)/.done
 APT_PACKAGES := qgis python3-qgis qgis-providers gdal-bin python3-venv python3-pip xvfb xauth
 # chromium: the documentation site opened in a real browser (tests/qgis/test_docs_site.py)
 APT_PACKAGES += chromium
+# libimage-exiftool-perl: exiftool reads the FLIR photos the thermal tests write
+APT_PACKAGES += libimage-exiftool-perl
 
 # Debian packages: installed when any is missing (checked on every run; takes a moment).
 .PHONY: apt

@@ -22,42 +22,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..naming import unique_names
+from ..radiometry import read_photo  # noqa: F401 (the one decoder; re-exported)
 from ..photo_files import (PHOTO_EXTENSIONS, file_name, resolve_photos,  # noqa: F401 (the one lookup)
                           scale_to)
-
-
-def read_photo(path) -> np.ndarray:
-    """Decode a photo to (rows, cols) or (rows, cols, bands); :class:`InputError` naming the
-    file when it cannot be decoded."""
-    path = os.fspath(path)
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(4)
-        if head[:2] == b"\xff\xd8":                      # JPEG: libjpeg-turbo, straight
-            import imagecodecs
-            with open(path, "rb") as fh:
-                arr = imagecodecs.jpeg_decode(fh.read())
-        elif head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
-            import tifffile
-            with tifffile.TiffFile(path) as tif:
-                page = tif.pages.first
-                arr = page.asarray()
-                if page.planarconfig == 2 and arr.ndim == 3:   # separate planes → bands last
-                    arr = np.moveaxis(arr, 0, -1)
-        else:
-            import imagecodecs
-            arr = imagecodecs.imread(path)
-    except (OSError, ValueError, RuntimeError, Exception) as exc:  # codec errors vary
-        if isinstance(exc, MemoryError):
-            raise
-        raise InputError(f"The photo {path} cannot be decoded ({type(exc).__name__}: "
-                         f"{str(exc)[:120]}).") from None
-    arr = np.asarray(arr)
-    if arr.ndim == 3 and arr.shape[2] == 1:
-        arr = arr[..., 0]
-    if arr.ndim not in (2, 3):
-        raise InputError(f"The photo {path} has {arr.ndim} dimensions; expected an image.")
-    return arr
 
 
 def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:

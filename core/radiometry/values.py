@@ -1,0 +1,35 @@
+"""The one shape of a photo in physical units: :class:`PhotoValues`."""
+from dataclasses import dataclass
+from typing import Tuple
+
+import numpy as np
+
+
+@dataclass
+class PhotoValues:
+    """A photo's pixels in stated units.
+
+    ``values``: float32, (rows, cols) or (rows, cols, bands), in our pixel convention (row 0
+    is the first stored row; :doc:`conventions </background/conventions>`). ``valid``: bool,
+    (rows, cols): False where a pixel cannot be trusted (saturated, outside the camera's range,
+    unreadable); those pixels are left out of every statistic, never averaged. ``unit``:
+    ``"degC"``, ``"reflectance"``, or ``"stored"`` (the values as the file stores them).
+    ``bands``: one name per band. ``note``: what was applied, in one sentence, for the run's
+    notes.
+    """
+
+    values: np.ndarray
+    valid: np.ndarray
+    unit: str
+    bands: Tuple[str, ...]
+    note: str = ""
+
+    def __post_init__(self):
+        self.values = np.asarray(self.values, dtype=np.float32)
+        self.valid = np.asarray(self.valid, dtype=bool)
+        if self.valid.shape != self.values.shape[:2]:
+            raise ValueError(f"valid has shape {self.valid.shape}, values {self.values.shape}")
+        self.bands = tuple(self.bands)
+        n = 1 if self.values.ndim == 2 else self.values.shape[2]
+        if len(self.bands) != n:
+            raise ValueError(f"{len(self.bands)} band names for {n} band(s)")
