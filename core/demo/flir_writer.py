@@ -83,12 +83,12 @@ def _exif(model: str, when: Optional[str], subsec: str, utc_offset: str) -> byte
     ex[0x010F] = "FLIR"
     ex[0x0110] = model
     if when:
-        ifd = ex.get_ifd(0x8769)
-        ifd[0x9003] = when
+        ifd = {0x9003: when}
         if subsec:
             ifd[0x9291] = subsec
         if utc_offset:
             ifd[0x9011] = utc_offset
+        ex[0x8769] = ifd
     return ex.tobytes()
 
 

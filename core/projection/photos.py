@@ -61,17 +61,19 @@ class DecodedPhotos:
     ``paths[k]``: the file (None: unavailable, ``why`` given by ``missing[k]``); ``sizes[k]``:
     (width, height) the camera expects, checked (:func:`check_size`). Leaving the ``with``
     block (also by an error or a cancel) cancels the decodes not started and waits for the
-    running ones.
+    running ones. ``decode``: path → array (None: :func:`read_photo`, as stored) or
+    :class:`..radiometry.PhotoValues` (its ``values`` are size-checked).
     """
 
     def __init__(self, paths: Sequence[Optional[str]], sizes, workers: Optional[int] = None,
-                 missing: Optional[Sequence[str]] = None):
+                 missing: Optional[Sequence[str]] = None, decode=None):
         self.paths = list(paths)
         self.sizes = [(int(w), int(h)) for w, h in sizes]
         self.missing = list(missing) if missing is not None else [""] * len(self.paths)
         self.workers = max(1, workers or min(4, os.cpu_count() or 1))
         self._pool = None
         self._ahead = {}
+        self.decode = decode
 
     def __enter__(self) -> "DecodedPhotos":
         self._pool = ThreadPoolExecutor(self.workers, thread_name_prefix="easyidp-decode")
@@ -85,7 +87,7 @@ class DecodedPhotos:
 
     def _submit(self, k: int) -> None:
         if k < len(self.paths) and k not in self._ahead and self.paths[k] is not None:
-            self._ahead[k] = self._pool.submit(read_photo, self.paths[k])
+            self._ahead[k] = self._pool.submit(self.decode or read_photo, self.paths[k])
 
     def __iter__(self):
         for k in range(min(self.workers + 1, len(self.paths))):
@@ -102,7 +104,7 @@ class DecodedPhotos:
             except InputError as exc:
                 yield k, None, str(exc)
                 continue
-            why = check_size(img, *self.sizes[k], path)
+            why = check_size(getattr(img, "values", img), *self.sizes[k], path)
             if why:
                 yield k, None, why
                 continue

@@ -13,6 +13,7 @@ from typing import Optional
 import numpy as np
 
 from ..errors import EasyIDPError
+from .acquisition import acquisition_time
 from .decode import read_photo
 from .flir import FlirPhoto, read_flir
 from .planck import KELVIN, OBJECT_PARAMETERS, ThermalParameters, celsius_to_raw, raw_to_celsius
@@ -79,4 +80,4 @@ def read_photo_values(path, *, values: str = "stored", options: Optional[dict] =
 __all__ = ["PhotoValues", "read_photo_values", "read_photo", "VALUES", "UNITS",
            "ThermalParameters", "OBJECT_PARAMETERS", "KELVIN", "raw_to_celsius", "celsius_to_raw",
            "FlirPhoto", "read_flir", "temperature_values", "TEMPERATURE_PRESETS",
-           "scale_offset", "DJI_RJPEG"]
+           "scale_offset", "DJI_RJPEG", "acquisition_time"]
