@@ -7,6 +7,7 @@ from typing import Dict, List, Optional
 import numpy as np
 
 from ..crs import as_crs, transform_xy
+from ..geometry import area_centroid
 from ..radiometry import acquisition_time
 from ..sun import phase_angle, sun_position
 from .result import BackProjection
@@ -41,7 +42,8 @@ def view_sun(result: BackProjection, rois, recon, paths: Dict[str, str],
         out["notes"].append("no sun angles: the ROIs or the project have no geographic CRS")
         return out
     wgs = as_crs("EPSG:4326")
-    cen = np.array([np.concatenate(r.rings)[:, :2].mean(axis=0) for r in rois])
+    cen = np.array([area_centroid([[np.asarray(g)[:, :2] for g in part] for part in r.parts])[1]
+                    for r in rois])                # the back-projection's centre of a ROI
     roi_ll = transform_xy(crs, wgs, cen)
     labels, centres = recon.camera_centres(as_crs("EPSG:4979"))
     cam_ll = dict(zip(labels, centres[:, :2]))
