@@ -22,6 +22,7 @@ from .demo_photo_statistics import run_photo_statistics_demo
 from .demo_plot_grid import run_plot_grid_demo
 from .demo_round_trip import run_round_trip_demo
 from .demo_season import SEASON_DATES, run_season_demo
+from .demo_thermal import run_thermal_demo
 from .qgis_process import qgis_process_env, run_algorithm
 from ..tests.support.independent_camera import observation_lookup, observation_pixels, photo_pixels
 
@@ -114,6 +115,7 @@ def main(out: str) -> int:
     back = _backward_projection(steps, s, out)
     photo_stats = run_photo_statistics_demo(steps, s, truth, out, _features)
     photo_stats += run_round_trip_demo(steps, out)
+    thermal = run_thermal_demo(steps, s, out, _features)
 
     # ---- checks against the truth ----------------------------------------------------------
     crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}
@@ -174,6 +176,8 @@ def main(out: str) -> int:
     print(f"  {IND} plot colour truth from the generator's closed-form model "
           f"(next lines); the round trip's object visibility: {CONS} (generator's camera):")
     for line in photo_stats:
+        print(line)
+    for line in thermal:
         print(line)
     print(f"  {IND} plot grid against the generator's plot layout:")
     for line in plot_grid:
