@@ -21,7 +21,8 @@ from easyidp_toolbox.core.sun import sun_position
 
 sys.path.insert(0, str(Path(__file__).parent))
 from test_photo_statistics import NADIR, OFFSET, UTM, H, W, _inside_shapely, _project  # noqa: E402
-from test_thermal import CAMERA, PHOTO, planck_by_hand  # noqa: E402
+from test_thermal import CAMERA, PHOTO  # noqa: E402
+from easyidp_toolbox.tests.support.planck_reference import planck_by_hand  # noqa: E402
 
 
 @pytest.fixture(scope="module")
@@ -54,7 +55,7 @@ def thermal(tmp_path_factory):
 def test_plot_temperatures_equal_pixels_under_mask(thermal):
     """[independent] Each view's temp_c mean and median equal numpy's over the pixels shapely
     finds inside the back-projected polygon, converted by the Planck formula written out in
-    test_thermal.py from the raw values we wrote (saturated ones left out), to 0.001 °C."""
+    tests/support/planck_reference.py from the raw values we wrote (saturated ones left out), to 0.001 °C."""
     recon, rois, res, raws, folder = thermal
     st = photo_statistics(res, folder, values="temperature", recon=recon, rois=rois,
                           statistics=("mean", "median"), percentiles=(90,))
