@@ -62,6 +62,8 @@ APT_PACKAGES += chromium
 # fonts-noto-cjk: the Chinese and Japanese tool names drawn and measured in the desktop
 # (tests/qgis/test_desktop.py: no name is elided in the toolbox)
 APT_PACKAGES += fonts-noto-cjk
+# libimage-exiftool-perl: exiftool reads the FLIR photos the thermal tests write
+APT_PACKAGES += libimage-exiftool-perl
 
 # Debian packages: installed when any is missing (checked on every run; takes a moment).
 .PHONY: apt

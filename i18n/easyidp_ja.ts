@@ -1246,7 +1246,7 @@ Per ROI and photo, the pixels whose centre is inside the ROI's polygon (clipped 
 
 Across views, per ROI: the median of each statistic (score-weighted if asked), its MAD, minimum and maximum over the views used (visible share at least the minimum; the best ones by score when a maximum is set), their number, each view's deviation from its ROI's value and each ROI's largest (the disagreement; about 1 is typical for the field, several times more flags a shadow, wind, a bad pose). Oblique views see the sides of tall canopy, so cover and indices grow with the view angle: the default keeps the 3 best views.
 
-No vignetting or radiometric correction is applied: the photos are measured as they are stored (correct them first when you need reflectance).
+Values: as stored (the photos' own numbers), temperature in °C (FLIR radiometric JPEGs of the Zenmuse XT/XT2, Vue Pro R, Duo Pro R and FLIR handhelds, converted by the Planck curve with the photo's constants and object parameters, each of which can be overridden; or temperature TIFFs with a stated scale and offset; DJI R-JPEGs must be converted with DJI's tool first) or reflectance. Temperature and reflectance put the unit in the column names (temp_c_mean, nir_refl_median); saturated pixels are left out. Each view also gets its photo's acquisition time and the sun's zenith, azimuth and phase angle (sun–plot–camera).
 
 Outputs: a table of every ROI × photo with its statistics; the ROIs with the across-view values; optionally one PNG per ROI with the views used side by side and their values.</source>
       <translation>ROI（区画）を、それが写っているすべての元画像で計測し、各 ROI についてビュー間で頑健な値を 1 つ求めます。元画像にはゴーストや継ぎ目がなく、天底に近いビューでは色が正確です。
@@ -1257,9 +1257,37 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
 
 ビュー間では ROI ごとに：各統計量の中央値（指定すればスコアで重み付け）、その MAD、使用したビュー（可視割合が最小値以上；最大数を設定した場合はスコアの高いもの）での最小値と最大値、ビュー数、各ビューの ROI 値からの偏差、各 ROI の最大偏差（不一致度：圃場で典型的なのは約 1、その数倍なら影、風、誤った姿勢の兆候）。斜めのビューは背の高い群落の側面を見るため、植被率と指数はビュー角とともに大きくなります：既定では最良の 3 ビューを使います。
 
-周辺減光補正や放射補正は行いません：写真は保存された値のまま計測されます（反射率が必要なら先に補正してください）。
+値：保存された値のまま（写真自身の数値）、°C の温度（Zenmuse XT/XT2、Vue Pro R、Duo Pro R および FLIR ハンディ機の FLIR 放射計測 JPEG を、写真の定数と対象パラメータ（それぞれ上書き可能）でプランク曲線により変換；または係数とオフセットを指定した温度 TIFF；DJI の R-JPEG は先に DJI のツールで変換が必要）、または反射率。温度と反射率では列名に単位が入ります（temp_c_mean、nir_refl_median）；飽和した画素は除外されます。各ビューには写真の撮影時刻と、太陽の天頂角・方位角および位相角（太陽–区画–カメラ）も付きます。
 
 出力：ROI × 写真ごとの統計量の表；ビュー間の値を持つ ROI；任意で ROI ごとに 1 枚の PNG（使用したビューとその値を並べて表示）。</translation>
+    </message>
+    <message>
+      <source>Emissivity (empty: the photo's)</source>
+      <translation>放射率（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Object distance, m (empty: the photo's)</source>
+      <translation>対象までの距離、m（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Reflected apparent temperature, °C (empty: the photo's)</source>
+      <translation>反射見かけ温度、°C（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Atmospheric temperature, °C (empty: the photo's)</source>
+      <translation>気温、°C（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Relative humidity, % (empty: the photo's)</source>
+      <translation>相対湿度、%（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>IR window temperature, °C (empty: the photo's)</source>
+      <translation>赤外線窓の温度、°C（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>IR window transmission, 0–1 (empty: the photo's)</source>
+      <translation>赤外線窓の透過率、0–1（空欄：写真の値）</translation>
     </message>
     <message>
       <source>Band names of the photos (comma-separated)</source>
@@ -1268,6 +1296,10 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
     <message>
       <source>Default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir</source>
       <translation>既定：3 バンドなら red,green,blue。例：blue,green,red,rededge,nir</translation>
+    </message>
+    <message>
+      <source>Temperature TIFFs store</source>
+      <translation>温度 TIFF の保存形式</translation>
     </message>
     <message>
       <source>Back-projection (photo-pixel layer; empty: run it here)</source>
@@ -1306,6 +1338,42 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>ビューをスコアで重み付け（重み付き中央値）</translation>
     </message>
     <message>
+      <source>Values measured</source>
+      <translation>計測する値</translation>
+    </message>
+    <message>
+      <source>°C</source>
+      <translation>°C</translation>
+    </message>
+    <message>
+      <source>Kelvin</source>
+      <translation>ケルビン</translation>
+    </message>
+    <message>
+      <source>°C × 10</source>
+      <translation>°C × 10</translation>
+    </message>
+    <message>
+      <source>°C × 1000</source>
+      <translation>°C × 1000</translation>
+    </message>
+    <message>
+      <source>Centi-kelvin (K × 100)</source>
+      <translation>センチケルビン（K × 100）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF scale: °C = stored × scale + offset (empty: the preset)</source>
+      <translation>温度 TIFF の係数：°C = 保存値 × 係数 + オフセット（空欄：プリセット）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF offset, °C (empty: the preset)</source>
+      <translation>温度 TIFF のオフセット、°C（空欄：プリセット）</translation>
+    </message>
+    <message>
+      <source>UTC offset of the photos' clock, hours, for photos that do not state it (empty: none)</source>
+      <translation>写真の時計の UTC オフセット（時間）、記録のない写真用（空欄：なし）</translation>
+    </message>
+    <message>
       <source>Statistics of every ROI × photo</source>
       <translation>ROI × 写真ごとの統計量</translation>
     </message>
@@ -1336,6 +1404,18 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
     <message>
       <source>Standard deviation</source>
       <translation>標準偏差</translation>
+    </message>
+    <message>
+      <source>As stored</source>
+      <translation>保存された値のまま</translation>
+    </message>
+    <message>
+      <source>Temperature (°C)</source>
+      <translation>温度（°C）</translation>
+    </message>
+    <message>
+      <source>Reflectance</source>
+      <translation>反射率</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>

@@ -1246,7 +1246,7 @@ Per ROI and photo, the pixels whose centre is inside the ROI's polygon (clipped 
 
 Across views, per ROI: the median of each statistic (score-weighted if asked), its MAD, minimum and maximum over the views used (visible share at least the minimum; the best ones by score when a maximum is set), their number, each view's deviation from its ROI's value and each ROI's largest (the disagreement; about 1 is typical for the field, several times more flags a shadow, wind, a bad pose). Oblique views see the sides of tall canopy, so cover and indices grow with the view angle: the default keeps the 3 best views.
 
-No vignetting or radiometric correction is applied: the photos are measured as they are stored (correct them first when you need reflectance).
+Values: as stored (the photos' own numbers), temperature in °C (FLIR radiometric JPEGs of the Zenmuse XT/XT2, Vue Pro R, Duo Pro R and FLIR handhelds, converted by the Planck curve with the photo's constants and object parameters, each of which can be overridden; or temperature TIFFs with a stated scale and offset; DJI R-JPEGs must be converted with DJI's tool first) or reflectance. Temperature and reflectance put the unit in the column names (temp_c_mean, nir_refl_median); saturated pixels are left out. Each view also gets its photo's acquisition time and the sun's zenith, azimuth and phase angle (sun–plot–camera).
 
 Outputs: a table of every ROI × photo with its statistics; the ROIs with the across-view values; optionally one PNG per ROI with the views used side by side and their values.</source>
       <translation>在每张看到它的原始照片中测量每个 ROI（小区），并为每个 ROI 给出跨视图的一个稳健值。原始照片没有重影或拼接线，近天底视图的颜色真实。
@@ -1257,9 +1257,37 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
 
 跨视图，对每个 ROI：各统计量的中位数（如要求则按得分加权）、其 MAD、所用视图上的最小值和最大值（可见比例不低于最小值；设置最大数量时取得分最高者）、视图数、每个视图相对其 ROI 值的偏差以及每个 ROI 的最大偏差（不一致度；约 1 对该田块是典型的，数倍以上则提示阴影、风或错误的位姿）。倾斜视图会看到高冠层的侧面，因此覆盖度和指数随视角增大：默认保留最好的 3 个视图。
 
-不进行暗角或辐射校正：照片按其存储的值测量（需要反射率时请先校正）。
+值：按存储的值（照片自身的数值）、°C 温度（Zenmuse XT/XT2、Vue Pro R、Duo Pro R 及 FLIR 手持机的 FLIR 辐射测量 JPEG，用照片的常数和目标参数（均可覆盖）按普朗克曲线换算；或给定比例和偏移的温度 TIFF；DJI R-JPEG 须先用 DJI 的工具转换）或反射率。温度和反射率会在列名中加入单位（temp_c_mean、nir_refl_median）；饱和像素被排除。每个视图还给出照片的拍摄时间以及太阳天顶角、方位角和相位角（太阳–小区–相机）。
 
 输出：每个 ROI × 照片及其统计量的表；带跨视图值的 ROI；可选地，每个 ROI 一张 PNG，并排显示所用视图及其数值。</translation>
+    </message>
+    <message>
+      <source>Emissivity (empty: the photo's)</source>
+      <translation>发射率（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Object distance, m (empty: the photo's)</source>
+      <translation>目标距离，米（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Reflected apparent temperature, °C (empty: the photo's)</source>
+      <translation>反射表观温度，°C（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Atmospheric temperature, °C (empty: the photo's)</source>
+      <translation>大气温度，°C（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Relative humidity, % (empty: the photo's)</source>
+      <translation>相对湿度，%（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>IR window temperature, °C (empty: the photo's)</source>
+      <translation>红外窗口温度，°C（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>IR window transmission, 0–1 (empty: the photo's)</source>
+      <translation>红外窗口透过率，0–1（留空：照片的值）</translation>
     </message>
     <message>
       <source>Band names of the photos (comma-separated)</source>
@@ -1268,6 +1296,10 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
     <message>
       <source>Default: red,green,blue for 3 bands; e.g. blue,green,red,rededge,nir</source>
       <translation>默认：3 个波段时为 red,green,blue；例如 blue,green,red,rededge,nir</translation>
+    </message>
+    <message>
+      <source>Temperature TIFFs store</source>
+      <translation>温度 TIFF 的存储方式</translation>
     </message>
     <message>
       <source>Back-projection (photo-pixel layer; empty: run it here)</source>
@@ -1306,6 +1338,42 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
       <translation>按得分对视图加权（加权中位数）</translation>
     </message>
     <message>
+      <source>Values measured</source>
+      <translation>测量的值</translation>
+    </message>
+    <message>
+      <source>°C</source>
+      <translation>°C</translation>
+    </message>
+    <message>
+      <source>Kelvin</source>
+      <translation>开尔文</translation>
+    </message>
+    <message>
+      <source>°C × 10</source>
+      <translation>°C × 10</translation>
+    </message>
+    <message>
+      <source>°C × 1000</source>
+      <translation>°C × 1000</translation>
+    </message>
+    <message>
+      <source>Centi-kelvin (K × 100)</source>
+      <translation>厘开尔文（K × 100）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF scale: °C = stored × scale + offset (empty: the preset)</source>
+      <translation>温度 TIFF 的比例：°C = 存储值 × 比例 + 偏移（留空：预设）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF offset, °C (empty: the preset)</source>
+      <translation>温度 TIFF 的偏移，°C（留空：预设）</translation>
+    </message>
+    <message>
+      <source>UTC offset of the photos' clock, hours, for photos that do not state it (empty: none)</source>
+      <translation>照片时钟的 UTC 偏移（小时），用于未记录偏移的照片（留空：无）</translation>
+    </message>
+    <message>
       <source>Statistics of every ROI × photo</source>
       <translation>每个 ROI × 照片的统计量</translation>
     </message>
@@ -1336,6 +1404,18 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
     <message>
       <source>Standard deviation</source>
       <translation>标准差</translation>
+    </message>
+    <message>
+      <source>As stored</source>
+      <translation>按存储的值</translation>
+    </message>
+    <message>
+      <source>Temperature (°C)</source>
+      <translation>温度（°C）</translation>
+    </message>
+    <message>
+      <source>Reflectance</source>
+      <translation>反射率</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>

@@ -23,6 +23,7 @@ from .demo_photo_statistics import run_photo_statistics_demo
 from .demo_plot_grid import run_plot_grid_demo
 from .demo_round_trip import run_round_trip_demo
 from .demo_season import SEASON_DATES, run_season_demo
+from .demo_thermal import run_thermal_demo
 from .qgis_process import qgis_process_env, run_algorithm
 from ..tests.support.independent_camera import observation_lookup, observation_pixels, photo_pixels
 
@@ -116,6 +117,7 @@ def main(out: str) -> int:
     photo_stats = run_photo_statistics_demo(steps, s, truth, out, _features)
     photo_stats += run_round_trip_demo(steps, out)
     multispectral = run_multispectral_demo(s, out)
+    thermal = run_thermal_demo(steps, s, out, _features)
 
     # ---- checks against the truth ----------------------------------------------------------
     crop_h = {k: v["crop_height"] for k, v in truth["plots"].items()}
@@ -181,6 +183,8 @@ def main(out: str) -> int:
           f"same plot masks (digital numbers written by the generator's own inverse of MicaSense's "
           f"model; the masks are shared, so this checks the radiometry):")
     for line in multispectral:
+        print(line)
+    for line in thermal:
         print(line)
     print(f"  {IND} plot grid against the generator's plot layout:")
     for line in plot_grid:

@@ -214,6 +214,19 @@ def render_rays(scene: Scene, camera: CameraModel, C: np.ndarray, d: np.ndarray,
                 level_img: np.ndarray, level: int) -> np.ndarray:
     """The photo (h, w, 3) uint8 whose pixels (row by row) see along local float32 directions
     ``d`` (h·w, 3) from ``C``: the camera centre (3,) or one origin per pixel (h·w, 3)."""
+    ray, t = _surface_hits(scene, C, d)
+    col = ortho_colour(scene, level_img, level, *ray.grid(t))
+    return np.ascontiguousarray(col.view(np.uint8).reshape(camera.height, camera.width, 4)[..., :3])
+
+
+def surface_hits(scene: Scene, C: np.ndarray, d: np.ndarray) -> np.ndarray:
+    """The local points (n, 3) float32 where the rays ``C + t·d`` (as :func:`render_rays`
+    takes them) first meet the surface: what each pixel of a rendered photo shows."""
+    _ray, t = _surface_hits(scene, C, d)
+    return (np.asarray(C, np.float32) + t[:, None] * d).astype(np.float32)
+
+
+def _surface_hits(scene: Scene, C: np.ndarray, d: np.ndarray):
     f32 = np.float32
     ray = _Ray(scene, C, d, f32)
     t_top, t_bot, top = ray.band_top()
@@ -227,8 +240,7 @@ def render_rays(scene: Scene, camera: CameraModel, C: np.ndarray, d: np.ndarray,
     crop = np.flatnonzero(top > scene.bare_max)
     if crop.size:
         t[crop] = _bracket(ray.subset(crop), t_top[crop], t_bot[crop], RENDER_ITER, 0.0)
-    col = ortho_colour(scene, level_img, level, *ray.grid(t))
-    return np.ascontiguousarray(col.view(np.uint8).reshape(camera.height, camera.width, 4)[..., :3])
+    return ray, t
 
 
 __all__ = ["pixel_rays", "packed_level", "level_for", "intersect", "ortho_colour", "render_photo",

@@ -31,9 +31,11 @@ of its views. About 1 is typical for the field; several times that flags a view 
 (a shadow, wind, a bad pose, or tall canopy seen from a very different angle; the MAD itself
 ignores a single outlying view). NaN with fewer than two views.
 
-Photos are measured as stored: no vignetting or radiometric correction is applied (correct the
-photos first when the study needs reflectance).
+Photos are measured as stored unless ``values`` asks for temperature or reflectance
+(:mod:`..radiometry`: the one place where pixels become physical values; invalid pixels such as
+saturated ones are left out, never averaged).
 """
+import functools
 import math
 import os
 from contextlib import ExitStack
@@ -46,6 +48,7 @@ from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
 from ..geometry import rasterize
 from ..progress import as_progress
+from ..radiometry import VALUES, PhotoValues, read_photo_values, reflectance_values
 from ..photo_files import photo_notes
 from .across_views import aggregate_views
 from .photos import DecodedPhotos, resolve_photos
@@ -54,6 +57,7 @@ from .stat_previews import StatSheets
 from .stats_table import PhotoStatistics
 from .view_measure import STATISTICS, ViewMeasure, band_names_for
 from .view_occlusion import PhotoOcclusion
+from .view_sun import view_sun
 
 
 def _check_args(statistics, percentiles, min_visible, max_images, cover_threshold):
@@ -92,7 +96,9 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
                      occlusion_dsm=None, distortion: Optional[bool] = None,
                      occlusion_samples: int = 256, previews_folder=None, preview_views: int = 4,
                      overwrite: bool = False, workers: Optional[int] = None, progress=None,
-                     is_cancelled=None) -> PhotoStatistics:
+                     is_cancelled=None, values: str = "stored",
+                     value_options: Optional[dict] = None,
+                     utc_offset: Optional[float] = None) -> PhotoStatistics:
     """Measure every ROI × photo of ``result`` in the raw photos, and summarise each ROI across
     its views (see the module docstring).
 
@@ -108,7 +114,23 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     rays per view). ``previews_folder``: one PNG per ROI with its used views (at most
     ``preview_views``) side by side, each with its values. ``workers``: decoding threads (the
     measuring runs on the calling thread).
+
+    ``values``: ``"stored"`` (the photos as stored; columns ``red_mean``, …), ``"temperature"``
+    (°C by :func:`..radiometry.read_photo_values`; columns ``temp_c_mean``, …) or
+    ``"reflectance"`` (columns ``nir_refl_median``, …; indices on reflectance);
+    ``value_options``: its options (object parameters, temperature scale; see
+    :func:`..radiometry.read_photo_values`). Invalid pixels (saturated) are left out. Each view
+    also gets its photo's acquisition time (``acquired``, EXIF) and, with ``recon`` and
+    ``rois`` in a geographic CRS, the sun's zenith and azimuth at its ROI and the phase angle
+    sun–ROI–camera (:mod:`.view_sun`); ``utc_offset`` (hours) for photos whose time states no
+    offset.
     """
+    if values not in VALUES:
+        raise EasyIDPError(f"Unknown values {values!r}: choose from {', '.join(VALUES)}.")
+    if values == "reflectance" and reflectance_values is None:
+        raise EasyIDPError("reflectance: not in this build (its multispectral readers are not "
+                           "part of this version); measure the photos as stored or as "
+                           "temperature.")
     stats, qs = _check_args(statistics, percentiles, min_visible, max_images, cover_threshold)
     wanted = ix.check_indices(indices)
     prog = as_progress(progress, is_cancelled)
@@ -124,7 +146,7 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     if k and not found:
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
-    state = _Pass(result, stats, qs, wanted, cover_threshold, bands, k)
+    state = _Pass(result, stats, qs, wanted, cover_threshold, bands, k, values)
     state.skipped.update(missing)
     state.notes += photo_notes(list(found.values()))
     sheets = None
@@ -143,15 +165,22 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
                 d + ".png" for d in sheets.names)
         # the decoding runs ahead in threads; the measuring stays on this thread: its many
         # small numpy calls hold the GIL (two measuring threads were 1.4× slower than one)
+        decode = None if values == "stored" else \
+            functools.partial(read_photo_values, values=values, options=value_options)
         with DecodedPhotos([found[result.photo_labels[j]] for j in todo],
-                           result.image_sizes[todo], workers) as decoded:
+                           result.image_sizes[todo], workers, decode=decode) as decoded:
             for n, img, why in decoded:
                 prog.check()
                 j = todo[n]
                 if img is None:
                     state.skipped[result.photo_labels[j]] = why
                     continue
-                if not state.ready(img, result.photo_labels[j]):
+                valid = value_bands = None
+                if isinstance(img, PhotoValues):
+                    state.value_note(img.note)
+                    value_bands = img.bands
+                    img, valid = img.values, (None if img.valid.all() else img.valid)
+                if not state.ready(img, result.photo_labels[j], value_bands):
                     continue
                 img = np.ascontiguousarray(img)      # pixels are gathered by flat index
                 state.photos_decoded += 1
@@ -161,18 +190,36 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
                 if occ is not None:
                     occluded = occ.photo(j, recs, windows, prog)
                 for i, w, o in zip(recs, windows, occluded):
-                    state.measure(i, img, w, o)
+                    state.measure(i, img, w, o, valid)
                 if sheets is not None:
                     for i in recs:
                         sheets.add(i, img)
                 del img
                 prog.set(95.0 * (n + 1) / max(len(todo), 1))
         out = state.finish(min_visible, max_images, weighted)
+        sun = view_sun(result, rois, recon, found, utc_offset)
+        out.acquired = sun["acquired"]
+        out.sun_zenith, out.sun_azimuth = sun["sun_zenith"], sun["sun_azimuth"]
+        out.phase_angle = sun["phase_angle"]
+        out.notes += sun["notes"]
         out.notes += occ.notes() if occ is not None else []
         out.rays = occ.rays if occ is not None else 0
         if sheets is not None:
             out.previews = sheets.write(out)
     prog.set(100)
+    return out
+
+
+def unit_columns(columns: List[str], bands: Sequence[str], values: str) -> List[str]:
+    """The column names with the unit of ``values`` after each band's name (reflectance:
+    ``nir_median`` → ``nir_refl_median``; temperature bands are named ``temp_c`` already;
+    indices and cover are unitless)."""
+    if values != "reflectance":
+        return list(columns)
+    out = []
+    for c in columns:
+        b = next((b for b in bands if c.startswith(b + "_")), None)
+        out.append(f"{b}_refl_{c[len(b) + 1:]}" if b else c)
     return out
 
 
@@ -195,8 +242,10 @@ def _window_mask(result: BackProjection, i: int):
 class _Pass:
     """What the pass over the photos accumulates."""
 
-    def __init__(self, result, stats, qs, wanted, threshold, bands, k):
+    def __init__(self, result, stats, qs, wanted, threshold, bands, k, values="stored"):
         self.result = result
+        self.values_kind = values
+        self.value_notes: Dict[str, int] = {}
         self.stats, self.qs, self.wanted = stats, qs, wanted
         self.threshold = None if threshold is None else float(threshold)
         self.given_bands = bands
@@ -214,11 +263,12 @@ class _Pass:
         self.photos_decoded = 0
         self.notes: List[str] = []
 
-    def ready(self, img: np.ndarray, label: str) -> bool:
-        """Set the band layout from the first photo; False for a photo with another one."""
+    def ready(self, img: np.ndarray, label: str, value_bands=None) -> bool:
+        """Set the band layout from the first photo (``value_bands``: the band names of its
+        physical values); False for a photo with another one."""
         n = 1 if img.ndim == 2 else img.shape[2]
         if self.m is None:
-            names = band_names_for(n, self.given_bands)
+            names = band_names_for(n, value_bands or self.given_bands)
             kind = ix.cover_kind([b for b in names if b != "alpha"])
             self.m = ViewMeasure(names, self.stats, self.qs, self.wanted, kind, self.threshold)
             self.n_bands = n
@@ -238,10 +288,17 @@ class _Pass:
             return False
         return True
 
-    def measure(self, i: int, img: np.ndarray, wm, occluded) -> None:
-        """Measure record ``i`` in ``img``; ``wm``: its (r0, c0, mask)."""
+    def value_note(self, note: str) -> None:
+        """Count a photo's note of what was applied (reported once per kind)."""
+        self.value_notes[note] = self.value_notes.get(note, 0) + 1
+
+    def measure(self, i: int, img: np.ndarray, wm, occluded, valid=None) -> None:
+        """Measure record ``i`` in ``img``; ``wm``: its (r0, c0, mask); ``valid``: the photo's
+        valid pixels (None: all)."""
         r0, c0, mask = wm
         keep = mask if occluded is None else mask & ~occluded[0]
+        if valid is not None:
+            keep = keep & valid[r0:r0 + mask.shape[0], c0:c0 + mask.shape[1]]
         vals, n, hist = self.m.view(img, r0, c0, keep)
         self.values[i] = vals
         npoly = int(mask.sum())
@@ -297,8 +354,13 @@ class _Pass:
                         used[i] = False
                         why[i] = "beyond the views per ROI"
         agg = aggregate_views(res, self.values, used, m.columns, weighted)
+        notes = list(self.notes) + [f"{note} ({n} photo(s))" for note, n in
+                                    list(self.value_notes.items())[:5]]
+        if len(self.value_notes) > 5:
+            notes.append(f"… and {len(self.value_notes) - 5} more settings of the conversion")
         return PhotoStatistics(
-            roi_names=list(res.roi_names), bands=m.bands, indices=m.indices, columns=m.columns,
+            roi_names=list(res.roi_names), bands=m.bands, indices=m.indices,
+            columns=unit_columns(m.columns, m.bands, self.values_kind),
             record=np.arange(k), roi=res.roi.copy(), photo=res.photo.copy(), rank=res.rank.copy(),
             score=res.score.copy(), view_angle=res.view_angle.copy(), gsd=res.gsd.copy(),
             visible_fraction=res.visible_fraction.copy(), values=self.values,
@@ -309,7 +371,7 @@ class _Pass:
             disagreement=agg["disagreement"], cover_index=m.cover_kind,
             cover_threshold=threshold, threshold_source=source if m.cover_kind else "",
             weighted=bool(weighted), skipped_photos=dict(self.skipped),
-            photos_decoded=self.photos_decoded, notes=list(self.notes))
+            photos_decoded=self.photos_decoded, notes=notes, values_kind=self.values_kind)
 
 
 

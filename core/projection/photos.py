@@ -22,42 +22,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..naming import unique_names
+from ..radiometry import read_photo  # noqa: F401 (the one decoder; re-exported)
 from ..photo_files import (PHOTO_EXTENSIONS, file_name, resolve_photos,  # noqa: F401 (the one lookup)
                           scale_to)
-
-
-def read_photo(path) -> np.ndarray:
-    """Decode a photo to (rows, cols) or (rows, cols, bands); :class:`InputError` naming the
-    file when it cannot be decoded."""
-    path = os.fspath(path)
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(4)
-        if head[:2] == b"\xff\xd8":                      # JPEG: libjpeg-turbo, straight
-            import imagecodecs
-            with open(path, "rb") as fh:
-                arr = imagecodecs.jpeg_decode(fh.read())
-        elif head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
-            import tifffile
-            with tifffile.TiffFile(path) as tif:
-                page = tif.pages.first
-                arr = page.asarray()
-                if page.planarconfig == 2 and arr.ndim == 3:   # separate planes → bands last
-                    arr = np.moveaxis(arr, 0, -1)
-        else:
-            import imagecodecs
-            arr = imagecodecs.imread(path)
-    except (OSError, ValueError, RuntimeError, Exception) as exc:  # codec errors vary
-        if isinstance(exc, MemoryError):
-            raise
-        raise InputError(f"The photo {path} cannot be decoded ({type(exc).__name__}: "
-                         f"{str(exc)[:120]}).") from None
-    arr = np.asarray(arr)
-    if arr.ndim == 3 and arr.shape[2] == 1:
-        arr = arr[..., 0]
-    if arr.ndim not in (2, 3):
-        raise InputError(f"The photo {path} has {arr.ndim} dimensions; expected an image.")
-    return arr
 
 
 def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
@@ -94,17 +61,19 @@ class DecodedPhotos:
     ``paths[k]``: the file (None: unavailable, ``why`` given by ``missing[k]``); ``sizes[k]``:
     (width, height) the camera expects, checked (:func:`check_size`). Leaving the ``with``
     block (also by an error or a cancel) cancels the decodes not started and waits for the
-    running ones.
+    running ones. ``decode``: path → array (None: :func:`read_photo`, as stored) or
+    :class:`..radiometry.PhotoValues` (its ``values`` are size-checked).
     """
 
     def __init__(self, paths: Sequence[Optional[str]], sizes, workers: Optional[int] = None,
-                 missing: Optional[Sequence[str]] = None):
+                 missing: Optional[Sequence[str]] = None, decode=None):
         self.paths = list(paths)
         self.sizes = [(int(w), int(h)) for w, h in sizes]
         self.missing = list(missing) if missing is not None else [""] * len(self.paths)
         self.workers = max(1, workers or min(4, os.cpu_count() or 1))
         self._pool = None
         self._ahead = {}
+        self.decode = decode
 
     def __enter__(self) -> "DecodedPhotos":
         self._pool = ThreadPoolExecutor(self.workers, thread_name_prefix="easyidp-decode")
@@ -118,7 +87,7 @@ class DecodedPhotos:
 
     def _submit(self, k: int) -> None:
         if k < len(self.paths) and k not in self._ahead and self.paths[k] is not None:
-            self._ahead[k] = self._pool.submit(read_photo, self.paths[k])
+            self._ahead[k] = self._pool.submit(self.decode or read_photo, self.paths[k])
 
     def __iter__(self):
         for k in range(min(self.workers + 1, len(self.paths))):
@@ -135,7 +104,7 @@ class DecodedPhotos:
             except InputError as exc:
                 yield k, None, str(exc)
                 continue
-            why = check_size(img, *self.sizes[k], path)
+            why = check_size(getattr(img, "values", img), *self.sizes[k], path)
             if why:
                 yield k, None, why
                 continue

@@ -24,6 +24,12 @@ class PhotoStatistics:
     ``used`` and ``why`` (why a view is not used), ``deviation`` (see the module docstring), and
     from the back-projection ``rank``, ``score``, ``view_angle``, ``gsd``, ``visible_fraction``.
 
+    Each view's time and sun: ``acquired`` (ISO 8601, with the UTC offset when the photo gives
+    it; "" unknown), ``sun_zenith``, ``sun_azimuth`` (degrees, clockwise from north) and
+    ``phase_angle`` (sun–ROI–camera, degrees; NaN unknown). ``values_kind``: ``stored``,
+    ``temperature`` or ``reflectance`` (the unit is in the column names: ``temp_c_mean``,
+    ``nir_refl_median``).
+
     Per ROI: ``median``/``mad``/``minimum``/``maximum`` (n_rois, len(columns)), ``views``
     (views used) and ``disagreement``.
     """
@@ -64,6 +70,11 @@ class PhotoStatistics:
     warnings: List[str] = field(default_factory=list)
     photos_decoded: int = 0
     rays: int = 0
+    values_kind: str = "stored"
+    acquired: List[str] = field(default_factory=list)
+    sun_zenith: Optional[np.ndarray] = None
+    sun_azimuth: Optional[np.ndarray] = None
+    phase_angle: Optional[np.ndarray] = None
 
     def column(self, name: str) -> np.ndarray:
         """One statistic of every view."""
@@ -75,7 +86,8 @@ class PhotoStatistics:
 
     VIEW_FIELDS = ("roi", "photo", "rank", "score", "view_angle", "gsd", "visible_fraction",
                    "polygon_pixels", "pixels", "occluded_share", "undecided_share",
-                   "visible_share", "used", "why", "deviation")
+                   "visible_share", "used", "why", "deviation", "acquired", "sun_zenith",
+                   "sun_azimuth", "phase_angle")
 
     def view_rows(self) -> List[dict]:
         rows = []
@@ -88,7 +100,10 @@ class PhotoStatistics:
                    "occluded_share": _num(self.occluded_share[k]),
                    "undecided_share": _num(self.undecided_share[k]),
                    "visible_share": _num(self.visible_share[k]), "used": bool(self.used[k]),
-                   "why": self.why[k], "deviation": _num(self.deviation[k])}
+                   "why": self.why[k], "deviation": _num(self.deviation[k]),
+                   "acquired": self.acquired[k] if k < len(self.acquired) else "",
+                   "sun_zenith": _opt(self.sun_zenith, k), "sun_azimuth": _opt(self.sun_azimuth, k),
+                   "phase_angle": _opt(self.phase_angle, k)}
             row.update({c: _num(v) for c, v in zip(self.columns, self.values[k])})
             rows.append(row)
         return rows
@@ -146,3 +161,7 @@ class PhotoStatistics:
 def _num(v):
     v = float(v)
     return None if not math.isfinite(v) else v
+
+
+def _opt(arr, k):
+    return None if arr is None else _num(arr[k])

@@ -32,8 +32,8 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ..errors import InputError
+from ..sun import sun_position
 from .photo_tags import PhotoTags
-from .sun import sun_position
 
 __all__ = ["is_micasense", "micasense_radiance", "micasense_irradiance", "sub_seconds", "capture_time",
            "gps_position", "fresnel_transmission"]
@@ -201,5 +201,7 @@ def gps_position(tags: PhotoTags) -> Tuple[float, float]:
 
 
 def _sun(tags: PhotoTags) -> Tuple[float, float]:
+    """(elevation, azimuth) of the sun in degrees at the photo's time and place."""
     lat, lon = gps_position(tags)
-    return sun_position(capture_time(tags), lat, lon)
+    zenith, azimuth = sun_position(capture_time(tags), lon, lat)
+    return 90.0 - float(zenith), float(azimuth)

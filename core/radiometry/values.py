@@ -1,39 +1,45 @@
-"""Photo pixels as physical values: the record every radiometric reader returns.
-
-:class:`PhotoValues` is what a photo becomes once a vendor's radiometric model is applied
-(thermal: °C; multispectral: reflectance). Tools that read photo pixels take these arrays in
-place of the stored digital numbers.
-"""
+"""Photo pixels as physical values: :class:`PhotoValues`, the record every radiometric reader
+returns (thermal: °C; multispectral: reflectance; or the values as stored)."""
 from dataclasses import dataclass
 from typing import Tuple
 
 import numpy as np
 
-__all__ = ["PhotoValues"]
-
 
 @dataclass
 class PhotoValues:
-    """One photo in physical units.
+    """A photo's pixels in stated units.
 
     Attributes
     ----------
     values : numpy.ndarray
-        float32, (rows, cols) or (rows, cols, bands), in ``unit``; pixel (0, 0) is the first
-        stored row and column (conventions: ``docs/background/conventions.md``).
+        float32, (rows, cols) or (rows, cols, bands), in ``unit``; row 0 is the first stored row
+        (conventions: ``docs/background/conventions.md``).
     valid : numpy.ndarray
-        bool, (rows, cols): False where a value must not be used (saturated pixels).
+        bool, (rows, cols): False where a pixel cannot be trusted (saturated, outside the
+        camera's range, unreadable); those pixels are left out of every statistic, never
+        averaged.
     unit : str
-        the unit of ``values``, e.g. ``"reflectance"`` (a fraction, 1 = a white Lambertian
-        surface).
+        ``"degC"``, ``"reflectance"`` (a fraction, 1 = a white Lambertian surface) or
+        ``"stored"`` (the values as the file stores them).
     bands : tuple of str
-        the band names, one per band of ``values``, as the photo's band tag gives them.
+        one name per band of ``values`` (for multispectral photos, the photo's band tag).
     note : str
-        what was applied, in words (the vendor model, the irradiance source, the masks).
+        what was applied, in one sentence, for the run's notes.
     """
 
     values: np.ndarray
     valid: np.ndarray
     unit: str
     bands: Tuple[str, ...]
-    note: str
+    note: str = ""
+
+    def __post_init__(self):
+        self.values = np.asarray(self.values, dtype=np.float32)
+        self.valid = np.asarray(self.valid, dtype=bool)
+        if self.valid.shape != self.values.shape[:2]:
+            raise ValueError(f"valid has shape {self.valid.shape}, values {self.values.shape}")
+        self.bands = tuple(self.bands)
+        n = 1 if self.values.ndim == 2 else self.values.shape[2]
+        if len(self.bands) != n:
+            raise ValueError(f"{len(self.bands)} band names for {n} band(s)")

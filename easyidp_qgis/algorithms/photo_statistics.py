@@ -19,9 +19,25 @@ from ..rasters import dsm_parameter
 from ..rois import add_roi_parameters, rois_parameter
 from ..sinks import fields_of, write_features, write_roi_layer
 from ..vertex_heights import add_height_parameters, height_source_parameter
-from .base import CoreStep, EasyIDPAlgorithm
+from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 STATISTIC_CHOICES = ("mean", "median", "std")
+VALUE_CHOICES = ("stored", "temperature", "reflectance")
+PRESET_CHOICES = ("degC", "K", "ddegC", "mdegC", "cK")
+# (parameter, core option, label): the object parameters of FLIR photos (empty: the photo's)
+OBJECT_PARAMETERS = (
+    ("EMISSIVITY", "emissivity", translatable("Emissivity (empty: the photo's)")),
+    ("OBJECT_DISTANCE", "object_distance", translatable("Object distance, m (empty: the photo's)")),
+    ("REFLECTED_TEMPERATURE", "reflected_temperature",
+     translatable("Reflected apparent temperature, °C (empty: the photo's)")),
+    ("ATMOSPHERIC_TEMPERATURE", "atmospheric_temperature",
+     translatable("Atmospheric temperature, °C (empty: the photo's)")),
+    ("RELATIVE_HUMIDITY", "relative_humidity", translatable("Relative humidity, % (empty: the photo's)")),
+    ("IR_WINDOW_TEMPERATURE", "ir_window_temperature",
+     translatable("IR window temperature, °C (empty: the photo's)")),
+    ("IR_WINDOW_TRANSMISSION", "ir_window_transmission",
+     translatable("IR window transmission, 0–1 (empty: the photo's)")),
+)
 INDEX_CHOICES = ("exg", "exgr", "vari", "gli", "ndvi", "ndre")
 
 
@@ -47,6 +63,11 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
     WEIGHTED = "WEIGHTED"
     BANDS = "BANDS"
     DISTORTION = "DISTORTION"
+    VALUES = "VALUES"
+    TEMPERATURE_PRESET = "TEMPERATURE_PRESET"
+    TEMPERATURE_SCALE = "TEMPERATURE_SCALE"
+    TEMPERATURE_OFFSET = "TEMPERATURE_OFFSET"
+    UTC_OFFSET = "UTC_OFFSET"
     OUTPUT_VIEWS = "OUTPUT_VIEWS"
     OUTPUT = "OUTPUT"
     PREVIEW_FOLDER = "PREVIEW_FOLDER"
@@ -78,8 +99,14 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         "the field, several times more flags a shadow, wind, a bad pose). "
         "Oblique views see the sides of tall canopy, so cover and indices grow with the view "
         "angle: the default keeps the 3 best views.\n\n"
-        "No vignetting or radiometric correction is applied: the photos are measured as they "
-        "are stored (correct them first when you need reflectance).\n\n"
+        "Values: as stored (the photos' own numbers), temperature in °C (FLIR radiometric JPEGs "
+        "of the Zenmuse XT/XT2, Vue Pro R, Duo Pro R and FLIR handhelds, converted by the "
+        "Planck curve with the photo's constants and object parameters, each of which can be "
+        "overridden; or temperature TIFFs with a stated scale and offset; DJI R-JPEGs must be "
+        "converted with DJI's tool first) or reflectance. Temperature and reflectance put the "
+        "unit in the column names (temp_c_mean, nir_refl_median); saturated pixels are left "
+        "out. Each view also gets its photo's acquisition time and the sun's zenith, azimuth "
+        "and phase angle (sun–plot–camera).\n\n"
         "Outputs: a table of every ROI × photo with its statistics; the ROIs with the "
         "across-view values; optionally one PNG per ROI with the views used side by side and "
         "their values.")
@@ -129,6 +156,33 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             self.DISTORTION, self.tr("Apply the lens distortion (off for undistorted photos)"), True)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
+        self.addParameter(QgsProcessingParameterEnum(
+            self.VALUES, self.tr("Values measured"),
+            [self.tr("As stored"), self.tr("Temperature (°C)"), self.tr("Reflectance")],
+            defaultValue=0))
+        for name, _option, label in OBJECT_PARAMETERS:
+            p = QgsProcessingParameterNumber(name, self.tr(label),
+                                             ProcessingNumberParameterType.Double, optional=True)
+            p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
+            self.addParameter(p)
+        p = QgsProcessingParameterEnum(
+            self.TEMPERATURE_PRESET, self.tr("Temperature TIFFs store"),
+            [self.tr("°C"), self.tr("Kelvin"), self.tr("°C × 10"), self.tr("°C × 1000"),
+             self.tr("Centi-kelvin (K × 100)")], defaultValue=0)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
+        self.addParameter(p)
+        for name, label in ((self.TEMPERATURE_SCALE, translatable(
+                                "Temperature TIFF scale: °C = stored × scale + offset (empty: "
+                                "the preset)")),
+                            (self.TEMPERATURE_OFFSET, translatable(
+                                "Temperature TIFF offset, °C (empty: the preset)")),
+                            (self.UTC_OFFSET, translatable(
+                                "UTC offset of the photos' clock, hours, for photos that do not "
+                                "state it (empty: none)"))):
+            p = QgsProcessingParameterNumber(name, self.tr(label),
+                                             ProcessingNumberParameterType.Double, optional=True)
+            p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
+            self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_VIEWS, self.tr("Statistics of every ROI × photo"),
             ProcessingSourceType.Vector))
@@ -182,8 +236,26 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
             weighted=self.parameterAsBool(parameters, self.WEIGHTED, context),
             previews_folder=previews, overwrite=self.overwrite(parameters, context),
-            progress=feedback_progress(feedback, 0, 100), is_cancelled=feedback.isCanceled),
+            progress=feedback_progress(feedback, 0, 100), is_cancelled=feedback.isCanceled,
+            values=VALUE_CHOICES[self.parameterAsEnum(parameters, self.VALUES, context)],
+            value_options=self._value_options(parameters, context),
+            utc_offset=optional_number(self, parameters, self.UTC_OFFSET, context)),
             dict(source=source, features=features, previews=previews))
+
+    def _value_options(self, parameters, context):
+        """The options of the physical values: the object parameters given, the temperature
+        TIFFs' preset, scale and offset."""
+        opts = {option: optional_number(self, parameters, name, context)
+                for name, option, _label in OBJECT_PARAMETERS}
+        if opts["relative_humidity"] is not None:             # the tool takes percent
+            opts["relative_humidity"] /= 100.0
+        opts["temperature_preset"] = PRESET_CHOICES[
+            self.parameterAsEnum(parameters, self.TEMPERATURE_PRESET, context)]
+        opts["temperature_scale"] = optional_number(self, parameters, self.TEMPERATURE_SCALE,
+                                                    context)
+        opts["temperature_offset"] = optional_number(self, parameters, self.TEMPERATURE_OFFSET,
+                                                     context)
+        return opts
 
     def write_outputs(self, parameters, context, feedback, step, stats_result):
         source, features, previews = (step.inputs[k] for k in ("source", "features", "previews"))
@@ -221,7 +293,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
     def _write_views(self, parameters, context, st):
         kinds = {"roi": FieldType.QString, "photo": FieldType.QString, "rank": FieldType.Int,
                  "polygon_pixels": FieldType.LongLong, "pixels": FieldType.LongLong,
-                 "used": FieldType.Bool, "why": FieldType.QString}
+                 "used": FieldType.Bool, "why": FieldType.QString, "acquired": FieldType.QString}
         names = list(st.VIEW_FIELDS) + list(st.columns)
         return write_features(self, parameters, self.OUTPUT_VIEWS, context,
                               fields_of((n, kinds.get(n, FieldType.Double)) for n in names),
@@ -239,4 +311,4 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
 def shown_field(names):
     """The field the ROI layer is coloured by: the canopy cover, else mean ExG or NDVI."""
     return presentation.first_field(names, ["cover", "exg_mean", "ndvi_mean", "exg_median",
-                                            "ndvi_median"])
+                                            "ndvi_median", "temp_c_median", "temp_c_mean"])

@@ -39,7 +39,8 @@ LAYERS: Tuple[Tuple[str, ...], ...] = (
     ("basics",),                     # errors, crs, progress, geometry, ragged, rotations, wkb,
                                      # files, naming, gpkg, indices, photo_files,
                                      # height_statistics (the heights vocabulary), safe_xml
-    ("annotations",),                # shapes on raw photos (LabelMe, COCO, YOLO), pixel space
+    ("annotations", "radiometry"),   # shapes on raw photos (LabelMe, COCO, YOLO), pixel space;
+                                     # raw photos in physical units (thermal, reflectance)
     ("roi",),                        # ROI, ROISet and their readers (LabelMe via annotations)
     ("raster", "pointcloud", "radiometry"),  # the raster engine; point clouds; photo pixels in
                                      # physical units (reflectance)

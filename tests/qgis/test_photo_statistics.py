@@ -126,3 +126,63 @@ def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey, load_res
         assert "plots: statistics per photo" in layers
     finally:
         project.clear()
+
+
+def test_headless_plot_temperatures_from_flir_photos(qp_env, survey, tmp_path):
+    """[independent] The demo survey's thermal camera (FLIR JPEGs of a known field, first 10
+    photos): qgis_process runs Back-project ROIs, then Plot statistics from raw photos with
+    VALUES = temperature on its photo-pixel layer. A plot's temp_c_mean and median in each view
+    equal numpy's over the pixels shapely finds inside that layer's polygon, decoded by flyr (an
+    independent FLIR reader) and converted by the test's own Planck formula, to 0.01 °C; the
+    plot's value is within 0.05 °C of the field's truth; every view has its EXIF time."""
+    import flyr
+    import shapely
+    from osgeo import ogr
+    from easyidp_toolbox.core.demo import NO_MESS
+    from easyidp_toolbox.core.demo.thermal import THERMAL_CAMERA, write_thermal_photos
+    from easyidp_toolbox.tests.support.planck_reference import planck_by_hand
+
+    th = write_thermal_photos(survey.folder, seed=0, mess=NO_MESS, limit=10)
+    back = run_algorithm("easyidp:backprojectrois", {
+        "ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+        "HEIGHT_SOURCE": 1, "DSM": survey.dsm, "MIN_VISIBLE": 0.9, "OCCLUSION": False,
+        "OUTPUT": str(tmp_path / "pixels.gpkg"), "OUTPUT_SUMMARY": "TEMPORARY_OUTPUT"}, qp_env)
+    res = run_algorithm(ALG, {
+        "ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+        "BACKPROJECTION": back["OUTPUT"], "PHOTOS": th["folder"], "VALUES": 1,
+        "OCCLUSION": False, "STATISTICS": "0,1", "PERCENTILES": "", "MAX_IMAGES": 0,
+        "OUTPUT_VIEWS": str(tmp_path / "views.gpkg"), "OUTPUT": str(tmp_path / "plots.gpkg")},
+        qp_env)
+
+    def rows(path):
+        ds = ogr.Open(path)                  # held while its layer is read
+        out = [(f.items(), f.GetGeometryRef() and f.GetGeometryRef().ExportToWkt())
+               for f in ds.GetLayer(0)]
+        del ds
+        return out
+
+    views = {(r["roi"], r["photo"]): r for r, _ in rows(res["OUTPUT_VIEWS"])}
+    measured = [k for k, r in views.items() if r["temp_c_mean"] is not None]
+    assert measured and all(views[k]["acquired"].startswith("2024-06-01T10:") for k in measured)
+    pixels = {(r["roi"], r["photo"]): g for r, g in rows(back["OUTPUT"])}
+    plot = max({k[0] for k in measured}, key=lambda p: sum(k[0] == p for k in measured))
+    c = {k: float(v) for k, v in THERMAL_CAMERA.as_dict().items()}
+    checked = 0
+    for (roi, photo) in [k for k in measured if k[0] == plot]:
+        raw = flyr.unpack(f"{th['folder']}/{photo}.JPG")._FlyrThermogram__thermal  # its raw
+        geom = shapely.from_wkt(pixels[(roi, photo)])
+        geom = shapely.transform(geom, lambda xy: xy * [1.0, -1.0])          # y = −row
+        h, w = raw.shape
+        cc, rr = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+        inside = shapely.contains_xy(geom, cc, rr)
+        temps = np.array([planck_by_hand(float(v), c["r1"], c["r2"], c["b"], c["f"], c["o"],
+                                         c["emissivity"], c["object_distance"],
+                                         c["reflected_temperature"],
+                                         c["atmospheric_temperature"], c["relative_humidity"])
+                          for v in raw[inside]])
+        assert abs(views[(roi, photo)]["temp_c_mean"] - temps.mean()) < 0.01
+        assert abs(views[(roi, photo)]["temp_c_median"] - np.median(temps)) < 0.01
+        checked += 1
+    assert checked >= 2
+    got = {r["plot_id"]: r["temp_c_median"] for r, _ in rows(res["OUTPUT"])}
+    assert abs(got[plot] - th["plots"][plot]) < 0.05
