@@ -3,7 +3,8 @@
 ``open_reconstruction(path, chunk=None)`` recognises a Metashape ``.psx``/``.psz``/cameras
 ``.xml``, a Pix4D ``.p4d``, project folder or ``1_initial/params`` folder, an ODM project
 folder, an OpenSfM dataset folder or ``reconstruction.json``, an Open Photogrammetry Format
-``project.opf`` (PIX4Dmatic) or its folder, and returns a
+``project.opf`` (PIX4Dmatic) or its folder, or a folder of photos (or a list of photo paths)
+whose EXIF and XMP tags give rough cameras (:func:`open_photos`), and returns a
 :class:`Reconstruction`. Pixels: top-left corner origin, centre of the top-left pixel at
 (0.5, 0.5). Map coordinates always (x, y) = (easting, northing) / (lon, lat).
 """
@@ -17,12 +18,13 @@ from .odm import is_opensfm_input, list_reconstructions, open_opensfm
 from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints,
                     fit_sensors_to_photos)
 from .opf import find_project_opf, open_opf
+from .photo_folder import is_photo_input, open_photos
 from .pix4d import open_pix4d
 
 __all__ = ["open_reconstruction", "Reconstruction", "Sensor", "Camera", "Marker", "Calibration",
            "Projection", "VisiblePoints", "INSIDE", "BEHIND", "OUTSIDE", "border_pixels",
            "project_block", "enu_rotation", "list_chunks", "open_metashape", "open_pix4d",
-           "open_opensfm", "list_reconstructions", "open_opf"]
+           "open_opensfm", "list_reconstructions", "open_opf", "open_photos"]
 
 
 PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_parameters.txt",
@@ -30,7 +32,7 @@ PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_paramete
 
 
 def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
-    """Open a Metashape, Pix4D, OpenDroneMap/OpenSfM or OPF project.
+    """Open a Metashape, Pix4D, OpenDroneMap/OpenSfM or OPF project, or a folder of photos.
 
     Pix4D: a .p4d, the project or params folder, or any file of the params folder such as
     ``*_pmatrix.txt``. ODM/OpenSfM: the ODM project folder, the OpenSfM dataset folder or a
@@ -42,7 +44,13 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
     is not usable; Metashape, the chunk CRS when its
     ``<reference>`` is neither usable nor an EPSG CRS. A CRS that contradicts the project's is
     refused.
+
+    Photos: a folder of JPEG/TIFF photos with no project file in it, or a list of photo paths
+    (Python only): one rough camera per photo from its EXIF and XMP tags
+    (:func:`open_photos`; ``crs`` the map CRS, default the photos' UTM zone).
     """
+    if isinstance(path, (list, tuple)):
+        return open_photos(path, crs)
     p = Path(path)
     suffix = p.suffix.lower()
     recon = None
@@ -52,6 +60,8 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
         recon = open_opensfm(p, chunk, crs)
     elif suffix == ".opf" or (p.is_dir() and find_project_opf(p) is not None):
         recon = open_opf(p, crs)
+    elif is_photo_input(p):
+        return open_photos(p, crs)
     elif suffix == ".p4d" or p.is_dir():
         recon = open_pix4d(p, crs)
     elif p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
@@ -62,5 +72,5 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
         raise InputError(f"{p}: file not found.")
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "
                      ".psz or cameras .xml, a Pix4D .p4d, project folder or params folder, an "
-                     "OpenDroneMap project folder or OpenSfM reconstruction.json, or an OPF "
-                     "project.opf (PIX4Dmatic).")
+                     "OpenDroneMap project folder or OpenSfM reconstruction.json, an OPF "
+                     "project.opf (PIX4Dmatic), or a folder of drone photos.")
