@@ -7,22 +7,25 @@ from .crs import crs_string
 
 PROJECT_HELP = ("Metashape .psx/.psz or cameras .xml; Pix4D .p4d, project folder or any file of "
                 "its 1_initial/params folder; OpenDroneMap project folder or its "
-                "opensfm/reconstruction.json; OPF project.opf (PIX4Dmatic)")
+                "opensfm/reconstruction.json; OPF project.opf (PIX4Dmatic); or a folder of drone "
+                "photos (cameras from their EXIF and XMP tags)")
 
 
 def add_project_parameters(alg):
-    """PROJECT (a file or a folder: no file filter, so folders are accepted too), CHUNK and
-    PROJECT_CRS (advanced)."""
+    """PROJECT (a file or a folder: no file filter, so folders are accepted too; a folder of
+    photos gives cameras from their tags), CHUNK and PROJECT_CRS (advanced)."""
     alg.addParameter(QgsProcessingParameterFile(
         alg.PROJECT, alg.tr("Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, "
-                            "project or params folder; OpenDroneMap folder or reconstruction.json)"),
+                            "project or params folder; OpenDroneMap folder or reconstruction.json) "
+                            "or a folder of drone photos"),
         behavior=ProcessingFileParameterBehavior.File))
     alg.addParameter(QgsProcessingParameterString(
         alg.CHUNK, alg.tr("Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index "
                           "(needed when there are several)"), optional=True))
     p = QgsProcessingParameterCrs(
         alg.PROJECT_CRS, alg.tr("Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without "
-                                "OpenDroneMap; Metashape chunk CRS that PROJ cannot use)"),
+                                "OpenDroneMap; Metashape chunk CRS that PROJ cannot use; photos: "
+                                "default their UTM zone)"),
         optional=True)
     p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
     alg.addParameter(p)
