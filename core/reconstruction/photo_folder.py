@@ -38,8 +38,8 @@ def list_photo_files(folder: Path) -> List[Path]:
 
 
 def is_photo_input(path) -> bool:
-    """A list of photo paths, or a folder that holds photos and no project file (no .p4d,
-    .psx, .psz, .opf, Pix4D ``1_initial`` folder or params files)."""
+    """A list of photo paths, or a folder that holds photos (or nothing at all) and no project
+    file (no .p4d, .psx, .psz, .opf, Pix4D ``1_initial`` folder or params files)."""
     if isinstance(path, (list, tuple)):
         return True
     p = Path(path)
@@ -49,8 +49,8 @@ def is_photo_input(path) -> bool:
     if any(n.endswith(PROJECT_MARKERS) or n.endswith("_pmatrix.txt") or n == "1_initial"
            for n in names):
         return False
-    return any(n.endswith(TAGGED_EXTENSIONS) for n in names) or not any(
-        os.path.isdir(p / n) for n in names)         # an empty folder: say it has no photos
+    visible = [n for n in names if not n.startswith(".")]
+    return any(n.endswith(PHOTO_EXTENSIONS) for n in visible) or not visible   # empty: say so
 
 
 def utm_crs(lon: float, lat: float) -> CRS:

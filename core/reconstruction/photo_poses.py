@@ -116,7 +116,7 @@ def _position(t: PhotoTags, height_source: str, takeoff: Optional[float], proble
         h = t.xmp_float(DJI, "AbsoluteAltitude")
         if h is None:
             h = t.exif_float("GPSAltitude")
-            if h is not None and t.exif.get("GPSAltitudeRef") in (1, b"\x01", "1"):
+            if h is not None and t.exif.get("GPSAltitudeRef") in (1, b"\x01", "1", "0x01"):
                 h = -h
         if h is None:
             problems.append(("no height (DJI XMP AbsoluteAltitude or EXIF GPSAltitude)", t.path))
