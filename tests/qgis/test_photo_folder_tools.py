@@ -1,0 +1,55 @@
+"""The tools through real qgis_process on a folder of photos with no project file (issue 28):
+the real OpenDroneMap survey's photos (realdata/orthority_odm/images), cameras from their EXIF
+and XMP tags. GeoPackage outputs, read back with OGR. The geometry itself is checked at core
+level (tests/core/test_photo_folder.py, against ODM's solved cameras and Orthority)."""
+import pytest
+
+from easyidp_toolbox.scripts.qgis_process import run_algorithm
+from easyidp_toolbox.tests.support import real_survey as rs
+
+
+@pytest.fixture(scope="module")
+def odm(realdata):
+    return realdata / "orthority_odm"
+
+
+def _features(path):
+    from osgeo import ogr
+    ds = ogr.Open(str(path))
+    return [{k: f.GetField(k) for k in f.keys()} for f in ds.GetLayer(0)]
+
+
+def test_footprints_and_back_projection_from_photos(qp_env, odm, tmp_path):
+    """[consistency only] footprints of the four photos and the five plots back-projected to
+    one named photo (PHOTO), each pixel feature with its photo's uncertainty_px."""
+    res = run_algorithm("easyidp:camerafootprints", {
+        "PROJECT": odm / "images", "DSM": odm / "odm_dem" / "dsm.tif",
+        "OUTPUT_CAMERAS": tmp_path / "cams.gpkg", "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"}, qp_env)
+    assert len(_features(res["OUTPUT_FOOTPRINTS"])) == 4
+    rois = rs.write_rois_geojson(tmp_path / "plots.geojson")
+    res = run_algorithm("easyidp:backprojectrois", {
+        "ROIS": rois, "NAME_FIELD": "name", "PROJECT": odm / "images", "HEIGHT_SOURCE": 1,
+        "DSM": odm / "odm_dem" / "dsm.tif", "PHOTO": "100_0005_0142.tif",
+        "OUTPUT": tmp_path / "pixels.gpkg", "OUTPUT_SUMMARY": tmp_path / "summary.gpkg"}, qp_env)
+    pix = _features(res["OUTPUT"])
+    assert {f["photo"] for f in pix} == {"100_0005_0142"}
+    assert {f["roi"] for f in pix} == {rs.roi_name(p) for p in rs.PAIR_CENTRES if "100_0005_0142" in p}
+    assert all(20 < f["uncertainty_px"] < 30 for f in pix)
+
+
+def test_bad_photo_folder_writes_nothing(qp_env, tmp_path):
+    """A folder of photos without GPS: the tool stops with one line naming the photos and the
+    tags, and writes no output."""
+    from PIL import Image
+    photos = tmp_path / "photos"
+    photos.mkdir()
+    for name in ("DJI_0001.JPG", "DJI_0002.JPG"):
+        Image.new("RGB", (32, 24)).save(photos / name)
+    with pytest.raises(RuntimeError) as err:
+        run_algorithm("easyidp:camerafootprints", {
+            "PROJECT": photos, "GROUND_HEIGHT": 0, "OUTPUT_CAMERAS": tmp_path / "cams.gpkg",
+            "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"}, qp_env)
+    msg = str(err.value)
+    assert "no GPS position" in msg and "DJI_0001.JPG, DJI_0002.JPG" in msg
+    assert "no camera attitude" in msg and "Pix4D" not in msg
+    assert not (tmp_path / "cams.gpkg").exists() and not (tmp_path / "fp.gpkg").exists()
