@@ -14,18 +14,12 @@
     <message>
       <source>Finds every ROI (plot, tree, plant polygon) in every raw photo of a Metashape or Pix4D project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw photos are sharper than the orthomosaic and free of its seamlines.
 
-Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
+Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder, or a folder of drone photos whose EXIF and XMP tags give rough cameras: each pixel feature then carries its expected error, uncertainty_px); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
 
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
 Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
-      <translation>在 Metashape 或 Pix4D 工程中，利用工程解算出的相机，找出每个感兴趣区（小区、树木、植株多边形）在所有能看到它的原始照片中的位置（EasyIDP 的 back2raw）。原始照片比正射影像更清晰，且没有拼接线。
-
-输入：感兴趣区多边形；工程（Metashape .psx/.psz/相机 .xml，Pix4D .p4d 或其 1_initial/params 文件夹中的任一文件）；感兴趣区顶点的高度，可来自几何的 Z 值（如“从 DSM 获取感兴趣区高度”的输出）、在每个顶点采样的 DSM、数值属性或单一地面高度（高度采用工程的高程基准；对于地理坐标系中的 Metashape 块（chunk）：椭球高）。照片文件夹：照片被移动后所在的位置（按文件名匹配）。
-
-每个感兴趣区先加密顶点，再结合镜头畸变进行投影，并裁剪到照片画幅内（若选择“仅限完整感兴趣区”，则只在整个感兴趣区都位于照片内时保留）。提供 DSM 时，会检测从相机到感兴趣区内地表点的视线是否被遮挡。可见且未被遮挡的比例低于最小值的照片会被舍弃；其余照片按评分排序（视角、地面分辨率、到照片中心的距离、可见比例）。
-
-输出：照片像素坐标下的感兴趣区（x = 列，y = −行：可叠加在 QGIS 中未经地理配准打开的原始照片上；按 photo 字段筛选），每个感兴趣区 × 照片一个要素，含评分、排名、视角、地面采样距离（GSD）及各比例；地图中感兴趣区的汇总，含照片数量和最佳照片；可选输出 EasyIDP 的 JSON {roi: {photo: [[x, y], ...]}}、原始照片的裁剪图（PNG，以感兴趣区作为 alpha 通道；16 位或多波段照片为 TIFF，均附带 JSON 附属文件），以及每个感兴趣区一张展示其最佳照片的预览 PNG。</translation>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Apply the lens distortion (off for undistorted photos)</source>
@@ -38,6 +32,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>照片文件夹（照片被移动时使用；按文件名匹配）</translation>
+    </message>
+    <message>
+      <source>Only this photo (its file name or camera label; empty: every photo)</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1816,12 +1814,12 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
     </message>
     <message>
-      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use)</source>
-      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系）</translation>
+      <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use; photos: default their UTM zone)</source>
+      <translation type="unfinished" />
     </message>
     <message>
-      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json)</source>
-      <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d、工程文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json）</translation>
+      <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json) or a folder of drone photos</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>

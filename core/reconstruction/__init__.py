@@ -31,7 +31,8 @@ PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_paramete
                      "_calibrated_internal_camera_parameters.cam", "_wkt.prj")
 
 
-def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
+def open_reconstruction(path, chunk=None, crs=None, *, camera_heights: str = "absolute",
+                        takeoff_height=None) -> Reconstruction:
     """Open a Metashape, Pix4D, OpenDroneMap/OpenSfM or OPF project, or a folder of photos.
 
     Pix4D: a .p4d, the project or params folder, or any file of the params folder such as
@@ -47,10 +48,12 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
 
     Photos: a folder of JPEG/TIFF photos with no project file in it, or a list of photo paths
     (Python only): one rough camera per photo from its EXIF and XMP tags
-    (:func:`open_photos`; ``crs`` the map CRS, default the photos' UTM zone).
+    (:func:`open_photos`; ``crs`` the map CRS, default the photos' UTM zone;
+    ``camera_heights`` and ``takeoff_height`` as there, for photos only).
     """
+    photo_kw = dict(camera_heights=camera_heights, takeoff_height=takeoff_height)
     if isinstance(path, (list, tuple)):
-        return open_photos(path, crs)
+        return open_photos(path, crs, **photo_kw)
     p = Path(path)
     suffix = p.suffix.lower()
     recon = None
@@ -61,11 +64,14 @@ def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
     elif suffix == ".opf" or (p.is_dir() and find_project_opf(p) is not None):
         recon = open_opf(p, crs)
     elif is_photo_input(p):
-        return open_photos(p, crs)
+        return open_photos(p, crs, **photo_kw)
     elif suffix == ".p4d" or p.is_dir():
         recon = open_pix4d(p, crs)
     elif p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
         recon = open_pix4d(p.parent, crs)
+    if recon is not None and (camera_heights != "absolute" or takeoff_height is not None):
+        raise InputError(f"{p}: camera heights from the photos' tags (camera_heights, "
+                         "takeoff_height) apply to a folder of photos, not to a solved project.")
     if recon is not None:
         return fit_sensors_to_photos(recon)
     if not p.exists():

@@ -21,7 +21,7 @@ from ..photo_files import PHOTO_EXTENSIONS
 from ..photo_tags import read_photo_tags
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
-from .photo_poses import ANGLE_STD_DEG, HEIGHT_SOURCES, PhotoPose, gimbal_rotation, photo_pose
+from .photo_poses import ANGLE_STD_DEG, CAMERA_HEIGHTS, PhotoPose, gimbal_rotation, photo_pose
 
 __all__ = ["open_photos", "is_photo_input", "list_photo_files", "utm_crs"]
 
@@ -72,21 +72,22 @@ def _short(paths: Sequence[str]) -> str:
 
 
 def open_photos(path: Union[str, os.PathLike, Sequence], crs=None, *,
-                height_source: str = "absolute", takeoff_height: Optional[float] = None
-                ) -> Reconstruction:
+                camera_heights: str = "absolute", takeoff_height=None) -> Reconstruction:
     """Cameras from the photos' own tags: a folder of JPEG/TIFF photos, or a list of paths.
 
     ``crs``: the map CRS (projected, metres); default the UTM zone of the photos.
-    ``height_source``: ``"absolute"`` (the tags' GNSS altitude) or ``"relative"`` (DJI's
-    ``RelativeAltitude`` + ``takeoff_height``, metres in the map's vertical). Raises
-    :class:`~..errors.InputError` with one line per cause (no position, no attitude, no focal
-    length, mixed cameras, no photos) naming the photos and the tags.
+    ``camera_heights``: ``"absolute"`` (the tags' GNSS altitude) or ``"relative"`` (DJI's
+    ``RelativeAltitude`` + ``takeoff_height``). ``takeoff_height``: metres in the map's
+    vertical, or a :class:`~..raster.DSM`: the DSM under the first photo (by name), for a flight
+    whose first photo was taken over the take-off point. Raises :class:`~..errors.InputError`
+    with one line per cause (no position, no attitude, no focal length, mixed cameras, no
+    photos) naming the photos and the tags.
     """
-    if height_source not in HEIGHT_SOURCES:
-        raise InputError(f"height_source {height_source!r} is not one of {', '.join(HEIGHT_SOURCES)}.")
-    if height_source == "relative" and takeoff_height is None:
+    if camera_heights not in CAMERA_HEIGHTS:
+        raise InputError(f"camera_heights {camera_heights!r} is not one of {', '.join(CAMERA_HEIGHTS)}.")
+    if camera_heights == "relative" and takeoff_height is None:
         raise InputError("Heights above the take-off point need the take-off height "
-                         "(takeoff_height, metres in the map's vertical).")
+                         "(takeoff_height: metres in the map's vertical, or a DSM).")
     if isinstance(path, (list, tuple)):
         files = [Path(p) for p in path]
         source = Path(os.path.commonpath([str(f.parent) for f in files])) if files else Path(".")
@@ -104,8 +105,11 @@ def open_photos(path: Union[str, os.PathLike, Sequence], crs=None, *,
                          + ": choose the folder that holds the drone's photos, or a project.")
     problems: List[Tuple[str, str]] = []
     poses: List[PhotoPose] = []
-    for f in files:
-        pose = photo_pose(read_photo_tags(f), height_source, takeoff_height, problems)
+    tags = [read_photo_tags(f) for f in files]
+    if camera_heights == "relative" and not isinstance(takeoff_height, (int, float)):
+        takeoff_height = _ground_under_first(tags[0], takeoff_height)
+    for t in tags:
+        pose = photo_pose(t, camera_heights, takeoff_height, problems)
         if pose is not None:
             poses.append(pose)
     if problems:
@@ -122,10 +126,26 @@ def open_photos(path: Union[str, os.PathLike, Sequence], crs=None, *,
                          "Model and image size): " + "; ".join(
                              f"{k}: {_short(v)}" for k, v in kinds.items())
                          + ". Give each camera's photos as a folder of its own.")
-    return _reconstruction(source, poses, as_crs(crs))
+    return _reconstruction(source, poses, as_crs(crs), takeoff_height)
 
 
-def _reconstruction(source: Path, poses: List[PhotoPose], crs: Optional[CRS]) -> Reconstruction:
+def _ground_under_first(first, dsm) -> float:
+    """The DSM height under the first photo's GPS position (the take-off point's ground)."""
+    problems: List[Tuple[str, str]] = []
+    pose = photo_pose(first, "absolute", None, problems)
+    if pose is None:
+        raise InputError(f"{first.path}: the first photo gives no position to read the DSM under "
+                         f"({problems[0][0] if problems else 'no tags'}).")
+    z = float(dsm.heights([pose.lon], [pose.lat], crs="EPSG:4326")[0])
+    if not np.isfinite(z):
+        raise InputError(f"{first.path}: the DSM {dsm.path} has no height under the first photo "
+                         f"(lon {pose.lon:.6f}, lat {pose.lat:.6f}); give the take-off height "
+                         "as a number.")
+    return z
+
+
+def _reconstruction(source: Path, poses: List[PhotoPose], crs: Optional[CRS],
+                    takeoff: Optional[float]) -> Reconstruction:
     lon0 = float(np.mean([p.lon for p in poses]))
     lat0 = float(np.mean([p.lat for p in poses]))
     if crs is None:
@@ -160,8 +180,9 @@ def _reconstruction(source: Path, poses: List[PhotoPose], crs: Optional[CRS]) ->
         f"cameras from the photos' tags, not from a solved project: position from "
         f"{first.position_source.split(', RTK')[0]}"
         + (f" (RTK on {rtk} of {len(poses)} photos)" if rtk else "")
-        + f"; height {first.height_source} ("
-        + ("DJI RelativeAltitude + the take-off height" if first.height_source == "relative"
+        + f"; height {first.camera_heights} ("
+        + (f"DJI RelativeAltitude + the take-off height {takeoff:.2f} m"
+           if first.camera_heights == "relative"
            else "DJI AbsoluteAltitude or EXIF GPSAltitude, used as heights of the map") + ")"
         + f"; attitude from {first.attitude_source}; interior from {first.interior_source}, "
         f"scaled to the stored size",

@@ -4,7 +4,7 @@ Conventions (stated once; ``docs/background/camera-models.md`` explains them wit
 
 * **Position.** DJI XMP ``drone-dji:GpsLatitude``/``GpsLongtitude`` (sic; ``GpsLongitude``
   is read too) first, else EXIF ``GPSLatitude``/``GPSLongitude`` with their N/S, E/W refs.
-* **Height**, said per source (:data:`HEIGHT_SOURCES`): ``"absolute"`` takes DJI
+* **Height**, said per source (:data:`CAMERA_HEIGHTS`): ``"absolute"`` takes DJI
   ``AbsoluteAltitude``, else EXIF ``GPSAltitude`` (negative with ``GPSAltitudeRef`` 1), as a
   height in the vertical of the map the cameras are used with (DJI writes the GNSS height; with
   RTK it is ellipsoidal, without it the receiver's mean-sea-level height and often off by
@@ -39,10 +39,10 @@ from ..photo_files import scale_to
 from ..photo_tags import CAMERA_NS, DJI, SENSEFLY, PhotoTags
 from .frame_model import Calibration
 
-__all__ = ["PhotoPose", "photo_pose", "gimbal_rotation", "HEIGHT_SOURCES",
+__all__ = ["PhotoPose", "photo_pose", "gimbal_rotation", "CAMERA_HEIGHTS",
            "ANGLE_STD_DEG", "GNSS_STD_M", "RTK_FIXED"]
 
-HEIGHT_SOURCES = ("absolute", "relative")
+CAMERA_HEIGHTS = ("absolute", "relative")
 ANGLE_STD_DEG = 1.5
 """The stated uncertainty (one standard deviation, degrees) of a drone's gimbal angles as the
 tags give them; measured on the real OpenDroneMap survey (docs: user guide, photo folders)."""
@@ -66,7 +66,7 @@ class PhotoPose:
     lat: float
     lon: float
     height: float
-    height_source: str
+    camera_heights: str
     yaw: float
     pitch: float
     roll: float
@@ -92,7 +92,7 @@ def _dms(value, ref) -> Optional[float]:
     return -deg if str(ref or "").strip().upper() in ("S", "W") else deg
 
 
-def _position(t: PhotoTags, height_source: str, takeoff: Optional[float], problems: List):
+def _position(t: PhotoTags, camera_heights: str, takeoff: Optional[float], problems: List):
     lat, lon = t.xmp_float(DJI, "GpsLatitude"), t.xmp_float(DJI, "GpsLongtitude")
     if lon is None:
         lon = t.xmp_float(DJI, "GpsLongitude")
@@ -106,7 +106,7 @@ def _position(t: PhotoTags, height_source: str, takeoff: Optional[float], proble
                          "GpsLatitude/GpsLongtitude)", t.path))
         return None
     rel = t.xmp_float(DJI, "RelativeAltitude")
-    if height_source == "relative":
+    if camera_heights == "relative":
         if rel is None:
             problems.append(("no DJI XMP RelativeAltitude (needed for heights above the "
                              "take-off point)", t.path))
@@ -127,7 +127,7 @@ def _position(t: PhotoTags, height_source: str, takeoff: Optional[float], proble
     if flag is not None and all(s is not None for s in stds):
         std_h, std_v = float(np.hypot(stds[0], stds[1])), stds[2]
         src += f", RTK flag {flag:g} (DJI RtkStdLon/Lat/Hgt)"
-    if height_source == "relative":
+    if camera_heights == "relative":
         std_v = RELATIVE_STD_M
     return lat, lon, h, rel, std_h, std_v, src
 
@@ -191,20 +191,20 @@ def _interior(t: PhotoTags, problems: List):
     return None
 
 
-def photo_pose(t: PhotoTags, height_source: str = "absolute",
+def photo_pose(t: PhotoTags, camera_heights: str = "absolute",
                takeoff_height: Optional[float] = None, problems: Optional[List] = None
                ) -> Optional[PhotoPose]:
     """The :class:`PhotoPose` of one photo's tags, or None with (cause, photo path) pairs
     appended to ``problems`` for each missing part (every cause is looked for)."""
     problems = [] if problems is None else problems
-    pos = _position(t, height_source, takeoff_height, problems)
+    pos = _position(t, camera_heights, takeoff_height, problems)
     att = _attitude(t, problems)
     interior = _interior(t, problems)
     if pos is None or att is None or interior is None:
         return None
     lat, lon, h, rel, std_h, std_v, psrc = pos
     cam = " ".join(str(t.exif.get(k, "")).strip() for k in ("Make", "Model")).strip() or "unknown camera"
-    return PhotoPose(t.path, lat, lon, h, height_source, att[0], att[1], att[2], att[3],
+    return PhotoPose(t.path, lat, lon, h, camera_heights, att[0], att[1], att[2], att[3],
                      interior[0], interior[1], f"{cam} {t.size[0]}×{t.size[1]}", t.size,
                      std_h, std_v, psrc, rel)
 

@@ -262,4 +262,29 @@ def test_bad_input_one_message_per_cause(tmp_path):
     with pytest.raises(InputError, match=r"no JPEG or TIFF photos.*x\.png"):
         open_reconstruction(other)
     with pytest.raises(InputError, match="take-off height"):
-        open_photos(mixed, height_source="relative")
+        open_photos(mixed, camera_heights="relative")
+
+
+def test_heights_above_the_take_off_point(odm, tagged, solved):
+    """[independent] ODM's solved heights: DJI's RelativeAltitude + the take-off height
+    (AbsoluteAltitude − RelativeAltitude of the first photo, 86.61 m) gives the solved heights
+    within 6 cm; with the DSM under the first photo as the take-off ground the heights are that
+    DSM height (bilinear, in the test) + RelativeAltitude: 24 m too high here, because this
+    survey's first photo was not taken over the take-off point (said in the docs)."""
+    rel = open_reconstruction(odm / "images", camera_heights="relative", takeoff_height=86.61)
+    assert "take-off height 86.61 m" in rel.notes[0]
+    for c in solved.cameras:
+        dz = rel.from_model(rel.camera(c.label).C[None])[0][2] - solved.from_model(c.C[None])[0][2]
+        assert abs(dz) < 0.06, c.label
+    dsm = DSM(str(odm / "odm_dem" / "dsm.tif"))
+    on_dsm = open_reconstruction(odm / "images", camera_heights="relative", takeoff_height=dsm)
+    first = read_photo_tags(odm / "images" / "100_0005_0018.tif")
+    lon, lat = first.xmp_float(DJI, "GpsLongtitude"), first.xmp_float(DJI, "GpsLatitude")
+    from pyproj import Transformer
+    x, y = Transformer.from_crs("EPSG:4326", rs.UTM51N, always_xy=True).transform(lon, lat)
+    ground = rs.dsm_bilinear(odm / "odm_dem" / "dsm.tif", [x], [y])[0]
+    c = on_dsm.camera("100_0005_0018")
+    z = on_dsm.from_model(c.C[None])[0][2]
+    assert z == pytest.approx(ground + first.xmp_float(DJI, "RelativeAltitude"), abs=0.01)
+    with pytest.raises(InputError, match="folder of photos, not to a solved project"):
+        open_reconstruction(odm, camera_heights="relative", takeoff_height=86.61)
