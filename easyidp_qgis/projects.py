@@ -1,9 +1,17 @@
 """Photogrammetry projects: the PROJECT / CHUNK / PROJECT_CRS parameters the tools share."""
 from qgis.core import (QgsProcessingException, QgsProcessingParameterCrs,
-                       QgsProcessingParameterFile, QgsProcessingParameterString)
+                       QgsProcessingParameterEnum, QgsProcessingParameterFile,
+                       QgsProcessingParameterNumber, QgsProcessingParameterString)
 
-from .compat import ProcessingFileParameterBehavior, ProcessingParameterFlag
+from .compat import (ProcessingFileParameterBehavior, ProcessingNumberParameterType,
+                     ProcessingParameterFlag)
 from .crs import crs_string
+
+CAMERA_HEIGHTS = "CAMERA_HEIGHTS"
+TAKEOFF_HEIGHT = "TAKEOFF_HEIGHT"
+CAMERA_HEIGHT_CHOICES = ("absolute", "relative", "relative")
+"""CAMERA_HEIGHTS choice → ``camera_heights`` of :func:`core.reconstruction.open_photos`:
+the tags' altitude; relative + TAKEOFF_HEIGHT; relative + the DSM under the first photo."""
 
 PROJECT_HELP = ("Metashape .psx/.psz or cameras .xml; Pix4D .p4d, project folder or any file of "
                 "its 1_initial/params folder; OpenDroneMap project folder or its "
@@ -29,6 +37,18 @@ def add_project_parameters(alg):
         optional=True)
     p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
     alg.addParameter(p)
+    p = QgsProcessingParameterEnum(
+        CAMERA_HEIGHTS, alg.tr("Camera heights (a folder of photos)"),
+        [alg.tr("Altitude in the tags (GNSS; RTK: ellipsoidal)"),
+         alg.tr("Relative altitude + the take-off height below"),
+         alg.tr("Relative altitude + the DSM under the first photo")], defaultValue=0)
+    p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
+    alg.addParameter(p)
+    p = QgsProcessingParameterNumber(
+        TAKEOFF_HEIGHT, alg.tr("Take-off height (m, in the DSM's vertical; a folder of photos)"),
+        ProcessingNumberParameterType.Double, optional=True)
+    p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
+    alg.addParameter(p)
 
 
 def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = True):
@@ -42,7 +62,8 @@ def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = 
             what=PROJECT_HELP))
     chunk = alg.parameterAsString(parameters, alg.CHUNK, context) or None
     pcrs = alg.parameterAsCrs(parameters, alg.PROJECT_CRS, context)
-    recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() else None)
+    recon = open_reconstruction(path, chunk, crs_string(pcrs) if pcrs.isValid() else None,
+                                **_camera_heights(alg, parameters, context))
     feedback.pushInfo(recon.summary())
     for note in recon.notes:
         feedback.pushWarning(note)
@@ -55,3 +76,26 @@ def open_project_parameter(alg, parameters, context, feedback, need_crs: bool = 
         feedback.pushWarning(alg.tr("{n} camera(s) are not aligned and have no pose: {names}").format(
             n=len(names), names=", ".join(names[:20]) + (" …" if len(names) > 20 else "")))
     return recon
+
+
+def _camera_heights(alg, parameters, context) -> dict:
+    """CAMERA_HEIGHTS / TAKEOFF_HEIGHT as ``open_reconstruction``'s keywords (none when the
+    tags' altitude is chosen, so solved projects are opened as before)."""
+    choice = alg.parameterAsEnum(parameters, CAMERA_HEIGHTS, context) \
+        if alg.parameterDefinition(CAMERA_HEIGHTS) is not None else 0
+    if choice == 0:
+        return {}
+    if choice == 1:
+        if parameters.get(TAKEOFF_HEIGHT) is None:
+            raise QgsProcessingException(alg.tr(
+                "Camera heights from the relative altitude need the take-off height: set "
+                "'Take-off height'."))
+        return dict(camera_heights="relative",
+                    takeoff_height=alg.parameterAsDouble(parameters, TAKEOFF_HEIGHT, context))
+    from .rasters import dsm_parameter
+    dsm = dsm_parameter(alg, parameters, context) if alg.parameterDefinition("DSM") else None
+    if dsm is None:
+        raise QgsProcessingException(alg.tr(
+            "Camera heights from the DSM under the first photo need a DSM: set 'DSM', or give "
+            "the take-off height."))
+    return dict(camera_heights="relative", takeoff_height=dsm)

@@ -20,12 +20,20 @@ def _features(path):
 
 
 def test_footprints_and_back_projection_from_photos(qp_env, odm, tmp_path):
-    """[consistency only] footprints of the four photos and the five plots back-projected to
-    one named photo (PHOTO), each pixel feature with its photo's uncertainty_px."""
+    """[consistency only] footprints of the four photos (heights: relative altitude + a take-off
+    height) and the five plots back-projected to one named photo (PHOTO), each pixel feature
+    with its photo's uncertainty_px."""
     res = run_algorithm("easyidp:camerafootprints", {
-        "PROJECT": odm / "images", "DSM": odm / "odm_dem" / "dsm.tif",
+        "PROJECT": odm / "images", "DSM": odm / "odm_dem" / "dsm.tif", "CAMERA_HEIGHTS": 1,
+        "TAKEOFF_HEIGHT": 86.61,
         "OUTPUT_CAMERAS": tmp_path / "cams.gpkg", "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"}, qp_env)
     assert len(_features(res["OUTPUT_FOOTPRINTS"])) == 4
+    from osgeo import ogr
+    ds = ogr.Open(str(res["OUTPUT_CAMERAS"]))
+    z = {f["label"]: (f.GetGeometryRef().GetZ(), f["view_angle"]) for f in ds.GetLayer(0)}
+    ds = None
+    assert z["100_0005_0018"][0] == pytest.approx(86.61 + 99.96, abs=1e-6)   # + RelativeAltitude
+    assert all(v == pytest.approx(30.0, abs=1e-6) for _, v in z.values())    # gimbal pitch −60°
     rois = rs.write_rois_geojson(tmp_path / "plots.geojson")
     res = run_algorithm("easyidp:backprojectrois", {
         "ROIS": rois, "NAME_FIELD": "name", "PROJECT": odm / "images", "HEIGHT_SOURCE": 1,
