@@ -19,7 +19,13 @@ Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
 Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
-      <translation type="unfinished" />
+      <translation>Metashape または Pix4D プロジェクトの元画像（撮影写真）のうち、各 ROI（区画、樹木、植物のポリゴン）が写っているものを、プロジェクトで解かれたカメラを使ってすべて見つけます（EasyIDP の back2raw）。元画像はオルソモザイクより鮮明で、シームラインもありません。
+
+入力：ROI ポリゴン、プロジェクト（Metashape の .psx/.psz/カメラの .xml、Pix4D の .p4d またはその 1_initial/params フォルダ内の任意のファイル、またはドローン写真のフォルダ。写真の EXIF と XMP タグから概略のカメラを作り、各ピクセル地物はその予想誤差 uncertainty_px を持ちます）、ROI 頂点の高さ。高さは、ジオメトリの Z（例：「DSM から ROI の高さを取得」の出力）、各頂点でサンプリングした数値表層モデル（DSM）、数値属性、または一定の地面の高さから取得します（高さはプロジェクトの高さ基準で指定します。地理座標系の Metashape チャンクでは楕円体高）。写真フォルダ：写真を移動した場合の写真の場所（ファイル名で照合）。
+
+各 ROI は頂点を高密度化してレンズ歪みを含めて投影し、写真の枠で切り取ります（「ROI 全体のみ」の場合は、ROI 全体が写真に収まるときのみ残します）。DSM がある場合は、ROI 内の地表上の点への視線について遮蔽を判定します。遮蔽されずに見える割合が最小値未満の写真は除外し、残りの写真はスコア（視線角、地上解像度、写真中心からの距離、見える割合）で順位付けします。
+
+出力：写真ピクセル単位の ROI（x = 列、y = −行。QGIS でジオリファレンスなしに開いた元画像に重なります。'photo' で絞り込んでください）。ROI × 写真ごとに 1 地物で、スコア、順位、視線角、地上画素寸法（GSD）、各割合を持ちます。地図上の ROI の概要（写真の枚数と最良の写真）。オプションで、EasyIDP の JSON {roi: {photo: [[x, y], ...]}}、元画像の切り出し（ROI をアルファとした PNG、16 ビットまたはマルチバンドの写真では TIFF。それぞれ JSON のサイドカー付き）、ROI ごとに最良の写真を示すプレビュー PNG 1 枚。</translation>
     </message>
     <message>
       <source>Apply the lens distortion (off for undistorted photos)</source>
@@ -35,7 +41,7 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     </message>
     <message>
       <source>Only this photo (its file name or camera label; empty: every photo)</source>
-      <translation type="unfinished" />
+      <translation>この写真のみ（ファイル名またはカメラのラベル。空欄：すべての写真）</translation>
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1815,15 +1821,43 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use; photos: default their UTM zone)</source>
-      <translation type="unfinished" />
+      <translation>プロジェクトの座標参照系（*_wkt.prj ファイルのない Pix4D、OpenDroneMap を伴わない OpenSfM、PROJ が扱えない Metashape チャンクの座標参照系。写真：既定はその UTM ゾーン）</translation>
+    </message>
+    <message>
+      <source>Camera heights (a folder of photos)</source>
+      <translation>カメラの高さ（写真フォルダ）</translation>
+    </message>
+    <message>
+      <source>Take-off height (m, in the DSM's vertical; a folder of photos)</source>
+      <translation>離陸地点の高さ（m、DSM の高さ基準。写真フォルダ）</translation>
     </message>
     <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json) or a folder of drone photos</source>
-      <translation type="unfinished" />
+      <translation>写真測量プロジェクト（Metashape .psx/.psz/.xml、Pix4D .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap フォルダまたは reconstruction.json）またはドローン写真のフォルダ</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>チャンク：Metashape のチャンク（ラベルまたはインデックス）または OpenSfM の再構成のインデックス（複数ある場合に必要）</translation>
+    </message>
+    <message>
+      <source>Altitude in the tags (GNSS; RTK: ellipsoidal)</source>
+      <translation>タグの高度（GNSS。RTK：楕円体高）</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the take-off height below</source>
+      <translation>相対高度 + 下の離陸地点の高さ</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the DSM under the first photo</source>
+      <translation>相対高度 + 最初の写真の真下の DSM</translation>
+    </message>
+    <message>
+      <source>Camera heights from the DSM under the first photo need a DSM: set 'DSM', or give the take-off height.</source>
+      <translation>最初の写真の真下の DSM からカメラの高さを求めるには DSM が必要です。「DSM」を設定するか、離陸地点の高さを指定してください。</translation>
+    </message>
+    <message>
+      <source>Camera heights from the relative altitude need the take-off height: set 'Take-off height'.</source>
+      <translation>相対高度からカメラの高さを求めるには離陸地点の高さが必要です。「離陸地点の高さ」を設定してください。</translation>
     </message>
     <message>
       <source>Photogrammetry project: none given ({what}).</source>

@@ -19,7 +19,13 @@ Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
 Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
-      <translation type="unfinished" />
+      <translation>在 Metashape 或 Pix4D 工程中，利用工程解算出的相机，找出每个感兴趣区（小区、树木、植株多边形）在所有能看到它的原始照片中的位置（EasyIDP 的 back2raw）。原始照片比正射影像更清晰，且没有拼接线。
+
+输入：感兴趣区多边形；工程（Metashape .psx/.psz/相机 .xml，Pix4D .p4d 或其 1_initial/params 文件夹中的任一文件，或一个无人机照片文件夹：由照片的 EXIF 和 XMP 标签得到粗略的相机，此时每个像素要素带有其预期误差 uncertainty_px）；感兴趣区顶点的高度，可来自几何的 Z 值（如“从 DSM 获取感兴趣区高度”的输出）、在每个顶点采样的 DSM、数值属性或单一地面高度（高度采用工程的高程基准；对于地理坐标系中的 Metashape 块（chunk）：椭球高）。照片文件夹：照片被移动后所在的位置（按文件名匹配）。
+
+每个感兴趣区先加密顶点，再结合镜头畸变进行投影，并裁剪到照片画幅内（若选择“仅限完整感兴趣区”，则只在整个感兴趣区都位于照片内时保留）。提供 DSM 时，会检测从相机到感兴趣区内地表点的视线是否被遮挡。可见且未被遮挡的比例低于最小值的照片会被舍弃；其余照片按评分排序（视角、地面分辨率、到照片中心的距离、可见比例）。
+
+输出：照片像素坐标下的感兴趣区（x = 列，y = −行：可叠加在 QGIS 中未经地理配准打开的原始照片上；按 photo 字段筛选），每个感兴趣区 × 照片一个要素，含评分、排名、视角、地面采样距离（GSD）及各比例；地图中感兴趣区的汇总，含照片数量和最佳照片；可选输出 EasyIDP 的 JSON {roi: {photo: [[x, y], ...]}}、原始照片的裁剪图（PNG，以感兴趣区作为 alpha 通道；16 位或多波段照片为 TIFF，均附带 JSON 附属文件），以及每个感兴趣区一张展示其最佳照片的预览 PNG。</translation>
     </message>
     <message>
       <source>Apply the lens distortion (off for undistorted photos)</source>
@@ -35,7 +41,7 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     </message>
     <message>
       <source>Only this photo (its file name or camera label; empty: every photo)</source>
-      <translation type="unfinished" />
+      <translation>仅此照片（文件名或相机标签；留空：所有照片）</translation>
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1815,15 +1821,43 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>Project CRS (Pix4D without a *_wkt.prj file; OpenSfM without OpenDroneMap; Metashape chunk CRS that PROJ cannot use; photos: default their UTM zone)</source>
-      <translation type="unfinished" />
+      <translation>工程坐标系（用于没有 *_wkt.prj 文件的 Pix4D；没有 OpenDroneMap 的 OpenSfM；PROJ 无法使用的 Metashape 区块坐标系；照片：默认为其所在的 UTM 带）</translation>
+    </message>
+    <message>
+      <source>Camera heights (a folder of photos)</source>
+      <translation>相机高度（照片文件夹）</translation>
+    </message>
+    <message>
+      <source>Take-off height (m, in the DSM's vertical; a folder of photos)</source>
+      <translation>起飞点高度（米，采用 DSM 的高程基准；照片文件夹）</translation>
     </message>
     <message>
       <source>Photogrammetry project (Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json) or a folder of drone photos</source>
-      <translation type="unfinished" />
+      <translation>摄影测量工程（Metashape .psx/.psz/.xml；Pix4D .p4d、工程文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json）或无人机照片文件夹</translation>
     </message>
     <message>
       <source>Chunk: Metashape chunk (label or index) or OpenSfM reconstruction index (needed when there are several)</source>
       <translation>块（chunk）：Metashape 块（标签或索引）或 OpenSfM 重建索引（存在多个时需要）</translation>
+    </message>
+    <message>
+      <source>Altitude in the tags (GNSS; RTK: ellipsoidal)</source>
+      <translation>标签中的高度（GNSS；RTK：椭球高）</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the take-off height below</source>
+      <translation>相对高度 + 下方的起飞点高度</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the DSM under the first photo</source>
+      <translation>相对高度 + 第一张照片下方的 DSM</translation>
+    </message>
+    <message>
+      <source>Camera heights from the DSM under the first photo need a DSM: set 'DSM', or give the take-off height.</source>
+      <translation>由第一张照片下方的 DSM 求相机高度需要 DSM：请设置“DSM”，或给出起飞点高度。</translation>
+    </message>
+    <message>
+      <source>Camera heights from the relative altitude need the take-off height: set 'Take-off height'.</source>
+      <translation>由相对高度求相机高度需要起飞点高度：请设置“起飞点高度”。</translation>
     </message>
     <message>
       <source>Photogrammetry project: none given ({what}).</source>
