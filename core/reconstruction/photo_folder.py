@@ -23,7 +23,7 @@ from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
 from .photo_poses import ANGLE_STD_DEG, CAMERA_HEIGHTS, PhotoPose, gimbal_rotation, photo_pose
 
-__all__ = ["open_photos", "is_photo_input", "list_photo_files", "utm_crs"]
+__all__ = ["open_photos", "is_photo_input", "list_photo_files", "utm_crs", "convergence"]
 
 WGS84 = CRS.from_epsg(4326)
 TAGGED_EXTENSIONS = (".jpg", ".jpeg", ".tif", ".tiff")
@@ -59,7 +59,7 @@ def utm_crs(lon: float, lat: float) -> CRS:
     return CRS.from_epsg((32600 if lat >= 0 else 32700) + zone)
 
 
-def _convergence(to_map, lon: float, lat: float) -> float:
+def convergence(to_map, lon: float, lat: float) -> float:
     """Azimuth of true north in the map grid at (lon, lat), degrees clockwise from grid north."""
     d = 1e-5
     (x0, x1), (y0, y1) = to_map.transform([lon, lon], [lat - d, lat + d])
@@ -171,7 +171,7 @@ def _reconstruction(source: Path, poses: List[PhotoPose], crs: Optional[CRS],
             by_cal[key] = sid
             sensors[sid] = Sensor(sid, p.camera, p.size[0], p.size[1], p.calibration)
         label = Path(p.path).stem
-        R = gimbal_rotation(p.yaw, p.pitch, p.roll, _convergence(to_map, p.lon, p.lat))
+        R = gimbal_rotation(p.yaw, p.pitch, p.roll, convergence(to_map, p.lon, p.lat))
         cameras.append(Camera(label, label, by_cal[key], photo_path=p.path, R=R, C=c - offset))
         unc[label] = _uncertainty_px(p)
     first = poses[0]

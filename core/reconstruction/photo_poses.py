@@ -39,7 +39,7 @@ from ..photo_files import scale_to
 from ..photo_tags import CAMERA_NS, DJI, SENSEFLY, PhotoTags
 from .frame_model import Calibration
 
-__all__ = ["PhotoPose", "photo_pose", "gimbal_rotation", "CAMERA_HEIGHTS",
+__all__ = ["PhotoPose", "photo_pose", "gimbal_rotation", "gimbal_angles", "CAMERA_HEIGHTS",
            "ANGLE_STD_DEG", "GNSS_STD_M", "RTK_FIXED"]
 
 CAMERA_HEIGHTS = ("absolute", "relative")
@@ -236,3 +236,13 @@ def gimbal_rotation(yaw: float, pitch: float, roll: float, convergence: float = 
     north (added to every azimuth)."""
     r_nb = _rz(np.radians(yaw + convergence)) @ _ry(np.radians(pitch)) @ _rx(np.radians(roll))
     return (NED_TO_ENU @ r_nb @ CAMERA_TO_BODY).T
+
+
+def gimbal_angles(R: np.ndarray, convergence: float = 0.0) -> Tuple[float, float, float]:
+    """(yaw, pitch, roll) in degrees of the model-frame rotation ``R`` (Xc = R·(X − C)): the
+    inverse of :func:`gimbal_rotation` (yaw in [0, 360), pitch in [−90, 90])."""
+    r_nb = NED_TO_ENU.T @ np.asarray(R, dtype=np.float64).T @ CAMERA_TO_BODY.T
+    yaw = np.degrees(np.arctan2(r_nb[1, 0], r_nb[0, 0])) - convergence
+    pitch = np.degrees(-np.arcsin(np.clip(r_nb[2, 0], -1.0, 1.0)))
+    roll = np.degrees(np.arctan2(r_nb[2, 1], r_nb[2, 2]))
+    return float(yaw % 360.0), float(pitch), float(roll)

@@ -288,3 +288,38 @@ def test_heights_above_the_take_off_point(odm, tagged, solved):
     assert z == pytest.approx(ground + first.xmp_float(DJI, "RelativeAltitude"), abs=0.01)
     with pytest.raises(InputError, match="folder of photos, not to a solved project"):
         open_reconstruction(odm, camera_heights="relative", takeoff_height=86.61)
+
+
+# --- the demo survey's tagged photos -------------------------------------------------------------
+def test_gimbal_angles_round_trip():
+    """[consistency only] gimbal_angles inverts gimbal_rotation (with a convergence) over
+    yaw, pitch and roll away from the pitch ±90° singularity."""
+    from easyidp_toolbox.core.reconstruction.photo_poses import gimbal_angles, gimbal_rotation
+    rng = np.random.default_rng(5)
+    for yaw, pitch, roll, conv in zip(rng.uniform(0, 360, 50), rng.uniform(-89, 89, 50),
+                                      rng.uniform(-30, 30, 50), rng.uniform(-3, 3, 50)):
+        R = gimbal_rotation(yaw, pitch, roll, conv)
+        np.testing.assert_allclose(R @ R.T, np.eye(3), atol=1e-12)
+        assert gimbal_angles(R, conv) == pytest.approx((yaw, pitch, roll), abs=1e-8)
+
+
+def test_demo_photos_carry_dji_tags(demo):
+    """[consistency only: the generator writes the tags with the inverse of the reader's
+    convention, which tests against ODM and Orthority above check independently] the demo
+    photos alone give cameras within the stated noise of the truth: centres as the logged GNSS
+    (0.8 m, 1.5 m), rotations within 4° (1°, 0.5°, 0.5°), the lens exact."""
+    recon = open_photos(demo.photo_folder)
+    truth = demo.truth_doc
+    assert len(recon.cameras) == len(truth["photos"]) == 36
+    cal = recon.sensors[recon.cameras[0].sensor_id].calibration
+    t = truth["camera"]
+    assert cal.f == pytest.approx(t["f"], abs=1e-5) and cal.b1 == pytest.approx(t["b1"], abs=1e-5)
+    assert cal.cx == pytest.approx(t["width"] / 2 + t["cx"], abs=1e-5)
+    centre, angle = [], []
+    for label, p in truth["photos"].items():
+        c = recon.camera(label)
+        centre.append(np.linalg.norm(recon.from_model(c.C[None])[0] - p["centre"]))
+        dR = c.R @ np.array(p["rotation"]).T
+        angle.append(np.degrees(np.arccos(np.clip((np.trace(dR) - 1) / 2, -1, 1))))
+    assert max(centre) < 6.0 and 0.3 < np.median(centre) < 3.0
+    assert max(angle) < 4.0 and 0.2 < np.median(angle) < 2.0
