@@ -192,10 +192,9 @@ def _reconstruction(source: Path, poses: List[PhotoPose], crs: Optional[CRS],
             float(np.median([p.std_h for p in poses])), float(np.median([p.std_v for p in poses])),
             ANGLE_STD_DEG, min(unc.values()), max(unc.values()), float(np.median(list(unc.values())))),
     ]
-    recon = Reconstruction(source=source, software="Photo tags", label=source.name, crs=crs,
-                           frame=OffsetFrame(crs, offset), sensors=sensors, cameras=cameras,
-                           notes=notes, uncertainty_px=unc)
-    return recon
+    return Reconstruction(source=source, software="Photo tags", label=source.name, crs=crs,
+                          frame=OffsetFrame(crs, offset), sensors=sensors, cameras=cameras,
+                          notes=notes, uncertainty_px=unc)
 
 
 def _uncertainty_px(p: PhotoPose) -> float:
