@@ -76,6 +76,10 @@ def open_reconstruction(path, chunk=None, crs=None, *, camera_heights: str = "ab
         return fit_sensors_to_photos(recon)
     if not p.exists():
         raise InputError(f"{p}: file not found.")
+    if suffix == ".csv":
+        raise InputError(f"{p}: a table of camera positions and angles (Orthority's or Metashape's "
+                         "reference CSV) is not read yet; give the folder of photos instead: "
+                         "their EXIF and XMP tags give the cameras.")
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "
                      ".psz or cameras .xml, a Pix4D .p4d, project folder or params folder, an "
                      "OpenDroneMap project folder or OpenSfM reconstruction.json, an OPF "

@@ -263,6 +263,9 @@ def test_bad_input_one_message_per_cause(tmp_path):
         open_reconstruction(other)
     with pytest.raises(InputError, match="take-off height"):
         open_photos(mixed, camera_heights="relative")
+    (tmp_path / "positions.csv").write_text("filename,x,y,z,omega,phi,kappa\n")
+    with pytest.raises(InputError, match="not read yet; give the folder of photos"):
+        open_reconstruction(tmp_path / "positions.csv")
 
 
 def test_heights_above_the_take_off_point(odm, tagged, solved):
