@@ -6,12 +6,12 @@ from qgis.core import (QgsProcessingException, QgsProcessingParameterCrs,
 from .compat import (ProcessingFileParameterBehavior, ProcessingNumberParameterType,
                      ProcessingParameterFlag)
 from .crs import crs_string
+from .rasters import dsm_parameter
 
 CAMERA_HEIGHTS = "CAMERA_HEIGHTS"
 TAKEOFF_HEIGHT = "TAKEOFF_HEIGHT"
-CAMERA_HEIGHT_CHOICES = ("absolute", "relative", "relative")
-"""CAMERA_HEIGHTS choice → ``camera_heights`` of :func:`core.reconstruction.open_photos`:
-the tags' altitude; relative + TAKEOFF_HEIGHT; relative + the DSM under the first photo."""
+"""CAMERA_HEIGHTS choices (a folder of photos): 0 the tags' altitude, 1 relative altitude +
+TAKEOFF_HEIGHT, 2 relative altitude + the DSM under the first photo."""
 
 PROJECT_HELP = ("Metashape .psx/.psz or cameras .xml; Pix4D .p4d, project folder or any file of "
                 "its 1_initial/params folder; OpenDroneMap project folder or its "
@@ -92,7 +92,6 @@ def _camera_heights(alg, parameters, context) -> dict:
                 "'Take-off height'."))
         return dict(camera_heights="relative",
                     takeoff_height=alg.parameterAsDouble(parameters, TAKEOFF_HEIGHT, context))
-    from .rasters import dsm_parameter
     dsm = dsm_parameter(alg, parameters, context) if alg.parameterDefinition("DSM") else None
     if dsm is None:
         raise QgsProcessingException(alg.tr(

@@ -61,3 +61,18 @@ def test_bad_photo_folder_writes_nothing(qp_env, tmp_path):
     assert "no GPS position" in msg and "DJI_0001.JPG, DJI_0002.JPG" in msg
     assert "no camera attitude" in msg and "Pix4D" not in msg
     assert not (tmp_path / "cams.gpkg").exists() and not (tmp_path / "fp.gpkg").exists()
+
+
+@pytest.mark.parametrize("heights, why", [
+    ({"CAMERA_HEIGHTS": 1}, "need the take-off height"),
+    ({"CAMERA_HEIGHTS": 2}, "need a DSM"),
+])
+def test_camera_heights_need_their_input(qp_env, odm, tmp_path, heights, why):
+    """Heights above the take-off point without the take-off height, or from the DSM without a
+    DSM: the tool stops saying which parameter to set, and writes nothing."""
+    with pytest.raises(RuntimeError, match=why):
+        run_algorithm("easyidp:camerafootprints", {
+            "PROJECT": odm / "images", "GROUND_HEIGHT": 80, **heights,
+            "OUTPUT_CAMERAS": tmp_path / "cams.gpkg", "OUTPUT_FOOTPRINTS": tmp_path / "fp.gpkg"},
+            qp_env)
+    assert not (tmp_path / "cams.gpkg").exists() and not (tmp_path / "fp.gpkg").exists()
