@@ -14,14 +14,14 @@
     <message>
       <source>Finds every ROI (plot, tree, plant polygon) in every raw photo of a Metashape or Pix4D project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw photos are sharper than the orthomosaic and free of its seamlines.
 
-Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
+Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder, or a folder of drone photos whose EXIF and XMP tags give rough cameras: each pixel feature then carries its expected error, uncertainty_px); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
 
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
 Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
       <translation>Metashape または Pix4D プロジェクトの元画像（撮影写真）のうち、各 ROI（区画、樹木、植物のポリゴン）が写っているものを、プロジェクトで解かれたカメラを使ってすべて見つけます（EasyIDP の back2raw）。元画像はオルソモザイクより鮮明で、シームラインもありません。
 
-入力：ROI ポリゴン、プロジェクト（Metashape の .psx/.psz/カメラの .xml、Pix4D の .p4d またはその 1_initial/params フォルダ内の任意のファイル）、ROI 頂点の高さ。高さは、ジオメトリの Z（例：「DSM から ROI の高さを取得」の出力）、各頂点でサンプリングした数値表層モデル（DSM）、数値属性、または一定の地面の高さから取得します（高さはプロジェクトの高さ基準で指定します。地理座標系の Metashape チャンクでは楕円体高）。写真フォルダ：写真を移動した場合の写真の場所（ファイル名で照合）。
+入力：ROI ポリゴン、プロジェクト（Metashape の .psx/.psz/カメラの .xml、Pix4D の .p4d またはその 1_initial/params フォルダ内の任意のファイル、またはドローン写真のフォルダ。写真の EXIF と XMP タグから概略のカメラを作り、各ピクセル地物はその予想誤差 uncertainty_px を持ちます）、ROI 頂点の高さ。高さは、ジオメトリの Z（例：「DSM から ROI の高さを取得」の出力）、各頂点でサンプリングした数値表層モデル（DSM）、数値属性、または一定の地面の高さから取得します（高さはプロジェクトの高さ基準で指定します。地理座標系の Metashape チャンクでは楕円体高）。写真フォルダ：写真を移動した場合の写真の場所（ファイル名で照合）。
 
 各 ROI は頂点を高密度化してレンズ歪みを含めて投影し、写真の枠で切り取ります（「ROI 全体のみ」の場合は、ROI 全体が写真に収まるときのみ残します）。DSM がある場合は、ROI 内の地表上の点への視線について遮蔽を判定します。遮蔽されずに見える割合が最小値未満の写真は除外し、残りの写真はスコア（視線角、地上解像度、写真中心からの距離、見える割合）で順位付けします。
 
@@ -42,6 +42,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>写真フォルダ（写真を移動した場合。ファイル名で照合）</translation>
+    </message>
+    <message>
+      <source>Only this photo (its file name or camera label; empty: every photo)</source>
+      <translation>この写真のみ（ファイル名またはカメラのラベル。空欄：すべての写真）</translation>
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1996,12 +2000,24 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
     </message>
     <message>
-      <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use</source>
-      <translation>*_wkt.prj ファイルのない Pix4D、OpenDroneMap のない OpenSfM、または PROJ が扱えない Metashape チャンクの座標参照系の場合</translation>
+      <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use; for a folder of photos, default: their UTM zone</source>
+      <translation type="unfinished" />
     </message>
     <message>
-      <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf</source>
-      <translation>Metashape の .psx/.psz/.xml、Pix4D の .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap のフォルダまたは reconstruction.json、OPF の project.opf</translation>
+      <source>Camera heights (a folder of photos)</source>
+      <translation>カメラの高さ（写真フォルダ）</translation>
+    </message>
+    <message>
+      <source>Take-off height (m; a folder of photos)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>In the DSM's vertical reference: added to the photos' relative altitude</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf; or a folder of drone photos (cameras from their EXIF/XMP tags: rough, see the log's uncertainty)</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Metashape chunk (label or index) or OpenSfM reconstruction index: needed when the project has several</source>
@@ -2012,12 +2028,32 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>プロジェクトの座標参照系（上書き）</translation>
     </message>
     <message>
-      <source>Photogrammetry project</source>
-      <translation>写真測量プロジェクト</translation>
+      <source>Altitude in the tags (GNSS; RTK: ellipsoidal)</source>
+      <translation>タグの高度（GNSS。RTK：楕円体高）</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the take-off height below</source>
+      <translation>相対高度 + 下の離陸地点の高さ</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the DSM under the first photo</source>
+      <translation>相対高度 + 最初の写真の真下の DSM</translation>
+    </message>
+    <message>
+      <source>Camera heights from the DSM under the first photo need a DSM: set 'DSM', or give the take-off height.</source>
+      <translation>最初の写真の真下の DSM からカメラの高さを求めるには DSM が必要です。「DSM」を設定するか、離陸地点の高さを指定してください。</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project or folder of photos</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Chunk or reconstruction</source>
       <translation>チャンクまたは再構成</translation>
+    </message>
+    <message>
+      <source>Camera heights from the relative altitude need the take-off height: set 'Take-off height'.</source>
+      <translation>相対高度からカメラの高さを求めるには離陸地点の高さが必要です。「離陸地点の高さ」を設定してください。</translation>
     </message>
     <message>
       <source>Photogrammetry project: none given ({what}).</source>

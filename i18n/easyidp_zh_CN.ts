@@ -14,14 +14,14 @@
     <message>
       <source>Finds every ROI (plot, tree, plant polygon) in every raw photo of a Metashape or Pix4D project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw photos are sharper than the orthomosaic and free of its seamlines.
 
-Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
+Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or any file of its 1_initial/params folder, or a folder of drone photos whose EXIF and XMP tags give rough cameras: each pixel feature then carries its expected error, uncertainty_px); the height of the ROI vertices, from the geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a numeric attribute, or one ground height (heights in the project's vertical reference; for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos are when they moved (matched by file name).
 
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
 Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
       <translation>在 Metashape 或 Pix4D 工程中，利用工程解算出的相机，找出每个感兴趣区（小区、树木、植株多边形）在所有能看到它的原始照片中的位置（EasyIDP 的 back2raw）。原始照片比正射影像更清晰，且没有拼接线。
 
-输入：感兴趣区多边形；工程（Metashape .psx/.psz/相机 .xml，Pix4D .p4d 或其 1_initial/params 文件夹中的任一文件）；感兴趣区顶点的高度，可来自几何的 Z 值（如“从 DSM 获取感兴趣区高度”的输出）、在每个顶点采样的 DSM、数值属性或单一地面高度（高度采用工程的高程基准；对于地理坐标系中的 Metashape 块（chunk）：椭球高）。照片文件夹：照片被移动后所在的位置（按文件名匹配）。
+输入：感兴趣区多边形；工程（Metashape .psx/.psz/相机 .xml，Pix4D .p4d 或其 1_initial/params 文件夹中的任一文件，或一个无人机照片文件夹：由照片的 EXIF 和 XMP 标签得到粗略的相机，此时每个像素要素带有其预期误差 uncertainty_px）；感兴趣区顶点的高度，可来自几何的 Z 值（如“从 DSM 获取感兴趣区高度”的输出）、在每个顶点采样的 DSM、数值属性或单一地面高度（高度采用工程的高程基准；对于地理坐标系中的 Metashape 块（chunk）：椭球高）。照片文件夹：照片被移动后所在的位置（按文件名匹配）。
 
 每个感兴趣区先加密顶点，再结合镜头畸变进行投影，并裁剪到照片画幅内（若选择“仅限完整感兴趣区”，则只在整个感兴趣区都位于照片内时保留）。提供 DSM 时，会检测从相机到感兴趣区内地表点的视线是否被遮挡。可见且未被遮挡的比例低于最小值的照片会被舍弃；其余照片按评分排序（视角、地面分辨率、到照片中心的距离、可见比例）。
 
@@ -42,6 +42,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>照片文件夹（照片被移动时使用；按文件名匹配）</translation>
+    </message>
+    <message>
+      <source>Only this photo (its file name or camera label; empty: every photo)</source>
+      <translation>仅此照片（文件名或相机标签；留空：所有照片）</translation>
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1996,12 +2000,24 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
     </message>
     <message>
-      <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use</source>
-      <translation>用于没有 *_wkt.prj 文件的 Pix4D、没有 OpenDroneMap 的 OpenSfM，或 PROJ 无法使用其坐标参考系的 Metashape 块</translation>
+      <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use; for a folder of photos, default: their UTM zone</source>
+      <translation type="unfinished" />
     </message>
     <message>
-      <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf</source>
-      <translation>Metashape .psx/.psz/.xml；Pix4D .p4d、项目文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json；OPF project.opf</translation>
+      <source>Camera heights (a folder of photos)</source>
+      <translation>相机高度（照片文件夹）</translation>
+    </message>
+    <message>
+      <source>Take-off height (m; a folder of photos)</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>In the DSM's vertical reference: added to the photos' relative altitude</source>
+      <translation type="unfinished" />
+    </message>
+    <message>
+      <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf; or a folder of drone photos (cameras from their EXIF/XMP tags: rough, see the log's uncertainty)</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Metashape chunk (label or index) or OpenSfM reconstruction index: needed when the project has several</source>
@@ -2012,12 +2028,32 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>项目坐标参考系（覆盖）</translation>
     </message>
     <message>
-      <source>Photogrammetry project</source>
-      <translation>摄影测量项目</translation>
+      <source>Altitude in the tags (GNSS; RTK: ellipsoidal)</source>
+      <translation>标签中的高度（GNSS；RTK：椭球高）</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the take-off height below</source>
+      <translation>相对高度 + 下方的起飞点高度</translation>
+    </message>
+    <message>
+      <source>Relative altitude + the DSM under the first photo</source>
+      <translation>相对高度 + 第一张照片下方的 DSM</translation>
+    </message>
+    <message>
+      <source>Camera heights from the DSM under the first photo need a DSM: set 'DSM', or give the take-off height.</source>
+      <translation>由第一张照片下方的 DSM 求相机高度需要 DSM：请设置“DSM”，或给出起飞点高度。</translation>
+    </message>
+    <message>
+      <source>Photogrammetry project or folder of photos</source>
+      <translation type="unfinished" />
     </message>
     <message>
       <source>Chunk or reconstruction</source>
       <translation>块或重建</translation>
+    </message>
+    <message>
+      <source>Camera heights from the relative altitude need the take-off height: set 'Take-off height'.</source>
+      <translation>由相对高度求相机高度需要起飞点高度：请设置“起飞点高度”。</translation>
     </message>
     <message>
       <source>Photogrammetry project: none given ({what}).</source>

@@ -19,6 +19,7 @@ import time
 import numpy as np
 
 from .demo_multispectral import run_multispectral_demo
+from .demo_photo_folder import run_photo_folder_demo
 from .demo_photo_statistics import run_photo_statistics_demo
 from .demo_plot_grid import run_plot_grid_demo
 from .demo_round_trip import run_round_trip_demo
@@ -114,6 +115,7 @@ def main(out: str) -> int:
     forward = _forward_projection(steps, s, truth, out)
 
     back = _backward_projection(steps, s, out)
+    photo_folder = run_photo_folder_demo(steps, s, truth, out, _features)
     photo_stats = run_photo_statistics_demo(steps, s, truth, out, _features)
     photo_stats += run_round_trip_demo(steps, out)
     multispectral = run_multispectral_demo(s, out)
@@ -173,6 +175,8 @@ def main(out: str) -> int:
           f"(DSM), {100 * season['cloud']:.1f} cm (cloud); cover max {100 * season['cover']:.1f} %")
     for line in _backward_errors(back, s, truth):
         print(f"  {line}")
+    for line in photo_folder:
+        print(line)
     for line in forward:
         print(line)
     print(f"  {IND} plot colour truth from the generator's closed-form model "

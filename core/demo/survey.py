@@ -60,6 +60,7 @@ from .labelme_writer import write_labelme
 from .metashape_writer import write_metashape
 from .odm_writer import write_odm
 from .opf_writer import write_opf
+from .photo_tags_writer import noise_note, photo_tag_segments, tag_jpeg
 from .pix4d_writer import write_pix4d
 from .plot_colour import BLUR_SIGMA, GHOST_OFFSET, add_ortho_defects, plot_colour_truth
 from .render import level_for, packed_level, pixel_rays, render_photo
@@ -185,10 +186,13 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
     level = level_for(camera, ALTITUDE)
     level_img = packed_level(scene.ortho, level)
 
+    tags = photo_tag_segments(scene, camera, shots, seed)
+
     def shoot(i: int) -> None:
         prog.check()
         render = render_photo if shots[i].motion is None else readout_motion.render_photo
-        _write_jpeg(photos[i], render(scene, camera, shots[i], rays, level_img, level))
+        _write_jpeg(photos[i], render(scene, camera, shots[i], rays, level_img, level),
+                    tags[shots[i].label])
 
     ortho, defects = scene.ortho, None
     if ortho_defects:            # the written orthomosaic only: photos see the true texture
@@ -225,7 +229,8 @@ def _write_survey(folder: str, seed: int, size: str, prog, rolling_shutter: bool
         write_opf(os.path.join(folder, "opf"), camera, shots, scene.offset, photos, lay.epsg)
     # last, so that a truth file means a complete survey
     meta = {"seed": seed, "size": size, "metashape_pose_fit_max_px": ms["max_fit_px"],
-            "field_mess": {**asdict(scene.mess), "description": MESS_NOTE}}
+            "field_mess": {**asdict(scene.mess), "description": MESS_NOTE},
+            "photo_tags": noise_note()}
     if rolling_shutter:
         meta["rolling_shutter"] = True
     if defects is not None:
@@ -278,10 +283,11 @@ def _truth_and_projects(folder: str, scene, camera, shots, photos, rng):
     return truth, ms, p4d
 
 
-def _write_jpeg(path: str, img: np.ndarray) -> None:
+def _write_jpeg(path: str, img: np.ndarray, tags: bytes = b"") -> None:
+    """The photo as a JPEG, with ``tags`` (APP1 EXIF and XMP segments) after its SOI."""
     import imagecodecs
     data = imagecodecs.jpeg8_encode(np.ascontiguousarray(img), level=JPEG_QUALITY)
-    write_bytes(path, data)
+    write_bytes(path, tag_jpeg(data, tags))
 
 
 def _write_clouds(folder: str, xyz: np.ndarray, rgb: np.ndarray, epsg: int) -> None:

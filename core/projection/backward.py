@@ -106,6 +106,8 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
                                       ((sensors[k], geo[k]) for k in geo)},
                        "vertices": {"input": int(rings.original.sum()), "densified": len(rings.xy)}}
     result.notes = list(recon.notes) + notes
+    result.uncertainty_px = {c.label: recon.uncertainty_px[c.label] for c in cams
+                             if c.label in recon.uncertainty_px}
     prog.set(100)
     return result
 

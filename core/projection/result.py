@@ -44,7 +44,9 @@ class BackProjection:
     ground and pixel areas); ``centre_distance`` of the visible part's centroid from the
     principal point, 0 at the principal point and 1 at a frame corner's distance; ``rank``
     1 = best photo of the ROI; ``clipped`` True when the polygon was cut by the frame.
-    ``polygons`` holds the pixel polygons (:class:`FlatPolygons`).
+    ``polygons`` holds the pixel polygons (:class:`FlatPolygons`). ``uncertainty_px``: photo
+    label → the expected error of its pixels (one standard deviation) for cameras read from photo
+    tags (:attr:`~core.reconstruction.Reconstruction.uncertainty_px`); empty for solved projects.
     """
     roi_names: List[str]
     photo_labels: List[str]
@@ -67,6 +69,7 @@ class BackProjection:
     dropped: Dict[str, int] = field(default_factory=dict)       # reason -> ROI × photo pairs
     settings: Dict[str, object] = field(default_factory=dict)
     notes: List[str] = field(default_factory=list)
+    uncertainty_px: Dict[str, float] = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.roi)

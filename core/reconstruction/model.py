@@ -133,6 +133,9 @@ class Reconstruction:
 
     ``crs``: the project CRS (pyproj), None when unknown; ``is_local`` says it is a local /
     engineering system that cannot be related to map CRSs. ``frame`` converts map ↔ model.
+    ``uncertainty_px``: camera label → the expected error (one standard deviation, pixels) of a
+    ground point projected into that photo, for cameras read from photo tags; empty for solved
+    projects (their error is not known per photo).
     """
     source: Path
     software: str
@@ -144,6 +147,7 @@ class Reconstruction:
     enabled: bool = True
     markers: List[Marker] = field(default_factory=list)
     notes: List[str] = field(default_factory=list)
+    uncertainty_px: Dict[str, float] = field(default_factory=dict)
 
     # --- look-ups ----------------------------------------------------------------------------
     @property

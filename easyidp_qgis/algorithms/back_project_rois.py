@@ -7,7 +7,8 @@ import numpy as np
 from qgis.core import (QgsCoordinateReferenceSystem, QgsProcessingParameterBoolean,
                        QgsProcessingParameterEnum, QgsProcessingParameterFeatureSink,
                        QgsProcessingParameterFile, QgsProcessingParameterFileDestination,
-                       QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber)
+                       QgsProcessingParameterFolderDestination, QgsProcessingParameterNumber,
+                       QgsProcessingParameterString)
 
 from .. import presentation
 from ..compat import (FieldType, ProcessingFileParameterBehavior,
@@ -36,6 +37,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
     HEIGHT_FIELD = "HEIGHT_FIELD"
     GROUND_HEIGHT = "GROUND_HEIGHT"
     PHOTOS = "PHOTOS"
+    PHOTO = "PHOTO"
     DISTORTION = "DISTORTION"
     CLIP = "CLIP"
     OCCLUSION = "OCCLUSION"
@@ -57,7 +59,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
         "project that sees it, using the cameras the project solved (EasyIDP's back2raw). Raw "
         "photos are sharper than the orthomosaic and free of its seamlines.\n\n"
         "Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .p4d or "
-        "any file of its 1_initial/params folder); the height of the ROI vertices, from the "
+        "any file of its 1_initial/params folder, or a folder of drone photos whose EXIF and XMP "
+        "tags give rough cameras: each pixel feature then carries its expected error, "
+        "uncertainty_px); the height of the ROI vertices, from the "
         "geometry's Z (e.g. the output of ROI heights from DSM), a DSM sampled at every vertex, a "
         "numeric attribute, or one ground height (heights in the project's vertical reference; "
         "for a Metashape chunk in a geographic CRS: ellipsoidal). Photos folder: where the photos "
@@ -83,6 +87,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
             behavior=ProcessingFileParameterBehavior.Folder, optional=True))
+        self.addParameter(QgsProcessingParameterString(
+            self.PHOTO, self.tr("Only this photo (its file name or camera label; empty: every "
+                                "photo)"), optional=True))
         self.addParameter(QgsProcessingParameterEnum(
             self.CLIP, self.tr("ROIs partly outside a photo"),
             [self.tr("Clip them to the photo frame"), self.tr("Drop the photo (whole ROIs only)")],
@@ -138,10 +145,12 @@ class BackProjectROIs(EasyIDPAlgorithm):
         crops = optional_destination(self, parameters, self.CROPS_FOLDER, context)
         previews = optional_destination(self, parameters, self.PREVIEW_FOLDER, context)
         span = 60.0 if (crops or previews) else 95.0
+        photo = self.parameterAsString(parameters, self.PHOTO, context).strip()
+        cameras = recon.select_cameras([photo]) if photo else recon.aligned_cameras
         feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
-            n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
+            n=len(rois), m=len(cameras), h=heights.describe()))
         return CoreStep(back_project, dict(
-            rois=rois, recon=recon, heights=heights,
+            rois=rois, recon=recon, heights=heights, cameras=[c.label for c in cameras],
             distortion=self.parameterAsBool(parameters, self.DISTORTION, context),
             clip=self.parameterAsEnum(parameters, self.CLIP, context) == 0,
             occlusion_dsm=dsm if occlusion else None,
@@ -208,7 +217,8 @@ class BackProjectROIs(EasyIDPAlgorithm):
                             ("gsd", FieldType.Double), ("visible_fraction", FieldType.Double),
                             ("occluded_fraction", FieldType.Double),
                             ("centre_distance", FieldType.Double), ("clipped", FieldType.Bool),
-                            ("photo_width", FieldType.Int), ("photo_height", FieldType.Int)))
+                            ("photo_width", FieldType.Int), ("photo_height", FieldType.Int),
+                            ("uncertainty_px", FieldType.Double)))
 
         # column by column: numpy → Python values once per column, geometries in one pass
         sizes = np.asarray(result.image_sizes, np.int64).reshape(-1, 2)[result.photo_index]
@@ -221,7 +231,8 @@ class BackProjectROIs(EasyIDPAlgorithm):
                                            result.visible_fraction, result.occluded_fraction,
                                            result.centre_distance)),
                    np.asarray(result.clipped, bool).tolist(),
-                   sizes[:, 0].tolist(), sizes[:, 1].tolist()]
+                   sizes[:, 0].tolist(), sizes[:, 1].tolist(),
+                   [_num(result.uncertainty_px.get(str(p))) for p in result.photo.tolist()]]
         rows = zip(map(list, zip(*columns)), pixel_geometries(result.polygons))
         dest = write_features(self, parameters, self.OUTPUT, context, fields, WkbType.MultiPolygon,
                               pixel_crs(), rows)
@@ -270,5 +281,7 @@ def _numbers(values) -> list:
 
 
 def _num(v):
+    if v is None:
+        return None
     v = float(v)
     return None if math.isnan(v) or math.isinf(v) else v
