@@ -2001,7 +2001,7 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use; for a folder of photos, default: their UTM zone</source>
-      <translation type="unfinished" />
+      <translation>*_wkt.prj ファイルのない Pix4D、OpenDroneMap のない OpenSfM、または PROJ が扱えない Metashape チャンクの座標参照系の場合。写真フォルダでは既定で写真の UTM ゾーン</translation>
     </message>
     <message>
       <source>Camera heights (a folder of photos)</source>
@@ -2009,15 +2009,15 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>Take-off height (m; a folder of photos)</source>
-      <translation type="unfinished" />
+      <translation>離陸地点の高さ（m。写真フォルダ）</translation>
     </message>
     <message>
       <source>In the DSM's vertical reference: added to the photos' relative altitude</source>
-      <translation type="unfinished" />
+      <translation>DSM の高さ基準で指定：写真の相対高度に加えます</translation>
     </message>
     <message>
       <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf; or a folder of drone photos (cameras from their EXIF/XMP tags: rough, see the log's uncertainty)</source>
-      <translation type="unfinished" />
+      <translation>Metashape の .psx/.psz/.xml、Pix4D の .p4d・プロジェクトフォルダ・params フォルダ、OpenDroneMap のフォルダまたは reconstruction.json、OPF の project.opf、またはドローン写真のフォルダ（カメラは EXIF/XMP タグから：粗い値です。ログの不確かさを参照）</translation>
     </message>
     <message>
       <source>Metashape chunk (label or index) or OpenSfM reconstruction index: needed when the project has several</source>
@@ -2045,7 +2045,7 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>Photogrammetry project or folder of photos</source>
-      <translation type="unfinished" />
+      <translation>写真測量プロジェクトまたは写真フォルダ</translation>
     </message>
     <message>
       <source>Chunk or reconstruction</source>

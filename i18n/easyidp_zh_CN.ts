@@ -2001,7 +2001,7 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use; for a folder of photos, default: their UTM zone</source>
-      <translation type="unfinished" />
+      <translation>用于没有 *_wkt.prj 文件的 Pix4D、没有 OpenDroneMap 的 OpenSfM，或 PROJ 无法使用其坐标参考系的 Metashape 块；照片文件夹默认使用照片所在的 UTM 带</translation>
     </message>
     <message>
       <source>Camera heights (a folder of photos)</source>
@@ -2009,15 +2009,15 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>Take-off height (m; a folder of photos)</source>
-      <translation type="unfinished" />
+      <translation>起飞点高度（米；照片文件夹）</translation>
     </message>
     <message>
       <source>In the DSM's vertical reference: added to the photos' relative altitude</source>
-      <translation type="unfinished" />
+      <translation>以 DSM 的高程基准表示：加到照片的相对高度上</translation>
     </message>
     <message>
       <source>Metashape .psx/.psz/.xml; Pix4D .p4d, project or params folder; OpenDroneMap folder or reconstruction.json; OPF project.opf; or a folder of drone photos (cameras from their EXIF/XMP tags: rough, see the log's uncertainty)</source>
-      <translation type="unfinished" />
+      <translation>Metashape .psx/.psz/.xml；Pix4D .p4d、项目文件夹或 params 文件夹；OpenDroneMap 文件夹或 reconstruction.json；OPF project.opf；或无人机照片文件夹（相机来自其 EXIF/XMP 标签：较粗略，见日志中的不确定度）</translation>
     </message>
     <message>
       <source>Metashape chunk (label or index) or OpenSfM reconstruction index: needed when the project has several</source>
@@ -2045,7 +2045,7 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     </message>
     <message>
       <source>Photogrammetry project or folder of photos</source>
-      <translation type="unfinished" />
+      <translation>摄影测量项目或照片文件夹</translation>
     </message>
     <message>
       <source>Chunk or reconstruction</source>
