@@ -28,6 +28,14 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
 出力：写真ピクセル単位の ROI（x = 列、y = −行。QGIS でジオリファレンスなしに開いた元画像に重なります。'photo' で絞り込んでください）。ROI × 写真ごとに 1 地物で、スコア、順位、視線角、地上画素寸法（GSD）、各割合を持ちます。地図上の ROI の概要（写真の枚数と最良の写真）。オプションで、EasyIDP の JSON {roi: {photo: [[x, y], ...]}}、元画像の切り出し（ROI をアルファとした PNG、16 ビットまたはマルチバンドの写真では TIFF。それぞれ JSON のサイドカー付き）、ROI ごとに最良の写真を示すプレビュー PNG 1 枚。</translation>
     </message>
     <message>
+      <source>Only this photo</source>
+      <translation>この写真のみ</translation>
+    </message>
+    <message>
+      <source>Its file name or camera label; empty: every photo</source>
+      <translation>ファイル名またはカメラのラベル。空欄：すべての写真</translation>
+    </message>
+    <message>
       <source>Apply the lens distortion (off for undistorted photos)</source>
       <translation>レンズ歪みを適用（歪み補正済みの写真ではオフ）</translation>
     </message>
@@ -42,10 +50,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>写真フォルダ（写真を移動した場合。ファイル名で照合）</translation>
-    </message>
-    <message>
-      <source>Only this photo (its file name or camera label; empty: every photo)</source>
-      <translation>この写真のみ（ファイル名またはカメラのラベル。空欄：すべての写真）</translation>
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1366,16 +1370,24 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>センチケルビン（K × 100）</translation>
     </message>
     <message>
-      <source>Temperature TIFF scale: °C = stored × scale + offset (empty: the preset)</source>
-      <translation>温度 TIFF の係数：°C = 保存値 × 係数 + オフセット（空欄：プリセット）</translation>
+      <source>Temperature TIFF scale (°C = stored × scale + offset)</source>
+      <translation>温度 TIFF の係数（°C = 保存値 × 係数 + オフセット）</translation>
+    </message>
+    <message>
+      <source>Empty: the preset's</source>
+      <translation>空欄：プリセットの値</translation>
     </message>
     <message>
       <source>Temperature TIFF offset, °C (empty: the preset)</source>
       <translation>温度 TIFF のオフセット、°C（空欄：プリセット）</translation>
     </message>
     <message>
-      <source>UTC offset of the photos' clock, hours, for photos that do not state it (empty: none)</source>
-      <translation>写真の時計の UTC オフセット（時間）、記録のない写真用（空欄：なし）</translation>
+      <source>UTC offset of the photos' clock (hours)</source>
+      <translation>写真の時計の UTC オフセット（時間）</translation>
+    </message>
+    <message>
+      <source>For photos that do not state it (the sun's angles need UTC); empty: none</source>
+      <translation>記録のない写真用（太陽の角度には UTC が必要）。空欄：なし</translation>
     </message>
     <message>
       <source>Statistics of every ROI × photo</source>

@@ -28,6 +28,14 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
 输出：照片像素坐标下的感兴趣区（x = 列，y = −行：可叠加在 QGIS 中未经地理配准打开的原始照片上；按 photo 字段筛选），每个感兴趣区 × 照片一个要素，含评分、排名、视角、地面采样距离（GSD）及各比例；地图中感兴趣区的汇总，含照片数量和最佳照片；可选输出 EasyIDP 的 JSON {roi: {photo: [[x, y], ...]}}、原始照片的裁剪图（PNG，以感兴趣区作为 alpha 通道；16 位或多波段照片为 TIFF，均附带 JSON 附属文件），以及每个感兴趣区一张展示其最佳照片的预览 PNG。</translation>
     </message>
     <message>
+      <source>Only this photo</source>
+      <translation>仅此照片</translation>
+    </message>
+    <message>
+      <source>Its file name or camera label; empty: every photo</source>
+      <translation>其文件名或相机标签；留空：所有照片</translation>
+    </message>
+    <message>
       <source>Apply the lens distortion (off for undistorted photos)</source>
       <translation>应用镜头畸变（对已去畸变的照片请关闭）</translation>
     </message>
@@ -42,10 +50,6 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Photos folder (when the photos moved; matched by file name)</source>
       <translation>照片文件夹（照片被移动时使用；按文件名匹配）</translation>
-    </message>
-    <message>
-      <source>Only this photo (its file name or camera label; empty: every photo)</source>
-      <translation>仅此照片（文件名或相机标签；留空：所有照片）</translation>
     </message>
     <message>
       <source>ROIs partly outside a photo</source>
@@ -1366,16 +1370,24 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
       <translation>厘开尔文（K × 100）</translation>
     </message>
     <message>
-      <source>Temperature TIFF scale: °C = stored × scale + offset (empty: the preset)</source>
-      <translation>温度 TIFF 的比例：°C = 存储值 × 比例 + 偏移（留空：预设）</translation>
+      <source>Temperature TIFF scale (°C = stored × scale + offset)</source>
+      <translation>温度 TIFF 的比例（°C = 存储值 × 比例 + 偏移）</translation>
+    </message>
+    <message>
+      <source>Empty: the preset's</source>
+      <translation>留空：使用预设值</translation>
     </message>
     <message>
       <source>Temperature TIFF offset, °C (empty: the preset)</source>
       <translation>温度 TIFF 的偏移，°C（留空：预设）</translation>
     </message>
     <message>
-      <source>UTC offset of the photos' clock, hours, for photos that do not state it (empty: none)</source>
-      <translation>照片时钟的 UTC 偏移（小时），用于未记录偏移的照片（留空：无）</translation>
+      <source>UTC offset of the photos' clock (hours)</source>
+      <translation>照片时钟的 UTC 偏移（小时）</translation>
+    </message>
+    <message>
+      <source>For photos that do not state it (the sun's angles need UTC); empty: none</source>
+      <translation>用于未记录偏移的照片（太阳角度需要 UTC 时间）；留空：无</translation>
     </message>
     <message>
       <source>Statistics of every ROI × photo</source>

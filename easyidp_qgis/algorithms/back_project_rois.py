@@ -87,9 +87,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFile(
             self.PHOTOS, self.tr("Photos folder (when the photos moved; matched by file name)"),
             behavior=ProcessingFileParameterBehavior.Folder, optional=True))
-        self.addParameter(QgsProcessingParameterString(
-            self.PHOTO, self.tr("Only this photo (its file name or camera label; empty: every "
-                                "photo)"), optional=True))
+        p = QgsProcessingParameterString(self.PHOTO, self.tr("Only this photo"), optional=True)
+        p.setHelp(self.tr("Its file name or camera label; empty: every photo"))
+        self.addParameter(p)
         self.addParameter(QgsProcessingParameterEnum(
             self.CLIP, self.tr("ROIs partly outside a photo"),
             [self.tr("Clip them to the photo frame"), self.tr("Drop the photo (whole ROIs only)")],

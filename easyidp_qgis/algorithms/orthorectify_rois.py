@@ -96,7 +96,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             self.MASK, self.tr("Mask"),
             options=[self.tr("Occlusion mask (hide the ground the DSM hides from the camera)"),
                      self.tr("None (every pixel the photo frames, as Orthority)")],
-            defaultValue=0))
+            defaultValue=0, optional=True))
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
         self.addOutput(QgsProcessingOutputNumber(self.WRITTEN, self.tr("Number of images written")))

@@ -159,7 +159,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterEnum(
             self.VALUES, self.tr("Values measured"),
             [self.tr("As stored"), self.tr("Temperature (°C)"), self.tr("Reflectance")],
-            defaultValue=0))
+            defaultValue=0, optional=True))
         for name, _option, label in OBJECT_PARAMETERS:
             p = QgsProcessingParameterNumber(name, self.tr(label),
                                              ProcessingNumberParameterType.Double, optional=True)
@@ -168,19 +168,22 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
         p = QgsProcessingParameterEnum(
             self.TEMPERATURE_PRESET, self.tr("Temperature TIFFs store"),
             [self.tr("°C"), self.tr("Kelvin"), self.tr("°C × 10"), self.tr("°C × 1000"),
-             self.tr("Centi-kelvin (K × 100)")], defaultValue=0)
+             self.tr("Centi-kelvin (K × 100)")], defaultValue=0, optional=True)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
-        for name, label in ((self.TEMPERATURE_SCALE, translatable(
-                                "Temperature TIFF scale: °C = stored × scale + offset (empty: "
-                                "the preset)")),
-                            (self.TEMPERATURE_OFFSET, translatable(
-                                "Temperature TIFF offset, °C (empty: the preset)")),
-                            (self.UTC_OFFSET, translatable(
-                                "UTC offset of the photos' clock, hours, for photos that do not "
-                                "state it (empty: none)"))):
+        for name, label, help_text in (
+                (self.TEMPERATURE_SCALE,
+                 translatable("Temperature TIFF scale (°C = stored × scale + offset)"),
+                 translatable("Empty: the preset's")),
+                (self.TEMPERATURE_OFFSET,
+                 translatable("Temperature TIFF offset, °C (empty: the preset)"), ""),
+                (self.UTC_OFFSET, translatable("UTC offset of the photos' clock (hours)"),
+                 translatable("For photos that do not state it (the sun's angles need UTC); "
+                              "empty: none"))):
             p = QgsProcessingParameterNumber(name, self.tr(label),
                                              ProcessingNumberParameterType.Double, optional=True)
+            if help_text:
+                p.setHelp(self.tr(help_text))
             p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
             self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(

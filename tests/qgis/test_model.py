@@ -52,3 +52,22 @@ def test_model_runs_with_its_name_field(provider, realdata, tmp_path):
     queued = context.layersToLoadOnCompletion().values()
     assert sum(d.outputName == "OUTPUT_FILES" for d in queued) == 0
     assert [d.name for d in queued if d.outputName == "OUTPUT_INDEX"] == ["Index of the crops"]
+
+
+def test_no_tool_gains_a_mandatory_parameter(provider):
+    """Models, batch files and scripts saved with 0.3.0 stay valid: a parameter added since is
+    optional (QGIS's model validation calls every non-optional parameter without a value
+    "mandatory", a default notwithstanding). The mandatory parameters of 0.3.0 are in
+    ``data/mandatory_parameters_0.3.0.json`` (listed from the 0.3.0 code by QGIS itself)."""
+    import json
+
+    from qgis.core import QgsProcessingParameterDefinition
+    was = json.loads((Path(__file__).parent / "data" / "mandatory_parameters_0.3.0.json").read_text())
+    gained = {}
+    for alg in provider.algorithms():
+        now = {d.name() for d in alg.parameterDefinitions()
+               if not d.flags() & QgsProcessingParameterDefinition.FlagOptional}
+        new = now - set(was.get(alg.name(), now))
+        if new:
+            gained[alg.name()] = sorted(new)
+    assert gained == {}
