@@ -54,7 +54,7 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.pointcloud import canopy_summary, crop_point_cloud, read_point_cloud
 from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
-from easyidp_toolbox.core.raster import DSM, roi_heights
+from easyidp_toolbox.core.raster import DSM, dsm_roi_heights
 from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.projection import camera_footprints, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
@@ -110,10 +110,10 @@ elif case == "camerafootprints":
 elif case == "roiheightsfromdsm":
     dsm = DSM(a["dsm"], crs=a["crs"])
     rois.validate()
-    res = roi_heights(dsm, rois, "polygon", "mean", 50.0, 0.0)
+    res = dsm_roi_heights(dsm, rois, "polygon", "mean", 50.0, 0.0)
 elif case == "croprasterbyrois":
     res = crop_raster_by_rois(a["raster"], rois, a["folder"], all_touched=False,
-                              raster_crs=a["crs"])
+                              source_crs=a["crs"])
     out["kept"] = len(res.files)
 elif case == "croppointcloudbyrois":
     cloud = read_point_cloud(a["cloud"], None)
@@ -133,14 +133,14 @@ elif case == "photostatistics":
     st = photo_statistics(res, None, bands=None, statistics=["mean", "median", "std"],
                           percentiles=[5.0, 95.0],
                           indices=["exg", "exgr", "vari", "gli", "ndvi", "ndre"],
-                          cover_threshold=None, min_visible=0.5, max_images=3, weighted=False,
+                          cover_threshold=None, min_visible=0.5, max_views=3, weighted=False,
                           recon=recon, rois=rois, occlusion_dsm=dsm, distortion=True,
                           previews_folder=None, overwrite=False)
     out["kept"] = len(st.record)
 elif case == "orthorectifyrois":
     recon = open_reconstruction(a["project"])
     res = orthorectify_rois(rois, recon, a["dsm"], a["folder"], selection="best", photo=None,
-                            photos_folder=None, gsd=None, dsm_crs=a["crs"])
+                            photos_folder=None, gsd=None, source_crs=a["crs"])
 elif case == "forwardprojectpolygons":
     recon = open_reconstruction(a["project"])
     dsm = DSM(a["dsm"], crs=a["crs"])
@@ -152,7 +152,7 @@ elif case == "forwardprojectpolygons":
 elif case == "seasontraits":
     table = read_survey_table(a["surveys"])
     res = run_season(table, rois, traits=["height", "cover", "bands", "index", "cloud"],
-                     percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_crs=a["crs"],
+                     percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_source_crs=a["crs"],
                      ground_percentile=2.0, cover_threshold=None, crops=None, workers=1)
     out["kept"] = len(res.rows)
 elif case == "createplotgrid":
@@ -169,7 +169,7 @@ elif case == "fitplotgrid":
 elif case == "exporttrainingset":
     recon = open_reconstruction(a["project"])
     classes = [str(r.attributes["class"]) for r in rois]
-    res = export_training_set(rois, classes, recon, a["dsm"], a["folder"], dsm_crs=a["crs"])
+    res = export_training_set(rois, classes, recon, a["dsm"], a["folder"], source_crs=a["crs"])
     out["kept"] = int(sum(res.annotations.values()))
 else:
     raise SystemExit(f"unknown case {case}")

@@ -9,6 +9,7 @@ folder, an OpenSfM dataset folder or ``reconstruction.json``, an Open Photogramm
 """
 from pathlib import Path
 
+from ..deprecation import renamed_parameters
 from ..errors import InputError
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, border_pixels, project_block
 from .geodesy import enu_rotation
@@ -29,33 +30,46 @@ PIX4D_PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_paramete
                      "_calibrated_internal_camera_parameters.cam", "_wkt.prj")
 
 
-def open_reconstruction(path, chunk=None, crs=None) -> Reconstruction:
+@renamed_parameters(crs="source_crs")
+def open_reconstruction(path, chunk=None, source_crs=None) -> Reconstruction:
     """Open a Metashape, Pix4D, OpenDroneMap/OpenSfM or OPF project.
 
-    Pix4D: a .p4d, the project or params folder, or any file of the params folder such as
-    ``*_pmatrix.txt``. ODM/OpenSfM: the ODM project folder, the OpenSfM dataset folder or a
-    ``reconstruction.json``. OPF: the ``.opf`` file or the folder that holds it (needs pyopf).
-    ``chunk``: Metashape chunk id or label (required when the project
-    has several); OpenSfM reconstruction index (default the largest). ``crs``: Pix4D, the
-    output CRS when the project has no ``*_wkt.prj`` (or one PROJ cannot use); OpenSfM, the map
-    CRS when ODM did not georeference the project; OPF, the CRS when the scene reference frame's
-    is not usable; Metashape, the chunk CRS when its
-    ``<reference>`` is neither usable nor an EPSG CRS. A CRS that contradicts the project's is
-    refused.
+    Parameters
+    ----------
+    path : str or path
+        Metashape: a ``.psx``, ``.psz`` or cameras ``.xml``. Pix4D: a ``.p4d``, the project or
+        params folder, or any file of the params folder such as ``*_pmatrix.txt``.
+        ODM/OpenSfM: the ODM project folder, the OpenSfM dataset folder or a
+        ``reconstruction.json``. OPF: the ``.opf`` file or the folder that holds it (needs
+        pyopf).
+    chunk : str or int, optional
+        Metashape: the chunk id or label (required when the project has several). OpenSfM: the
+        reconstruction index (default the largest).
+    source_crs : CRS, optional
+        The project's CRS where it has none usable: Pix4D, the output CRS when the project has
+        no ``*_wkt.prj`` (or one PROJ cannot use); OpenSfM, the map CRS when ODM did not
+        georeference the project; OPF, the CRS when the scene reference frame's is not usable;
+        Metashape, the chunk CRS when its ``<reference>`` is neither usable nor an EPSG CRS. A
+        CRS that contradicts the project's is refused.
+
+    Returns
+    -------
+    Reconstruction
+        The sensors, the cameras and the project CRS.
     """
     p = Path(path)
     suffix = p.suffix.lower()
     recon = None
     if suffix in (".psx", ".psz", ".xml"):
-        recon = open_metashape(p, chunk, crs)
+        recon = open_metashape(p, chunk, source_crs)
     elif is_opensfm_input(p):
-        recon = open_opensfm(p, chunk, crs)
+        recon = open_opensfm(p, chunk, source_crs)
     elif suffix == ".opf" or (p.is_dir() and find_project_opf(p) is not None):
-        recon = open_opf(p, crs)
+        recon = open_opf(p, source_crs)
     elif suffix == ".p4d" or p.is_dir():
-        recon = open_pix4d(p, crs)
+        recon = open_pix4d(p, source_crs)
     elif p.is_file() and p.name.endswith(PIX4D_PARAM_FILES):  # a file of a params folder
-        recon = open_pix4d(p.parent, crs)
+        recon = open_pix4d(p.parent, source_crs)
     if recon is not None:
         return fit_sensors_to_photos(recon)
     if not p.exists():

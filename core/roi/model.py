@@ -74,6 +74,23 @@ def roi_from_coordinates(name: str, geom_type: str, coordinates, attributes=None
 
     A third coordinate is kept as the ROI's vertex heights (:attr:`ROI.z`) when every vertex
     has one; a repeated closing vertex and consecutive duplicates are dropped.
+
+    Parameters
+    ----------
+    name : str
+        The ROI's name.
+    geom_type : {"Polygon", "MultiPolygon"}
+        The GeoJSON geometry type of ``coordinates``.
+    coordinates : nested sequences
+        GeoJSON-style rings: ``[[(x, y), …], …]`` for a polygon (outer ring first, then holes),
+        a list of those for a multipolygon; (x, y, z) vertices keep their z.
+    attributes : dict, optional
+        The ROI's attributes.
+
+    Returns
+    -------
+    ROI
+        The ROI (not yet validated: :meth:`ROI.validate`).
     """
     if geom_type == "Polygon":
         polys = [coordinates]

@@ -102,7 +102,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             photo=self.parameterAsString(parameters, self.PHOTO, context) or None,
             photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context) or None,
             gsd=self.parameterAsDouble(parameters, self.GSD, context) or None,
-            dsm_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
+            source_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
             progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled),
             dict(source=source, features=features))
 
