@@ -59,7 +59,8 @@ from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.projection import camera_footprints, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.season import read_survey_table, run_season
-from easyidp_toolbox.core.plotgrid import create_plot_grid, fit_plot_grid
+from easyidp_toolbox.core.plotgrid import (GridAnchor, GridLayout, Numbering, create_plot_grid,
+                                           fit_plot_grid)
 from easyidp_toolbox.core.raster import open_geotiff
 from easyidp_toolbox.core.projection import export_training_set
 """
@@ -105,7 +106,7 @@ if case.startswith("backproject"):
 elif case == "camerafootprints":
     recon = open_reconstruction(a["project"])
     cams = [c for c in recon.cameras if c.aligned]
-    prints = camera_footprints(recon, a["ground"], crs=a["crs"], cameras=cams)
+    prints = camera_footprints(recon, a["ground"], output_crs=a["crs"], cameras=cams)
     out["kept"] = len(prints)
 elif case == "roiheightsfromdsm":
     dsm = DSM(a["dsm"], crs=a["crs"])
@@ -156,10 +157,12 @@ elif case == "seasontraits":
                      ground_percentile=2.0, cover_threshold=None, crops=None, workers=1)
     out["kept"] = len(res.rows)
 elif case == "createplotgrid":
-    grid, _ = create_plot_grid(a["crs"], a["rows"], a["cols"], origin=tuple(a["origin"]),
-                               bearing=a["bearing"], size_x=3.0, size_y=1.5, gap_x=0.5,
-                               gap_y=1.0, blocks_x=2, block_gap_x=1.0, order="serpentine",
-                               pattern=a["pattern"])
+    grid, _ = create_plot_grid(
+        a["crs"], a["rows"], a["cols"],
+        anchor=GridAnchor(origin=tuple(a["origin"]), bearing=a["bearing"]),
+        layout=GridLayout(size_x=3.0, size_y=1.5, gap_x=0.5, gap_y=1.0, blocks_x=2,
+                          block_gap_x=1.0),
+        numbering=Numbering(order="serpentine", pattern=a["pattern"]))
     out["kept"] = len(grid)
 elif case == "fitplotgrid":
     tif = open_geotiff(a["raster"], crs=a["crs"])
@@ -262,7 +265,7 @@ def plot_grid_inputs(quick: bool) -> dict:
     grid its fit starts from (the layout turned by 1°, shifted by 0.25 m, spacing 1 % off) as a
     GeoPackage."""
     import math
-    from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
+    from easyidp_toolbox.core.plotgrid import create_plot_grid, grid_options, write_plot_grid
     from .bench_plot_grid import BEARING, ensure_raster, grid_kwargs, layout, truth
     from .bench_plot_grid import EPSG as GRID_EPSG
     size = 6000 if quick else 20000
@@ -270,8 +273,8 @@ def plot_grid_inputs(quick: bool) -> dict:
     gpkg = OUT / f"plotgrid_start_{size}.gpkg"
     if not gpkg.exists():
         grid, _, _ = truth(size)
-        start, _ = create_plot_grid(f"EPSG:{GRID_EPSG}", origin=grid.frame.origin,
-                                    bearing=BEARING, **grid_kwargs(int(grid.row.max()), 1.01))
+        start, _ = create_plot_grid(f"EPSG:{GRID_EPSG}", **grid_options(
+            origin=grid.frame.origin, bearing=BEARING, **grid_kwargs(int(grid.row.max()), 1.01)))
         c = start.corners.reshape(-1, 2).mean(axis=0)
         t = math.radians(1.0)
         rot = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])

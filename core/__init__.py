@@ -20,7 +20,8 @@ from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .deprecation import renamed_parameters
 from .pointcloud import (CloudCropResult, PointCloud, canopy_summary, cloud_roi_heights,
                          crop_point_cloud, read_point_cloud, write_point_cloud)
-from .plotgrid import PlotGrid, create_plot_grid, fit_plot_grid
+from .plotgrid import (FieldBookJoin, GridAnchor, GridLayout, Numbering, PlotGrid,
+                       create_plot_grid, fit_plot_grid)
 from .progress import Progress
 from .projection import (back_project, camera_footprints, crop_photos, draw_previews,
                          export_training_set, forward_project, forward_project_photos,
@@ -41,7 +42,8 @@ __all__ = [
     "camera_footprints", "back_project", "crop_photos", "draw_previews", "photo_statistics",
     "roi_photo_statistics", "forward_project", "forward_project_photos", "fuse_views",
     "orthorectify_rois", "export_training_set",
-    "PlotGrid", "create_plot_grid", "fit_plot_grid",
+    "PlotGrid", "create_plot_grid", "GridAnchor", "GridLayout", "Numbering", "FieldBookJoin",
+    "fit_plot_grid",
     "run_season",
 ]
 

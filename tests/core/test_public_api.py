@@ -216,3 +216,26 @@ def test_glossary_lists_every_rename_as_done():
         assert f"`{old}`" in done and f"`{new}`" in done, f"{name}: {old} → {new} not in the glossary"
     waiting = text.split("## Renames waiting", 1)[1].split("\n## ", 1)[0]
     assert "|" not in waiting, "a rename still waits in the glossary"
+
+
+def test_create_plot_grid_old_keywords_still_work_and_warn():
+    """[consistency only] the 0.2 keywords of create_plot_grid give the grid the options objects
+    give, with a DeprecationWarning; mixing an object with its old keywords is an error."""
+    from easyidp_toolbox.core import FieldBookJoin, GridAnchor, GridLayout, Numbering
+    book = [{"plot_no": n, "genotype": f"G{n}"} for n in range(1, 7)]
+    new, report = core.create_plot_grid(
+        "EPSG:32654", 2, 3, anchor=GridAnchor(origin=(500000, 4000000), bearing=80),
+        layout=GridLayout(size_x=2, size_y=1, gap_x=0.5, gap_y=1, buffer=-0.1),
+        numbering=Numbering(order="serpentine", start_id=11),
+        field_book=FieldBookJoin(book, join_by="plot_no"))
+    with pytest.warns(DeprecationWarning, match="create_plot_grid\\(\\): the keywords .*origin"):
+        old, old_report = core.create_plot_grid(
+            "EPSG:32654", 2, 3, origin=(500000, 4000000), bearing=80, size_x=2, size_y=1,
+            gap_x=0.5, gap_y=1, buffer=-0.1, order="serpentine", start_id=11, field_book=book,
+            join_by="plot_no")
+    assert old.plot_id == new.plot_id and (old.corners == new.corners).all()
+    assert old_report.messages() == report.messages()
+    with pytest.raises(TypeError, match="layout= and its fields size_x"), \
+            pytest.warns(DeprecationWarning):
+        core.create_plot_grid("EPSG:32654", 2, 3, anchor=GridAnchor(origin=(500000, 4000000)),
+                              layout=GridLayout(size_x=2), size_x=3)

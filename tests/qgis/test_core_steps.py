@@ -188,8 +188,10 @@ def test_create_plot_grid_step(provider, tmp_path):
     assert step.function is create_plot_grid
     kw = step.kwargs
     assert (kw["crs"], kw["rows"], kw["cols"]) == ("EPSG:32654", 2, 3)
-    assert kw["origin"] == pytest.approx((500000, 4000000)) and kw["spacing_x"] == 2.5
-    assert kw["size_x"] == 2 and kw["gap_y"] == 1 and kw["gap_x"] is None
+    assert kw["anchor"].origin == pytest.approx((500000, 4000000))
+    lay = kw["layout"]
+    assert lay.spacing_x == 2.5 and lay.size_x == 2 and lay.gap_y == 1 and lay.gap_x is None
+    assert kw["field_book"] is None and kw["numbering"].pattern == "{plot_no}"
     assert not (tmp_path / "c.gpkg").exists()
 
 
