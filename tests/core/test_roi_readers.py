@@ -244,6 +244,32 @@ def test_labelme_needs_its_raster(tmp_path, realdata):
         open_rois(realdata / "easyidp/labelme/labelme_demo_img.json", raster=small)
 
 
+def test_labelme_raster_as_a_path_from_the_facade(tmp_path):
+    """[independent] easyidp_toolbox.core.open_rois takes the LabelMe raster as a path (what the
+    README documented): a LabelMe file written here, on a GeoTIFF of 0.05 m pixels from
+    (500000, 4000100); the map vertices are the pixel corners through that affine, by hand."""
+    import easyidp_toolbox.core as core
+    tif = write_tif(tmp_path / "ortho.tif", np.zeros((200, 300), np.uint8),
+                    origin=(500000.0, 4000100.0), pixel=0.05)
+    points = [[10.0, 20.0], [110.5, 20.0], [110.5, 80.25], [10.0, 80.25]]
+    doc = {"version": "5.2.1", "flags": {}, "imagePath": "ortho.tif", "imageData": None,
+           "imageHeight": 200, "imageWidth": 300,
+           "shapes": [{"label": "plot_7", "points": points, "group_id": None,
+                       "shape_type": "polygon", "flags": {}}]}
+    lm = tmp_path / "plots.json"
+    lm.write_text(json.dumps(doc))
+    for raster in (str(tif), tif):                                   # str and PathLike
+        rois = core.open_rois(lm, raster=raster)
+        assert rois.names == ["plot_7"] and rois.crs.to_epsg() == 32654
+        ring = rois[0].rings[0]
+        want = np.array([[500000 + 0.05 * c, 4000100 - 0.05 * r] for c, r in points])
+        np.testing.assert_allclose(ring[:4] if len(ring) > 4 else ring, want, atol=1e-9)
+    with pytest.raises(InputError, match="Raster not found: .*nothing.tif"):
+        core.open_rois(lm, raster=tmp_path / "nothing.tif")
+    with pytest.raises(InputError, match="opens a path itself"):    # the subpackage's refuses
+        open_rois(lm, raster=str(tif))
+
+
 def test_cloudcompare_point_lists(tmp_path):
     a = tmp_path / "tree_7.txt"
     a.write_text("1.5,2.0,30.1\n4.0,2.0,30.2\n4.0,5.5,30.3\n1.5,2.0,30.1\n")
