@@ -108,7 +108,7 @@ def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, ma
         The crops, their sidecars and the previews written, sorted, and the photos skipped.
     """
     if output_folder is None and previews_folder is None:
-        raise InputError("Nothing to write: give a crops folder, a previews folder or both.")
+        raise InputError.of("nothing_to_write")
     if margin < 0:
         raise InputError(f"The crop margin must be 0 or more pixels, not {margin}.")
     prog = as_progress(progress, is_cancelled)

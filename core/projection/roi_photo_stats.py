@@ -62,8 +62,7 @@ def roi_photo_statistics(rois, recon, photos_folder=None, *, backprojection=None
                               progress=prog.sub(5, 30))
         warnings = list(result.notes)
     if not len(result):
-        raise ROIError("No ROI is seen by any photo: check that the ROIs lie in the surveyed "
-                       "area and in the right CRS.")
+        raise ROIError.of("no_roi_seen")
     stats = photo_statistics(result, photos_folder, recon=recon, rois=rois, distortion=distortion,
                              occlusion_dsm=occlusion_dsm if occlusion else None,
                              progress=prog.sub(30, 95), **measure)

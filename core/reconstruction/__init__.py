@@ -73,7 +73,7 @@ def open_reconstruction(path, chunk=None, source_crs=None) -> Reconstruction:
     if recon is not None:
         return fit_sensors_to_photos(recon)
     if not p.exists():
-        raise InputError(f"{p}: file not found.")
+        raise InputError.of("project_not_found", path=p)
     raise InputError(f"{p}: not a photogrammetry project I can read. Give a Metashape .psx, "
                      ".psz or cameras .xml, a Pix4D .p4d, project folder or params folder, an "
                      "OpenDroneMap project folder or OpenSfM reconstruction.json, or an OPF "

@@ -158,14 +158,14 @@ class ROISet(Sequence[ROI]):
         """The ROIs reprojected vertex by vertex into ``crs``."""
         crs = as_crs(crs)
         if self.crs is None:
-            raise ROIError("The ROIs have no CRS: set one on the layer before using it.")
+            raise ROIError.of("rois_no_crs")
         if same_crs(self.crs, crs):
             return ROISet(self.rois, crs)
         return ROISet([r.map_xy(lambda xy: transform_xy(self.crs, crs, xy)) for r in self.rois], crs)
 
     def validate(self) -> "ROISet":
         if not self.rois:
-            raise ROIError("The ROI layer has no features.")
+            raise ROIError.of("rois_no_features")
         for r in self.rois:
             r.validate()
         return self

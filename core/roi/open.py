@@ -49,7 +49,7 @@ def open_rois(source, name_field: Optional[str] = None, source_crs=None, raster=
     path = os.fspath(source)
     ext = os.path.splitext(path)[1].lower()
     if not os.path.isfile(path):
-        raise InputError(f"ROI file not found: {path}")
+        raise InputError.of("roi_file_not_found", path=path)
     if ext in (".shp", ".zip"):
         return read_shapefile(path, name_field, source_crs)
     if ext == ".gpkg":

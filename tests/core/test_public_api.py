@@ -239,3 +239,17 @@ def test_create_plot_grid_old_keywords_still_work_and_warn():
             pytest.warns(DeprecationWarning):
         core.create_plot_grid("EPSG:32654", 2, 3, anchor=GridAnchor(origin=(500000, 4000000)),
                               layout=GridLayout(size_x=2), size_x=3)
+
+
+def test_an_error_with_a_message_id_keeps_it():
+    """[consistency only] an error made from a message id says the English text, keeps the id
+    and its fields for the plugin to translate, and keeps them through pickling (the season's
+    process pools send errors back so)."""
+    import pickle
+    from easyidp_toolbox.core.errors import MESSAGES, InputError
+    err = InputError.of("roi_file_not_found", path="plots.shp")
+    assert str(err) == MESSAGES["roi_file_not_found"].format(path="plots.shp")
+    back = pickle.loads(pickle.dumps(err))
+    assert (type(back), str(back), back.key, back.fields) == \
+        (InputError, str(err), "roi_file_not_found", {"path": "plots.shp"})
+    assert InputError("plain").key is None
