@@ -13,8 +13,8 @@ import pytest
 from easyidp_toolbox.core import Cancelled
 from easyidp_toolbox.core.demo.trial import (EMPTY, FIELD_BEARING, TRIAL, layout_plots,
                                              make_demo_trial, perturbed_start, trial_corners)
-from easyidp_toolbox.core.plotgrid import (FieldBookJoin, GridAnchor, GridLayout, Numbering,
-                                           PlotGridError, create_plot_grid, fit_plot_grid, grid_options,
+from easyidp_toolbox.core.plotgrid import (GridAnchor, GridLayout, Numbering, PlotGridError,
+                                           create_plot_grid, fit_plot_grid, grid_options,
                                            join_field_book, read_field_book, sort_corners,
                                            write_plot_grid)
 from easyidp_toolbox.core.roi import open_rois
