@@ -46,7 +46,7 @@ def round_trip(tmp_path_factory):
     dsm = DSM(s.dsm)
     shapes = [f for ann, cam in items for f in forward_project(ann.shapes, cam, recon, dsm)]
     photos = [cam.label for _, cam in items]
-    fused = merge_views(shapes, "fuse", recon=recon, dsm=s.dsm, photos=photos)
+    fused = merge_views(shapes, "fuse", recon=recon, dsm=s.dsm, cameras=photos)
     union = merge_views(shapes, "union")
     return dict(survey=s, objs=objs, sim=sim, fused=fused, union=union, shapes=shapes,
                 photos=photos)
