@@ -42,8 +42,8 @@ class GridAnchor:
 @dataclass(frozen=True)
 class GridLayout:
     """The plots' sizes and gaps, metres; ``x`` runs along the top edge (columns), ``y`` down the
-    left edge (rows). Of size, gap and spacing per axis give at most two; what is missing is
-    derived from the anchor's extent.
+    left edge (rows). Per axis, give what the trial's plan says of size, gap and spacing; what is
+    missing is derived from the anchor's extent (:mod:`.layout`).
 
     Parameters
     ----------
