@@ -54,12 +54,13 @@ from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.pointcloud import canopy_summary, crop_point_cloud, read_point_cloud
 from easyidp_toolbox.core.projection import back_project
 from easyidp_toolbox.core.raster.crop import crop_raster_by_rois
-from easyidp_toolbox.core.raster import DSM, roi_heights
+from easyidp_toolbox.core.raster import DSM, dsm_roi_heights
 from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.projection import camera_footprints, forward_project, merge_views, photo_statistics
 from easyidp_toolbox.core.projection.ortho import orthorectify_rois
 from easyidp_toolbox.core.season import read_survey_table, run_season
-from easyidp_toolbox.core.plotgrid import create_plot_grid, fit_plot_grid
+from easyidp_toolbox.core.plotgrid import (GridAnchor, GridLayout, Numbering, create_plot_grid,
+                                           fit_plot_grid)
 from easyidp_toolbox.core.raster import open_geotiff
 from easyidp_toolbox.core.projection import export_training_set
 """
@@ -105,15 +106,15 @@ if case.startswith("backproject"):
 elif case == "camerafootprints":
     recon = open_reconstruction(a["project"])
     cams = [c for c in recon.cameras if c.aligned]
-    prints = camera_footprints(recon, a["ground"], crs=a["crs"], cameras=cams)
+    prints = camera_footprints(recon, a["ground"], output_crs=a["crs"], cameras=cams)
     out["kept"] = len(prints)
 elif case == "roiheightsfromdsm":
     dsm = DSM(a["dsm"], crs=a["crs"])
     rois.validate()
-    res = roi_heights(dsm, rois, "polygon", "mean", 50.0, 0.0)
+    res = dsm_roi_heights(dsm, rois, "polygon", "mean", 50.0, 0.0)
 elif case == "croprasterbyrois":
     res = crop_raster_by_rois(a["raster"], rois, a["folder"], all_touched=False,
-                              raster_crs=a["crs"])
+                              source_crs=a["crs"])
     out["kept"] = len(res.files)
 elif case == "croppointcloudbyrois":
     cloud = read_point_cloud(a["cloud"], None)
@@ -133,14 +134,14 @@ elif case == "photostatistics":
     st = photo_statistics(res, None, bands=None, statistics=["mean", "median", "std"],
                           percentiles=[5.0, 95.0],
                           indices=["exg", "exgr", "vari", "gli", "ndvi", "ndre"],
-                          cover_threshold=None, min_visible=0.5, max_images=3, weighted=False,
+                          cover_threshold=None, min_visible=0.5, max_views=3, weighted=False,
                           recon=recon, rois=rois, occlusion_dsm=dsm, distortion=True,
                           previews_folder=None, overwrite=False)
     out["kept"] = len(st.record)
 elif case == "orthorectifyrois":
     recon = open_reconstruction(a["project"])
     res = orthorectify_rois(rois, recon, a["dsm"], a["folder"], selection="best", photo=None,
-                            photos_folder=None, gsd=None, dsm_crs=a["crs"])
+                            photos_folder=None, gsd=None, source_crs=a["crs"])
 elif case == "forwardprojectpolygons":
     recon = open_reconstruction(a["project"])
     dsm = DSM(a["dsm"], crs=a["crs"])
@@ -152,14 +153,16 @@ elif case == "forwardprojectpolygons":
 elif case == "seasontraits":
     table = read_survey_table(a["surveys"])
     res = run_season(table, rois, traits=["height", "cover", "bands", "index", "cloud"],
-                     percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_crs=a["crs"],
+                     percentiles=[50.0, 95.0, 99.0], ground=a["ground"], ground_source_crs=a["crs"],
                      ground_percentile=2.0, cover_threshold=None, crops=None, workers=1)
     out["kept"] = len(res.rows)
 elif case == "createplotgrid":
-    grid, _ = create_plot_grid(a["crs"], a["rows"], a["cols"], origin=tuple(a["origin"]),
-                               bearing=a["bearing"], size_x=3.0, size_y=1.5, gap_x=0.5,
-                               gap_y=1.0, blocks_x=2, block_gap_x=1.0, order="serpentine",
-                               pattern=a["pattern"])
+    grid, _ = create_plot_grid(
+        a["crs"], a["rows"], a["cols"],
+        anchor=GridAnchor(origin=tuple(a["origin"]), bearing=a["bearing"]),
+        layout=GridLayout(size_x=3.0, size_y=1.5, gap_x=0.5, gap_y=1.0, blocks_x=2,
+                          block_gap_x=1.0),
+        numbering=Numbering(order="serpentine", pattern=a["pattern"]))
     out["kept"] = len(grid)
 elif case == "fitplotgrid":
     tif = open_geotiff(a["raster"], crs=a["crs"])
@@ -169,7 +172,7 @@ elif case == "fitplotgrid":
 elif case == "exporttrainingset":
     recon = open_reconstruction(a["project"])
     classes = [str(r.attributes["class"]) for r in rois]
-    res = export_training_set(rois, classes, recon, a["dsm"], a["folder"], dsm_crs=a["crs"])
+    res = export_training_set(rois, classes, recon, a["dsm"], a["folder"], source_crs=a["crs"])
     out["kept"] = int(sum(res.annotations.values()))
 else:
     raise SystemExit(f"unknown case {case}")
@@ -262,7 +265,7 @@ def plot_grid_inputs(quick: bool) -> dict:
     grid its fit starts from (the layout turned by 1°, shifted by 0.25 m, spacing 1 % off) as a
     GeoPackage."""
     import math
-    from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
+    from easyidp_toolbox.core.plotgrid import create_plot_grid, grid_options, write_plot_grid
     from .bench_plot_grid import BEARING, ensure_raster, grid_kwargs, layout, truth
     from .bench_plot_grid import EPSG as GRID_EPSG
     size = 6000 if quick else 20000
@@ -270,8 +273,8 @@ def plot_grid_inputs(quick: bool) -> dict:
     gpkg = OUT / f"plotgrid_start_{size}.gpkg"
     if not gpkg.exists():
         grid, _, _ = truth(size)
-        start, _ = create_plot_grid(f"EPSG:{GRID_EPSG}", origin=grid.frame.origin,
-                                    bearing=BEARING, **grid_kwargs(int(grid.row.max()), 1.01))
+        start, _ = create_plot_grid(f"EPSG:{GRID_EPSG}", **grid_options(
+            origin=grid.frame.origin, bearing=BEARING, **grid_kwargs(int(grid.row.max()), 1.01)))
         c = start.corners.reshape(-1, 2).mean(axis=0)
         t = math.radians(1.0)
         rot = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])

@@ -68,7 +68,7 @@ def child(mode: str, data: str, project: str, dsm: str) -> None:
     recon = open_reconstruction(project)
     t0, c0 = time.perf_counter(), time.process_time()
     if mode == "fuse":
-        out = merge_views(shapes, "fuse", recon=recon, dsm=dsm, photos=photos)
+        out = merge_views(shapes, "fuse", recon=recon, dsm=dsm, cameras=photos)
         kept = sum(1 for o in out if o.confidence >= 0.3)
     else:
         out = merge_views(shapes, "union")

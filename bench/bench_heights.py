@@ -10,7 +10,7 @@ once into bench_output/heights/), where decoding dominates; and the cost per pol
 * the tool: ``qgis_process.bin run easyidp:roiheightsfromdsm`` (MODE per polygon, STATISTIC
   mean) with a GeoPackage output, each run after a ``qgis_process`` start-up run
   (bench_end_to_end's ``run native:buffer`` on one point);
-* the engine: the core's ``roi_heights`` on the same plots (bench_end_to_end's engine child);
+* the engine: the core's ``dsm_roi_heights`` on the same plots (bench_end_to_end's engine child);
 * exactextract 0.3.0 (PyPI; its Python API in process, in .venv-exactextract: ``make
   env-exactextract``) on the same GeoPackage and DSM: ``exact_extract(dsm, plots, "mean")``,
   timed from the call (it opens both files) to the result.
@@ -169,7 +169,7 @@ def case(d: dict, repeat: int, goal: float) -> list:
              None],
             ["tool end to end (qgis_process, GeoPackage output)", statistics.median(tool), None],
             ["tool − start-up", statistics.median(tool) - startup, None],
-            ["engine: core roi_heights (in process)", statistics.median(engine), None]]
+            ["engine: core dsm_roi_heights (in process)", statistics.median(engine), None]]
     goals = []
     if ex:
         rows.append(["exactextract 0.3.0 exact_extract(mean), in process",

@@ -72,9 +72,10 @@ def grid_kwargs(n: int, spacing: float = 1.0):
 
 def truth(size: int):
     """(layout grid, planted offsets (n, 2) along the grid axes, empty mask)."""
-    from ..core.plotgrid import create_plot_grid
+    from ..core.plotgrid import create_plot_grid, grid_options
     n, ul = layout(size)
-    grid, _ = create_plot_grid(f"EPSG:{EPSG}", origin=ul, bearing=BEARING, **grid_kwargs(n))
+    grid, _ = create_plot_grid(f"EPSG:{EPSG}",
+                               **grid_options(origin=ul, bearing=BEARING, **grid_kwargs(n)))
     rng = np.random.default_rng(SEED)
     off = rng.uniform(-OFFSET, OFFSET, (len(grid), 2))
     empty = rng.random(len(grid)) < EMPTY_SHARE
@@ -199,14 +200,14 @@ def ensure_raster(size: int) -> Path:
 # ---- children ---------------------------------------------------------------------------------
 
 def child_create() -> dict:
-    from ..core.plotgrid import create_plot_grid
+    from ..core.plotgrid import GridAnchor, GridLayout, Numbering, create_plot_grid
     best = math.inf
     for _ in range(5):
         t = time.perf_counter()
-        grid, _ = create_plot_grid(f"EPSG:{EPSG}", 100, 100, origin=(500000, 4000000),
-                                   bearing=80, size_x=3, size_y=1.5, gap_x=0.5, gap_y=1.0,
-                                   blocks_x=2, block_gap_x=1.0, order="serpentine",
-                                   pattern="{block}-{row:03d}-{col:03d}")
+        grid, _ = create_plot_grid(f"EPSG:{EPSG}", 100, 100,
+                                   anchor=GridAnchor(origin=(500000, 4000000), bearing=80),
+                                   layout=GridLayout(size_x=3, size_y=1.5, gap_x=0.5, gap_y=1.0, blocks_x=2, block_gap_x=1.0),
+                                   numbering=Numbering(order="serpentine", pattern="{block}-{row:03d}-{col:03d}"))
         best = min(best, time.perf_counter() - t)
     return dict(seconds=best, plots=len(grid))
 
@@ -226,11 +227,11 @@ def child_decode(raster: str) -> dict:
 
 
 def child_fit(raster: str, size: int) -> dict:
-    from ..core.plotgrid import create_plot_grid, fit_plot_grid
+    from ..core.plotgrid import create_plot_grid, fit_plot_grid, grid_options
     grid, off, empty = truth(size)
     n = int(grid.row.max())
-    start, _ = create_plot_grid(f"EPSG:{EPSG}", origin=grid.frame.origin, bearing=BEARING,
-                                **grid_kwargs(n, 1.01))
+    start, _ = create_plot_grid(f"EPSG:{EPSG}", **grid_options(
+        origin=grid.frame.origin, bearing=BEARING, **grid_kwargs(n, 1.01)))
     c = start.corners.reshape(-1, 2).mean(axis=0)
     t = math.radians(1.0)
     R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])

@@ -170,7 +170,7 @@ def main(argv=None) -> int:
             shapes.append(_shape(ForwardShape, HIT, photos[rng.integers(len(photos))], ring,
                                  rng.uniform(0.3, 0.9)))
         rss2, t0 = _rss_mib(), time.perf_counter()
-        fused = fuse_views(shapes, recon, s.dsm, photos=photos)
+        fused = fuse_views(shapes, recon, s.dsm, cameras=photos)
         t_fuse, rss3 = time.perf_counter() - t0, _rss_mib()
         kept = sum(1 for o in fused if o.confidence >= 0.3)
         print(f"3. fuse {len(shapes):,} detections ({k + 1:,} objects, {len(fakes):,} false): "

@@ -1908,6 +1908,34 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>有効な JSON ではありません（{error}）。ファイルが途中で切れている可能性があります</translation>
     </message>
     <message>
+      <source>ROI file not found: {path}</source>
+      <translation>ROI ファイルが見つかりません：{path}</translation>
+    </message>
+    <message>
+      <source>{path}: file not found.</source>
+      <translation>{path}：ファイルが見つかりません。</translation>
+    </message>
+    <message>
+      <source>The ROIs have no CRS: set one on the layer before using it.</source>
+      <translation>ROI に座標参照系がありません。使用する前にレイヤに座標参照系を設定してください。</translation>
+    </message>
+    <message>
+      <source>The ROI layer has no features.</source>
+      <translation>ROI レイヤに地物がありません。</translation>
+    </message>
+    <message>
+      <source>None of the {count} ROIs overlaps the raster {raster}. Raster extent {raster_extent}, ROI extent {roi_extent} (both in {crs}). Check that the ROI layer and the raster cover the same area and that the ROI layer's CRS is set correctly.</source>
+      <translation>{count} 個の ROI のどれもラスタ {raster} と重なりません。ラスタの範囲 {raster_extent}、ROI の範囲 {roi_extent}（どちらも {crs}）。ROI レイヤとラスタが同じ地域を覆っているか、ROI レイヤの座標参照系が正しく設定されているかを確認してください。</translation>
+    </message>
+    <message>
+      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
+      <translation>どの写真にも ROI が写っていません。ROI が測量範囲内にあり、座標参照系が正しいかを確認してください。</translation>
+    </message>
+    <message>
+      <source>Nothing to write: give a crops folder, a previews folder or both.</source>
+      <translation>書き出すものがありません。切り出しフォルダ、プレビューフォルダ、またはその両方を指定してください。</translation>
+    </message>
+    <message>
       <source>GDAL cannot open it as a GeoPackage; {size:.0f} KiB</source>
       <translation>GDAL で GeoPackage として開けません。{size:.0f} KiB</translation>
     </message>

@@ -1908,6 +1908,34 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>它不是有效的 JSON（{error}）；文件可能被截断</translation>
     </message>
     <message>
+      <source>ROI file not found: {path}</source>
+      <translation>找不到 ROI 文件：{path}</translation>
+    </message>
+    <message>
+      <source>{path}: file not found.</source>
+      <translation>{path}：找不到文件。</translation>
+    </message>
+    <message>
+      <source>The ROIs have no CRS: set one on the layer before using it.</source>
+      <translation>ROI 没有坐标参考系：请先为图层设置坐标参考系再使用。</translation>
+    </message>
+    <message>
+      <source>The ROI layer has no features.</source>
+      <translation>ROI 图层没有要素。</translation>
+    </message>
+    <message>
+      <source>None of the {count} ROIs overlaps the raster {raster}. Raster extent {raster_extent}, ROI extent {roi_extent} (both in {crs}). Check that the ROI layer and the raster cover the same area and that the ROI layer's CRS is set correctly.</source>
+      <translation>{count} 个 ROI 都不与栅格 {raster} 重叠。栅格范围 {raster_extent}，ROI 范围 {roi_extent}（均为 {crs}）。请检查 ROI 图层与栅格是否覆盖同一区域，以及 ROI 图层的坐标参考系是否设置正确。</translation>
+    </message>
+    <message>
+      <source>No ROI is seen by any photo: check that the ROIs lie in the surveyed area and in the right CRS.</source>
+      <translation>没有任何照片拍到 ROI：请检查 ROI 是否位于测区内、坐标参考系是否正确。</translation>
+    </message>
+    <message>
+      <source>Nothing to write: give a crops folder, a previews folder or both.</source>
+      <translation>没有可写出的内容：请指定裁剪文件夹、预览文件夹或两者。</translation>
+    </message>
+    <message>
       <source>GDAL cannot open it as a GeoPackage; {size:.0f} KiB</source>
       <translation>GDAL 无法将其作为 GeoPackage 打开；{size:.0f} KiB</translation>
     </message>

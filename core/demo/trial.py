@@ -38,7 +38,7 @@ import numpy as np
 
 from ..files import OutputFolder, write_bytes, write_json
 from ..gpkg import GpkgTable, field_type, write_geopackage
-from ..plotgrid import create_plot_grid
+from ..plotgrid import create_plot_grid, grid_options
 from ..raster import epsg_geo_tags, write_geotiff
 from .field import FieldLayout
 from .trial_render import Hardness, render_field
@@ -53,7 +53,7 @@ EMPTY = ("1-03-04", "1-06-02", "2-02-08", "2-07-09")
 TRIAL = dict(rows=8, cols=10, size_x=3.0, size_y=1.5, gap_x=0.5, gap_y=0.0, blocks_x=2,
              block_gap_x=1.5, order="serpentine", start="top-left", start_id=101,
              pattern="{block}-{row:02d}-{col:02d}")
-"""The layout (plots touching across the rows), as ``core.plotgrid.create_plot_grid`` keywords."""
+"""The layout (plots touching across the rows), as flat ``core.plotgrid.grid_options`` keywords."""
 TRIAL_WITH_ALLEYS = dict(TRIAL, size_y=1.6, gap_y=1.0)
 """The layout with 1 m alleys between the ranges (``Hardness(touching=False)``)."""
 
@@ -269,8 +269,8 @@ def perturbed_start(rotation_deg: float = 2.0, shift=(0.3 * math.cos(0.5), 0.3 *
     ``rotation_deg`` (degrees, counter-clockwise) about that centre and shifted by ``shift``
     (east, north in m; 0.30 m). Returns (the grid as made, its corners moved: one (4, 2) array
     per plot)."""
-    grid, _ = create_plot_grid(f"EPSG:{EPSG}", origin=trial_corners(T)[0], bearing=FIELD_BEARING,
-                               **T)
+    grid, _ = create_plot_grid(f"EPSG:{EPSG}", **grid_options(origin=trial_corners(T)[0],
+                                                              bearing=FIELD_BEARING, **T))
     c = grid.corners.reshape(-1, 2).mean(axis=0)
     t = math.radians(rotation_deg)
     R = np.array([[math.cos(t), -math.sin(t)], [math.sin(t), math.cos(t)]])

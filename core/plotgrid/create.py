@@ -1,35 +1,63 @@
 """One call from an anchor, a layout and a field book to a plot grid (what the
 ``easyidp:createplotgrid`` tool runs), and a GeoPackage writer for it."""
-from typing import Optional, Sequence, Tuple
+from typing import Optional, Tuple
 
 import numpy as np
 
 from ..gpkg import GpkgTable, field_type, write_geopackage
 from .fieldbook import JoinReport, join_field_book
-from .layout import (DEFAULT_TOLERANCE, Axis, Numbering, PlotGrid, PlotGridError,
-                     check_metric_crs, frame_from_bearing, frame_from_boundary,
-                     frame_from_corners, make_plot_grid)
+from .layout import (Axis, Numbering, PlotGrid, PlotGridError, check_metric_crs,
+                     frame_from_bearing, frame_from_boundary, frame_from_corners, make_plot_grid)
+from .options import FieldBookJoin, GridAnchor, GridLayout, grid_keywords
 
 
-def create_plot_grid(crs, rows: int, cols: int, *, corners=None, boundary=None, origin=None,
-                     bearing: float = 90.0,
-                     size_x: Optional[float] = None, size_y: Optional[float] = None,
-                     gap_x: Optional[float] = None, gap_y: Optional[float] = None,
-                     spacing_x: Optional[float] = None, spacing_y: Optional[float] = None,
-                     blocks_x: int = 1, blocks_y: int = 1,
-                     block_gap_x: Optional[float] = None, block_gap_y: Optional[float] = None,
-                     buffer: float = 0.0, order: str = "row-major", start: str = "top-left",
-                     start_id: int = 1, pattern: str = "{plot_no}",
-                     tolerance: float = DEFAULT_TOLERANCE,
-                     field_book: Optional[Sequence[dict]] = None, join_by: str = "plot_id",
-                     book_id: Optional[str] = None, book_row: Optional[str] = None,
-                     book_col: Optional[str] = None) -> Tuple[PlotGrid, Optional[JoinReport]]:
-    """A plot grid of ``rows`` × ``cols`` plots (see :mod:`.layout` for the frame and the
-    layout), anchored on exactly one of ``corners`` ((4, 2) points in any order),
-    ``boundary`` (polygon rings) or ``origin`` (the upper-left corner) with ``bearing`` (of the
-    top edge, degrees clockwise from north). ``x``: along the top edge (columns, passes);
-    ``y``: down the left edge (rows, ranges). Coordinates in ``crs``, projected in metres.
-    ``field_book``: rows (dicts) joined by ``join_by`` (plot_id, plot_no or row_col)."""
+@grid_keywords
+def create_plot_grid(crs, rows: int, cols: int, *, anchor: Optional[GridAnchor] = None,
+                     layout: Optional[GridLayout] = None, numbering: Optional[Numbering] = None,
+                     field_book: Optional[FieldBookJoin] = None
+                     ) -> Tuple[PlotGrid, Optional[JoinReport]]:
+    """A plot grid of ``rows`` × ``cols`` plots from a field layout (see :mod:`.layout`).
+
+    ``x`` runs along the top edge (columns, passes), ``y`` down the left edge (rows, ranges).
+    The 0.2 keywords (``origin=…, size_x=…, join_by=…``) still work until 0.4, with a
+    ``DeprecationWarning``.
+
+    Parameters
+    ----------
+    crs : CRS
+        The CRS of the grid and its anchor: projected, in metres.
+    rows, cols : int
+        The number of plots down and across.
+    anchor : GridAnchor
+        Where the grid sits: four field corners, a field boundary, or an origin and a bearing.
+    layout : GridLayout, optional
+        Plot sizes, gaps, blocks and buffer (default: derived from the anchor's extent).
+    numbering : Numbering, optional
+        The order, starting corner, first number and id pattern of the plots.
+    field_book : FieldBookJoin, optional
+        A field book's rows joined to the plots.
+
+    Returns
+    -------
+    PlotGrid
+        The plots, numbered, with the field book's fields.
+    JoinReport or None
+        How the field book joined, when one was given.
+
+    Examples
+    --------
+    >>> from easyidp_toolbox.core import GridAnchor, GridLayout, create_plot_grid
+    >>> grid, _ = create_plot_grid("EPSG:32654", 2, 3,
+    ...                            anchor=GridAnchor(origin=(500000, 4000000), bearing=90),
+    ...                            layout=GridLayout(size_x=2, size_y=1, gap_x=0.5, gap_y=1))
+    >>> len(grid)
+    6
+    """
+    anchor = anchor if anchor is not None else GridAnchor()
+    lay = layout if layout is not None else GridLayout()
+    numbering = numbering if numbering is not None else Numbering()
+    corners, boundary, origin = anchor.corners, anchor.boundary, anchor.origin
+    bearing, tolerance = anchor.bearing, anchor.tolerance
     given = [k for k, v in (("corners", corners), ("boundary", boundary), ("origin", origin))
              if v is not None]
     if len(given) != 1:
@@ -51,12 +79,13 @@ def create_plot_grid(crs, rows: int, cols: int, *, corners=None, boundary=None, 
                 f"bearing {bearing:g}°, rows run down it at {(bearing + 90) % 360:g}°.")
     grid = make_plot_grid(
         frame,
-        Axis(cols, size_x, gap_x, spacing_x, blocks_x, block_gap_x),
-        Axis(rows, size_y, gap_y, spacing_y, blocks_y, block_gap_y),
-        Numbering(order, start, start_id, pattern), buffer, crs, [note])
+        Axis(cols, lay.size_x, lay.gap_x, lay.spacing_x, lay.blocks_x, lay.block_gap_x),
+        Axis(rows, lay.size_y, lay.gap_y, lay.spacing_y, lay.blocks_y, lay.block_gap_y),
+        numbering, lay.buffer, crs, [note])
     report = None
     if field_book is not None:
-        report = join_field_book(grid, field_book, join_by, book_id, book_row, book_col)
+        report = join_field_book(grid, field_book.rows, field_book.join_by, field_book.book_id,
+                                 field_book.book_row, field_book.book_col)
     return grid, report
 
 

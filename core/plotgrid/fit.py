@@ -45,6 +45,7 @@ from typing import List, Optional, Sequence, Tuple
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError
 from ..geometry import ring_moments
 from ..progress import as_progress
@@ -191,22 +192,53 @@ def _check_index(tif, index, bands):
     return index, [int(b) - 1 for b in bands]
 
 
-def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: str = "auto",
-                  bands: Optional[Sequence[int]] = None, max_shift: float = 0.25,
-                  search: Optional[float] = None, min_cover: float = 0.3,
-                  min_score: float = 0.6, progress=None, is_cancelled=None,
-                  workers: Optional[int] = None) -> FitResult:
-    """Fit plots (their exterior rings, map coordinates in the orthomosaic's CRS) to the crop
-    rows of ``orthomosaic`` (a path or an opened ``GeoTiff``); see the module docstring.
+@renamed_parameters(crs="source_crs")
+def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, source_crs=None,
+                  index: str = "auto", bands: Optional[Sequence[int]] = None,
+                  max_shift: float = 0.25, search: Optional[float] = None,
+                  min_cover: float = 0.3, min_score: float = 0.6, progress=None,
+                  is_cancelled=None, workers: Optional[int] = None) -> FitResult:
+    """Fit plots to the crop rows of an orthomosaic (see the module docstring).
 
-    ``index``: "exg" (RGB), "ndvi" (multispectral) or "auto" (ExG for an RGB raster);
-    ``bands``: 1-based band numbers, (red, green, blue) for ExG, (red, nir) for NDVI (defaults
-    1, 2, 3 for ExG); ``max_shift``: the per-plot bound (m); ``search``: how far (m) the grid
-    is searched for as a whole (default 0.6 m + 9 % of the grid's half extent: ±3° of
-    rotation, ±3 % of spacing and 0.5 m of shift).
+    Parameters
+    ----------
+    rings : sequence of ndarray
+        The plots' exterior rings, (n, 2) map coordinates in the orthomosaic's CRS.
+    orthomosaic : str, path or GeoTiff
+        The orthomosaic, a path or an opened ``GeoTiff``.
+    source_crs : CRS, optional
+        The CRS to assume for the orthomosaic (a path), instead of the one its GeoKeys give.
+    index : {"auto", "exg", "ndvi"}
+        The vegetation index: ExG (RGB), NDVI (multispectral) or "auto" (ExG for an RGB
+        raster).
+    bands : sequence of int, optional
+        1-based band numbers: (red, green, blue) for ExG, (red, nir) for NDVI (default 1, 2, 3
+        for ExG).
+    max_shift : float
+        The per-plot bound, metres.
+    search : float, optional
+        How far (m) the grid is searched for as a whole (default 0.6 m + 9 % of the grid's
+        half extent: ±3° of rotation, ±3 % of spacing and 0.5 m of shift).
+    min_cover : float
+        A plot whose row amplitude is under ``min_cover`` × the median plot's (empty or bare)
+        keeps the grid's position.
+    min_score : float
+        A plot whose row signal lies mostly outside it (score under ``min_score``, 0–1) keeps
+        the grid's position.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+    workers : int, optional
+        Threads that decode the orthomosaic.
+
+    Returns
+    -------
+    FitResult
+        The fitted rings, in the input order, with each plot's shift, score and flag.
     """
     prog = as_progress(progress, is_cancelled)
-    tif = orthomosaic if isinstance(orthomosaic, GeoTiff) else open_geotiff(str(orthomosaic), crs=crs)
+    tif = orthomosaic if isinstance(orthomosaic, GeoTiff) else open_geotiff(str(orthomosaic), crs=source_crs)
     rings = [np.asarray(r, float)[:, :2] for r in rings]
     if len(rings) < 3:
         raise EasyIDPError(f"Plot grid: {len(rings)} plots; the fit needs at least three (it "

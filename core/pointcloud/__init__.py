@@ -4,14 +4,19 @@ Coordinates are float64 (x, y, z) in the cloud's CRS; every per-point attribute 
 kept (see :mod:`.cloud`). Outputs are written atomically and never over an input.
 """
 from .cloud import PlyHeader, PointCloud
-from .crop import CropItem, CropResult, crop_indices, crop_point_cloud
+from ..deprecation import moved_names
+from .crop import CloudCropResult, CropItem, crop_indices, crop_point_cloud
 from .formats import read_point_cloud, write_point_cloud
 from .las_io import read_las, write_las
 from .ply_io import read_ply, write_ply
-from .stats import canopy_summary, roi_heights
+from .stats import canopy_summary, cloud_roi_heights
 
 __all__ = [
-    "PointCloud", "PlyHeader", "CropItem", "CropResult", "crop_indices", "crop_point_cloud",
+    "PointCloud", "PlyHeader", "CropItem", "CloudCropResult", "crop_indices", "crop_point_cloud",
     "read_point_cloud", "write_point_cloud", "read_las", "write_las", "read_ply", "write_ply",
-    "canopy_summary", "roi_heights",
+    "canopy_summary", "cloud_roi_heights",
 ]
+
+# the names before the glossary's renames, for one release (core.deprecation)
+__getattr__ = moved_names(__name__, globals(), CropResult="CloudCropResult",
+                          roi_heights="cloud_roi_heights")

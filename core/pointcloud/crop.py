@@ -12,6 +12,7 @@ from typing import Dict, List, Optional, Tuple, Union
 import numpy as np
 
 from .. import geometry
+from ..deprecation import renamed_parameters
 from ..errors import Cancelled, InputError
 from ..naming import unique_names
 from ..progress import as_progress
@@ -75,7 +76,7 @@ class CropItem:
 
 
 @dataclass
-class CropResult:
+class CloudCropResult:
     """What a crop did, one :class:`CropItem` per ROI in ROI order. The dict views are keyed by
     the unique file stem (the ROI name itself when it is unique and file-safe)."""
     folder: Optional[Path]
@@ -119,24 +120,53 @@ def _status(roi, ii: np.ndarray, bounds: np.ndarray) -> str:
     return "missed" if outside else "empty"
 
 
+@renamed_parameters(crs="source_crs")
 def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
                      output_folder: Union[str, Path], fmt: str = "same",
                      z_min: Optional[float] = None, z_max: Optional[float] = None,
-                     write_empty: bool = False, crs=None, overwrite: bool = False, progress=None,
-                     is_cancelled=None, chunk_size: int = 4_000_000) -> CropResult:
-    """Crop ``cloud`` (a PointCloud or a .las/.laz/.ply path) by every ROI; one file per ROI.
+                     write_empty: bool = False, source_crs=None, overwrite: bool = False,
+                     progress=None, is_cancelled=None,
+                     chunk_size: int = 4_000_000) -> CloudCropResult:
+    """Crop a point cloud by every ROI: one file per ROI.
 
-    ``fmt``: 'same' (the input's format; LAS for in-memory clouds), 'las', 'laz' or 'ply'.
-    Files are named from the ROI names (safe and unique) in ``output_folder`` and written
-    atomically; LAS → LAS/LAZ copies the point records bit for bit with the source header.
-    ``crs`` is the cloud's CRS when it is a path (required for PLY; overrides the LAS record).
-    Empty ROIs get a file only with ``write_empty``. The folder is checked and locked first
-    (:class:`..files.OutputFolder`); an existing file is never replaced unless ``overwrite``
-    (the run stops before writing, listing the names taken), and the input never. On
-    cancellation every file this call wrote is removed and :class:`Cancelled` is raised.
+    Files are named from the ROI names (safe and unique) and written atomically; LAS → LAS/LAZ
+    copies the point records bit for bit with the source header. The folder is checked and
+    locked first (:class:`..files.OutputFolder`). On cancellation every file this call wrote is
+    removed and :class:`Cancelled` is raised.
+
+    Parameters
+    ----------
+    cloud : PointCloud or path
+        The point cloud, or a .las/.laz/.ply path.
+    rois : ROISet
+        The ROIs.
+    output_folder : str or path
+        The folder the crops are written into.
+    fmt : {"same", "las", "laz", "ply"}
+        The output format; ``"same"`` is the input's (LAS for an in-memory cloud).
+    z_min, z_max : float, optional
+        Only the points in this Z range are kept.
+    write_empty : bool
+        Also write a file for an ROI that holds no point.
+    source_crs : CRS, optional
+        The cloud's CRS when it is a path (required for PLY; overrides the LAS record).
+    overwrite : bool
+        Replace this run's earlier outputs; without it an existing file stops the run before
+        writing, listing the names taken. The input is never replaced.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+    chunk_size : int
+        Points read per chunk (memory bound).
+
+    Returns
+    -------
+    CloudCropResult
+        One :class:`CropItem` per ROI in ROI order.
     """
     prog = as_progress(progress, is_cancelled)
-    cloud = as_cloud(cloud, crs)
+    cloud = as_cloud(cloud, source_crs)
     fmt = (fmt or "same").lower()
     if fmt == "same":
         fmt = cloud.fmt if cloud.fmt in EXT else "las"
@@ -147,7 +177,7 @@ def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
         out.check_not_inputs(s + EXT[fmt] for s in stems)       # before any work
         idx, bounds, rois = crop_indices(cloud, rois, z_min, z_max, prog.sub(0, 50), None,
                                          chunk_size)
-        result = CropResult(out.folder, [CropItem(r.name, s, len(ii), _status(r, ii, bounds))
+        result = CloudCropResult(out.folder, [CropItem(r.name, s, len(ii), _status(r, ii, bounds))
                                          for r, s, ii in zip(rois, stems, idx)])
         todo = [(item, ii) for item, ii in zip(result.items, idx)
                 if len(ii) or (write_empty and item.status == "empty")]
@@ -157,7 +187,7 @@ def crop_point_cloud(cloud: Union[PointCloud, str, Path], rois: ROISet,
     return result
 
 
-def _write(cloud: PointCloud, todo, result: CropResult, prog) -> None:
+def _write(cloud: PointCloud, todo, result: CloudCropResult, prog) -> None:
     """Write each (item, target, point indices); on cancel remove what was written."""
     if todo and len(cloud.records) and any(len(ii) for _, _, ii in todo):
         # gather every kept record once, in file order, then serve each ROI from that copy:

@@ -4,6 +4,7 @@ from typing import Optional
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import InputError
 from .cloud import PointCloud
 from .las_io import read_las, write_las
@@ -21,16 +22,47 @@ def format_of(path) -> str:
     return fmt
 
 
-def read_point_cloud(path, crs=None) -> PointCloud:
-    """Read a .las/.laz/.ply point cloud. ``crs`` (EPSG code, WKT, pyproj CRS) is required for
-    PLY to be used with georeferenced ROIs and overrides the CRS stored in a LAS file."""
+@renamed_parameters(crs="source_crs")
+def read_point_cloud(path, source_crs=None) -> PointCloud:
+    """Read a .las, .laz or .ply point cloud.
+
+    Parameters
+    ----------
+    path : str or path
+        The file; its suffix (any case) gives the format.
+    source_crs : CRS, optional
+        The cloud's CRS (EPSG code, WKT, pyproj CRS): required for PLY to be used with
+        georeferenced ROIs; overrides the CRS stored in a LAS file.
+
+    Returns
+    -------
+    PointCloud
+        Coordinates as float64 (x, y, z), every per-point attribute kept.
+    """
     fmt = format_of(path)
-    return read_ply(path, crs) if fmt == "ply" else read_las(path, crs)
+    return read_ply(path, source_crs) if fmt == "ply" else read_las(path, source_crs)
 
 
 def write_point_cloud(cloud: PointCloud, path, index: Optional[np.ndarray] = None,
                       ply_text: Optional[bool] = None) -> Path:
-    """Write ``cloud`` (or its points at ``index``) in the format given by the suffix of ``path``."""
+    """Write ``cloud`` (or its points at ``index``) in the format given by the suffix of ``path``.
+
+    Parameters
+    ----------
+    cloud : PointCloud
+        The points.
+    path : str or path
+        The file to write (.las, .laz or .ply), atomically.
+    index : ndarray, optional
+        The indices of the points to write (default: all).
+    ply_text : bool, optional
+        PLY only: ASCII instead of binary (default: the source's encoding).
+
+    Returns
+    -------
+    Path
+        The file written.
+    """
     fmt = format_of(path)
     if fmt == "ply":
         return write_ply(cloud, path, text=ply_text, index=index)

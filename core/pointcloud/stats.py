@@ -1,6 +1,6 @@
 """ROI heights and canopy summaries from a point cloud (heights in the cloud's z units/reference).
 
-:func:`roi_heights` speaks the vocabulary of the DSM version (:mod:`..height_statistics`: ``mode``,
+:func:`cloud_roi_heights` speaks the vocabulary of the DSM version (:mod:`..height_statistics`: ``mode``,
 ``statistic``, ``percentile``, a :class:`~..height_statistics.HeightResult` aligned with the ROI order):
 ``polygon`` (EasyIDP: ``face``): one value per ROI from the points inside it; ``vertex``
 (EasyIDP: ``point``): one value per vertex of every ring, from the points within ``buffer``
@@ -12,6 +12,7 @@ from typing import Callable, Dict, List, Optional, Sequence, Union
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError, InputError
 from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
 from ..progress import as_progress
@@ -23,15 +24,47 @@ from .index import one_pass
 Ground = Union[None, float, np.ndarray, Callable[[np.ndarray, np.ndarray], np.ndarray]]
 
 
-def roi_heights(cloud: Union[PointCloud, str, Path], rois: ROISet, mode: str = "polygon",
-                statistic: str = "mean", percentile: float = 50.0, buffer: float = 0.0,
-                z_min: Optional[float] = None, z_max: Optional[float] = None, crs=None,
-                progress=None, is_cancelled=None) -> HeightResult:
-    """Heights of ROIs from the cloud's z (see the module docstring); NaN where no point counts,
-    with the reason in ``missing``."""
+@renamed_parameters(crs="source_crs")
+def cloud_roi_heights(cloud: Union[PointCloud, str, Path], rois: ROISet, mode: str = "polygon",
+                      statistic: str = "mean", percentile: float = 50.0, buffer: float = 0.0,
+                      z_min: Optional[float] = None, z_max: Optional[float] = None,
+                      source_crs=None, progress=None, is_cancelled=None) -> HeightResult:
+    """Heights of ROIs from the cloud's z (in the cloud's z units and vertical reference).
+
+    Parameters
+    ----------
+    cloud : PointCloud or path
+        The point cloud, or a .las/.laz/.ply path.
+    rois : ROISet
+        The ROIs.
+    mode : {"polygon", "vertex"}
+        ``"polygon"`` (EasyIDP: ``face``): one value per ROI from the points inside it;
+        ``"vertex"`` (EasyIDP: ``point``): one value per vertex of every ring, from the points
+        within ``buffer`` of the vertex, or with ``buffer=0`` the z of the nearest point in xy.
+    statistic : str
+        ``mean``, ``median``, ``min``, ``max``, ``std``, ``percentile``, ``pmin`` or ``pmax``
+        (:mod:`core.height_statistics`).
+    percentile : float
+        The percentile (0–100) for ``statistic="percentile"``.
+    buffer : float
+        xy distance in the cloud CRS's units (vertex mode only).
+    z_min, z_max : float, optional
+        Only the points in this Z range count.
+    source_crs : CRS, optional
+        The cloud's CRS when it is a path (required for PLY; overrides the LAS record).
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    HeightResult
+        Values in the ROI order; NaN where no point counts, with the reason in ``missing``.
+    """
     mode = check_heights_args(mode, statistic, percentile)
     prog = as_progress(progress, is_cancelled)
-    cloud = as_cloud(cloud, crs)
+    cloud = as_cloud(cloud, source_crs)
     if mode == "polygon":
         if buffer:
             raise EasyIDPError("buffer applies to the vertex mode only; buffer the ROIs first "
@@ -93,22 +126,46 @@ def _nearest_z(cloud, v, z_range, prog) -> np.ndarray:
     return out
 
 
+@renamed_parameters(crs="source_crs")
 def canopy_summary(cloud: Union[PointCloud, str, Path], rois: ROISet, ground: Ground = None,
                    percentiles: Sequence[float] = (5, 50, 95, 99), ground_percentile: float = 1.0,
-                   z_min: Optional[float] = None, z_max: Optional[float] = None, crs=None,
+                   z_min: Optional[float] = None, z_max: Optional[float] = None, source_crs=None,
                    progress=None, is_cancelled=None) -> List[Dict[str, float]]:
     """Per-ROI point count and height statistics above a ground.
 
-    ``ground``: a number (z of the ground, cloud z units); an array of one ground z per cloud
-    point; a callable ``ground(x, y) -> z`` on arrays in the cloud CRS (e.g. a DTM sampler; NaN =
-    no ground there, those points get no height); or None: the ROI's own
-    ``ground_percentile``-th percentile of z. Returns one row per ROI, in the ROI order:
-    {count, density (points per CRS unit², using the ROI area), z_min, z_mean, z_max, ground
-    (mean ground z used), h_mean, h_max, h_pNN for each NN in ``percentiles``}; NaN values when
-    no point counts.
+    Parameters
+    ----------
+    cloud : PointCloud or path
+        The point cloud, or a .las/.laz/.ply path.
+    rois : ROISet
+        The ROIs.
+    ground : float, ndarray, callable or None
+        A number (z of the ground, cloud z units); an array of one ground z per cloud point; a
+        callable ``ground(x, y) -> z`` on arrays in the cloud CRS (e.g. a DTM sampler; NaN = no
+        ground there, those points get no height); or None: the ROI's own
+        ``ground_percentile``-th percentile of z.
+    percentiles : sequence of float
+        The height percentiles (0–100) of each row (``h_pNN``).
+    ground_percentile : float
+        The percentile of an ROI's z taken as its ground when ``ground`` is None.
+    z_min, z_max : float, optional
+        Only the points in this Z range count.
+    source_crs : CRS, optional
+        The cloud's CRS when it is a path (required for PLY; overrides the LAS record).
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    list of dict
+        One row per ROI, in the ROI order: count, density (points per CRS unit², using the ROI
+        area), z_min, z_mean, z_max, ground (mean ground z used), h_mean, h_max and h_pNN for
+        each NN in ``percentiles``; NaN values when no point counts.
     """
     prog = as_progress(progress, is_cancelled)
-    cloud = as_cloud(cloud, crs)
+    cloud = as_cloud(cloud, source_crs)
     if isinstance(ground, np.ndarray) and ground.shape != (len(cloud),):
         raise InputError(f"The ground array has shape {ground.shape}, but {cloud_name(cloud)} "
                          f"has {len(cloud)} points: give one ground height per point.")

@@ -27,6 +27,7 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError, ROIError
 from ..progress import as_progress
 from ..roi import ROISet
@@ -41,9 +42,10 @@ from .roi_rings import ring_arrays, vertex_heights
 from .sensor_geometry import SensorGeometry
 
 
+@renamed_parameters(max_images="max_views")
 def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = None,
                  distortion: bool = True, clip: bool = True, occlusion_dsm=None,
-                 min_visible: float = 0.5, max_images: int = 0,
+                 min_visible: float = 0.5, max_views: int = 0,
                  densify_tolerance: float = 0.1, occlusion_samples: int = 256,
                  occlusion_tolerance: Optional[float] = None,
                  progress=None, is_cancelled=None) -> BackProjection:
@@ -59,12 +61,12 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
     :class:`~core.raster.DSM`, a path or a ``GeoTiff``) to test lines of sight against (see
     :mod:`.occlusion`).
     ``min_visible``: photos whose visible, unoccluded share of the ROI is below this are
-    dropped (and counted); ``max_images``: keep the best k photos per ROI (0 = all).
+    dropped (and counted); ``max_views``: keep the best k photos per ROI (0 = all).
     """
     if not 0.0 <= float(min_visible) <= 1.0:
         raise EasyIDPError(f"min_visible must be between 0 and 1, not {min_visible}.")
-    if int(max_images) < 0:
-        raise EasyIDPError(f"max_images must be 0 (all) or more, not {max_images}.")
+    if int(max_views) < 0:
+        raise EasyIDPError(f"max_views must be 0 (all) or more, not {max_views}.")
     if not densify_tolerance > 0:
         raise EasyIDPError(f"densify_tolerance must be positive, not {densify_tolerance}.")
     prog = as_progress(progress, is_cancelled)
@@ -97,10 +99,10 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
         notes += occ_notes
     prog.set(95)
     result = rank_records(rois, recon, cams, geo, per_roi, recs, occluded, float(min_visible),
-                     int(max_images), clip)
+                     int(max_views), clip)
     result.settings = {"heights": source.describe(), "distortion": bool(distortion),
                        "clip": bool(clip), "occlusion": occlusion_dsm is not None,
-                       "min_visible": float(min_visible), "max_images": int(max_images),
+                       "min_visible": float(min_visible), "max_images": int(max_views),
                        "densify_tolerance_px": float(densify_tolerance),
                        "segment_px": {s.label: g.segment_px for s, g in
                                       ((sensors[k], geo[k]) for k in geo)},

@@ -12,6 +12,7 @@ from typing import List, Optional, Sequence, Union
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError
 from ..geometry import ring_area
 from ..progress import as_progress
@@ -67,15 +68,37 @@ class Footprint:
         return bool(self.height_above_ground <= 0)
 
 
-def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
+@renamed_parameters(crs="output_crs")
+def camera_footprints(recon: Reconstruction, ground: Ground, *, output_crs=None,
                       cameras: Optional[Sequence] = None, per_edge: int = 16,
                       progress=None, is_cancelled=None) -> List[Footprint]:
     """Footprints of the aligned, enabled cameras (or ``cameras``) on ``ground``.
 
-    ``ground``: a constant height in the project CRS, or a :class:`~core.raster.DSM` (any CRS
-    the project can convert to). On a DSM, border rays that leave it, miss it or enter
-    nodata continue on the plane at the DSM height under the camera (``complete`` is then
-    False). Output coordinates are in ``crs`` (default: the project CRS).
+    On a DSM, border rays that leave it, miss it or enter nodata continue on the plane at the
+    DSM height under the camera (``complete`` is then False).
+
+    Parameters
+    ----------
+    recon : Reconstruction
+        The opened project.
+    ground : float or DSM
+        A constant height in the project CRS, or a :class:`~core.raster.DSM` (any CRS the
+        project can convert to).
+    output_crs : CRS, optional
+        The CRS of the output coordinates (default: the project CRS).
+    cameras : sequence of str, optional
+        The labels of the cameras to take (default: every aligned, enabled camera).
+    per_edge : int
+        Rays cast along each edge of the photo frame.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    list of Footprint
+        One per camera, each with its :class:`FootprintStatus`.
     """
     prog = as_progress(progress, is_cancelled)
     cams = recon.select_cameras(cameras)
@@ -100,7 +123,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
     out = []
     for i, cam in enumerate(cams):
         prog.check()
-        centre = recon.from_model(C[i:i + 1], crs)[0]
+        centre = recon.from_model(C[i:i + 1], output_crs)[0]
         axis = cam.R[2]                                            # optical axis in the model frame
         angle = float(np.degrees(np.arccos(np.clip(-(axis @ up[i]), -1.0, 1.0))))
         if np.isfinite(hag[i]) and hag[i] <= 0:
@@ -136,7 +159,7 @@ def camera_footprints(recon: Reconstruction, ground: Ground, *, crs=None,
             complete = bool(down.all())
         hit = np.isfinite(t)
         pts_model = origin[hit] + t[hit, None] * d[hit]
-        ring = recon.from_model(pts_model, crs) if hit.sum() >= 3 else None
+        ring = recon.from_model(pts_model, output_crs) if hit.sum() >= 3 else None
         area = abs(ring_area(pts_model @ _horizontal_basis(up[i]))) if ring is not None \
             else float("nan")
         out.append(Footprint(cam.label, cam.photo_path, cam.enabled, centre, ring, h_i, angle,

@@ -19,6 +19,7 @@ import numpy as np
 from .. import geometry
 from ..annotations import LINE, POINT, POLYGON, PhotoShape
 from ..crs import as_crs, same_crs, transform_columns, transformer
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError
 from ..progress import as_progress
 from ..ragged import cyclic_next, offsets
@@ -87,17 +88,40 @@ def _as_shapes(polygons_px) -> List[PhotoShape]:
     return out
 
 
-def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
+@renamed_parameters(crs="output_crs")
+def forward_project(polygons_px, photo, recon, dsm, densify=True, *, output_crs=None,
                     progress=None, is_cancelled=None) -> List[ForwardShape]:
     """Shapes in the pixels of one photo → the map, by their rays' first hits on the DSM.
 
-    ``polygons_px``: :class:`PhotoShape` objects (polygons, lines, points; from the annotation
-    readers) or plain polygons ((n, 2) pixel arrays, or lists of rings). ``photo``: the camera
-    label (or a ``Camera``); ``recon``: the :class:`Reconstruction`; ``dsm``: a
-    :class:`~core.raster.DSM` (its ray surface keeps the tiles read for the next call), a
-    GeoTIFF path or an opened GeoTiff. ``densify``: True (a vertex every
-    :data:`DENSIFY_PX` pixels along edges), a spacing in pixels, or False. ``crs``: output CRS
-    (default: the DSM's). Heights are in the output CRS's vertical reference (the DSM's).
+    Photo pixels follow the one convention of [Conventions](../background/conventions.md).
+    Heights are in the output CRS's vertical reference (the DSM's).
+
+    Parameters
+    ----------
+    polygons_px : sequence
+        :class:`PhotoShape` objects (polygons, lines, points; from the annotation readers) or
+        plain polygons ((n, 2) pixel arrays, or lists of rings).
+    photo : str or Camera
+        The camera label (or a ``Camera``).
+    recon : Reconstruction
+        The opened project.
+    dsm : DSM, GeoTiff or path
+        A :class:`~core.raster.DSM` (its ray surface keeps the tiles read for the next call), a
+        GeoTIFF path or an opened GeoTiff.
+    densify : bool or float
+        True: a vertex every :data:`DENSIFY_PX` pixels along edges; a number: that spacing in
+        pixels; False: the vertices as given.
+    output_crs : CRS, optional
+        The CRS of the output (default: the DSM's).
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    list of ForwardShape
+        One per shape, in the input order.
     """
     prog = as_progress(progress, is_cancelled)
     surface = as_dsm(dsm).ray_surface()
@@ -128,7 +152,7 @@ def forward_project(polygons_px, photo, recon, dsm, densify=True, *, crs=None,
     origin, d = recon.pixel_to_ray(cam, uv)
     hits = first_hits(surface, recon.frame, origin, d, progress=prog.sub(0, 90))
     xyz = hits.xyz
-    out_crs = as_crs(crs)
+    out_crs = as_crs(output_crs)
     if out_crs is not None and surface.crs is not None and not same_crs(out_crs, surface.crs):
         ok = hits.hit
         if ok.any():

@@ -37,6 +37,6 @@ def forward_project_photos(items, recon, dsm: DSM, merge: str = "none", densify=
                                   is_cancelled=prog.cancelled)
         prog.set(100.0 * (k + 1) / max(len(items), 1))
     photos = [cam.label for _, cam in items]
-    merged = merge_views(shapes, merge, recon=recon, dsm=dsm, photos=photos) \
+    merged = merge_views(shapes, merge, recon=recon, dsm=dsm, cameras=photos) \
         if merge == "fuse" else merge_views(shapes, merge)
     return PhotosToMap(merged, skipped, photos)

@@ -52,6 +52,7 @@ from typing import List, Optional, Sequence
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError
 from ..geometry import rasterize
 from ..progress import as_progress
@@ -531,15 +532,16 @@ def _sight_chunk(votes, cams_of, cams, C, recon, dsm, surface, tol):
     return out
 
 
-def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Sequence[str]] = None,
+@renamed_parameters(photos="cameras", dsm_crs="source_crs")
+def fuse_views(shapes: List[ForwardShape], recon, dsm, *, cameras: Optional[Sequence[str]] = None,
                nms_iou: float = 0.5, group_iou: float = 0.15, group_overlap: float = 0.6,
                max_distance: Optional[float] = None,
                min_visible: float = 0.5, occlusion: bool = True, visibility: bool = True,
-               dsm_crs=None, progress=None) -> List[FusedObject]:
+               source_crs=None, progress=None) -> List[FusedObject]:
     """Fuse forward-projected detections (see the module docstring). ``dsm``: the DSM the
     shapes were projected on (a :class:`~core.raster.DSM`, a GeoTIFF path or an opened
     ``GeoTiff``; heights and the expected-views test; its CRS must be that of the shapes,
-    ``dsm_crs`` overriding its GeoKeys); ``photos``: labels of every photo
+    ``source_crs`` overriding its GeoKeys); ``cameras``: labels of every photo
     searched, also those without a detection (default: the photos of ``shapes``)."""
     import shapely
     for name, v in (("nms_iou", nms_iou), ("group_iou", group_iou),
@@ -547,7 +549,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         if not 0.0 < v <= 1.0:
             raise EasyIDPError(f"{name} must be in (0, 1], not {v}.")
     prog = as_progress(progress)
-    dsm = as_dsm(dsm, dsm_crs)
+    dsm = as_dsm(dsm, source_crs)
     polys = [f for f in shapes if f.kind == "polygon"]
     geoms = shapely_polygons(polys)
     ok = [i for i, g in enumerate(geoms) if g is not None and g.area > 0]
@@ -665,7 +667,7 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, photos: Optional[Seque
         o.position = (float(o.position[0]), float(o.position[1]), float(zz))
     out, rings, ring_z = _attach_lone_views(out, rings, ring_z, recon, dsm.crs)
     # expected views: the photos searched that could have seen each object
-    searched = list(dict.fromkeys(photos if photos is not None else [f.photo for f in polys]))
+    searched = list(dict.fromkeys(cameras if cameras is not None else [f.photo for f in polys]))
     rois = ROISet([ROI(str(j), [[r]], z=[[rz]]) for j, (r, rz) in enumerate(zip(rings, ring_z))],
                   crs=dsm.crs)
     seen_by = _could_see(rois, [set(o.photos) for o in out], recon, searched, dsm, occlusion,

@@ -20,6 +20,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
 from ..geometry import rasterize
@@ -75,20 +76,53 @@ def _native_gsd(recon, cam, x, y, z, crs) -> float:
     return float(1.0 / np.sqrt(det))
 
 
+@renamed_parameters(dsm_crs="source_crs")
 def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str = "best",
                       photo=None, photos_folder=None, gsd: Optional[float] = None,
                       occlusion: bool = True, occlusion_tolerance: Optional[float] = None,
-                      dsm_crs=None, overwrite: bool = False, progress=None,
+                      source_crs=None, overwrite: bool = False, progress=None,
                       is_cancelled=None) -> OrthoResult:
-    """Orthorectify every ROI from raw photos into ``output_folder`` (see the module docstring).
+    """Orthorectify every ROI from raw photos (see the module docstring).
 
-    ``selection``: ``best``, ``all`` or ``photo`` (then ``photo`` is the camera label).
-    ``photos_folder``: where the raw photos are (default: the paths stored in the project).
-    ``gsd``: output pixel size in DSM CRS units (default: the photo's native one at the ROI).
-    ``occlusion_tolerance``: metres (default: one DSM pixel). Files are named ``<roi>.tif``
-    (``best``, ``photo``) or ``<roi>_<photo>.tif`` (``all``); the folder is guarded as every
-    output folder is (:class:`..files.OutputFolder`: nothing replaced unless ``overwrite``).
-    Photos missing or not of the camera's size are skipped, with the reason in ``skipped``.
+    Files are named ``<roi>.tif`` (``best``, ``photo``) or ``<roi>_<photo>.tif`` (``all``); the
+    folder is guarded as every output folder is (:class:`..files.OutputFolder`). Photos
+    missing or not of the camera's size are skipped, with the reason in ``skipped``.
+
+    Parameters
+    ----------
+    rois : ROISet
+        The ROIs.
+    recon : Reconstruction
+        The opened project.
+    dsm : DSM, GeoTiff or path
+        The DSM the photos are draped on.
+    output_folder : str or path
+        The folder the GeoTIFFs are written into.
+    selection : {"best", "all", "photo"}
+        The best photo of each ROI, every photo that sees it, or the one named ``photo``.
+    photo : str, optional
+        The camera label, for ``selection="photo"``.
+    photos_folder : str or path, optional
+        The folder the photos are in now (default: the paths stored in the project).
+    gsd : float, optional
+        The output pixel size in DSM CRS units (default: the photo's native one at the ROI).
+    occlusion : bool
+        Leave out the DSM cells the photo does not see.
+    occlusion_tolerance : float, optional
+        Metres (default: one DSM pixel).
+    source_crs : CRS, optional
+        The CRS to assume for the DSM, instead of the one its GeoKeys give.
+    overwrite : bool
+        Replace this run's earlier outputs.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    OrthoResult
+        The files written and the ROIs or photos skipped with the reason.
     """
     if selection not in SELECTIONS:
         raise EasyIDPError(f"selection must be one of {SELECTIONS}, not {selection!r}.")
@@ -97,7 +131,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
     if gsd is not None and not gsd > 0:
         raise InputError(f"The output pixel size (GSD) must be positive, not {gsd}.")
     prog = as_progress(progress, is_cancelled)
-    dsm = as_dsm(dsm, dsm_crs)
+    dsm = as_dsm(dsm, source_crs)
     surface = dsm.ray_surface()
     tif = dsm.tif
     local = rois_in_raster_crs(rois, tif)
@@ -109,7 +143,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         pairs = [(r, cam) for r in range(len(rois))]
     else:
         bp = back_project(rois, recon, heights=dsm, min_visible=0.0,
-                          max_images=1 if selection == "best" else 0,
+                          max_views=1 if selection == "best" else 0,
                           progress=prog.sub(0, 10))
         cams = {c.label: c for c in recon.cameras}
         for i in range(len(bp)):

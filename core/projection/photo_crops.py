@@ -30,6 +30,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import densify, rasterize
@@ -67,19 +68,47 @@ class PhotoCropResult:
         return out
 
 
-def crop_photos(result: BackProjection, out_folder, photos=None, *, margin: int = 0,
+@renamed_parameters(out_folder="output_folder", photos="photos_folder")
+def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, margin: int = 0,
                 previews_folder=None, preview_views: int = 4, workers: Optional[int] = None,
                 overwrite: bool = False, progress=None, is_cancelled=None) -> PhotoCropResult:
-    """Cut every ROI × photo of ``result`` out of the raw photos into ``out_folder`` (None:
-    previews only). ``photos``: folder of the photos when they moved (matched by file name).
-    ``previews_folder``: also draw one preview sheet per ROI with its ``preview_views`` best
-    photos. Missing or undecodable photos are reported in ``skipped_photos`` and skipped. Both
-    folders are guarded as every output folder is (:class:`..files.OutputFolder`): an ROI's
-    folder or preview that already exists stops the run before anything is written, unless
-    ``overwrite``.
+    """Cut every ROI × photo of ``result`` out of the raw photos.
+
+    Each photo is decoded once. Missing or undecodable photos are reported in
+    ``skipped_photos`` and skipped. Both folders are guarded as every output folder is
+    (:class:`..files.OutputFolder`): an ROI's folder or preview that already exists stops the
+    run before anything is written, unless ``overwrite``.
+
+    Parameters
+    ----------
+    result : BackProjection
+        The ROI × photo pairs (:func:`back_project`).
+    output_folder : str or path or None
+        The folder of the crops, one subfolder per ROI (None: previews only).
+    photos_folder : str or path, optional
+        The folder the photos are in now, when they moved (matched by file name).
+    margin : int
+        Pixels added around each ROI's box.
+    previews_folder : str or path, optional
+        Also draw one preview sheet per ROI with its ``preview_views`` best photos.
+    preview_views : int
+        The most photos on a preview sheet.
+    workers : int, optional
+        Decoding and writing threads (default: the CPU count, at most 4).
+    overwrite : bool
+        Replace this run's earlier outputs.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    PhotoCropResult
+        The crops, their sidecars and the previews written, sorted, and the photos skipped.
     """
-    if out_folder is None and previews_folder is None:
-        raise InputError("Nothing to write: give a crops folder, a previews folder or both.")
+    if output_folder is None and previews_folder is None:
+        raise InputError.of("nothing_to_write")
     if margin < 0:
         raise InputError(f"The crop margin must be 0 or more pixels, not {margin}.")
     prog = as_progress(progress, is_cancelled)
@@ -88,20 +117,21 @@ def crop_photos(result: BackProjection, out_folder, photos=None, *, margin: int 
         return out
     used = sorted(set(result.photo_index.tolist()), key=lambda j: result.photo_labels[j])
     labels = [result.photo_labels[j] for j in used]
-    found, missing = resolve_photos(labels, [result.photo_paths[j] for j in used], photos)
+    found, missing = resolve_photos(labels, [result.photo_paths[j] for j in used],
+                                    photos_folder)
     out.skipped_photos.update(missing)
     if not found:
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
     roi_dirs = unique_names(result.roi_names)
     with ExitStack() as stack:    # both folders checked, locked and claimed before any decode
-        if out_folder is not None:
-            stack.enter_context(OutputFolder(out_folder, overwrite=overwrite,
+        if output_folder is not None:
+            stack.enter_context(OutputFolder(output_folder, overwrite=overwrite,
                                              what="Crops folder")).claim(roi_dirs)
         if previews_folder is not None:
             stack.enter_context(OutputFolder(previews_folder, overwrite=overwrite,
                                              what="Previews folder")).claim(d + ".png" for d in roi_dirs)
-        _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, preview_views,
+        _crop_all(result, out, used, found, roi_dirs, output_folder, previews_folder, preview_views,
                   margin, workers, prog)
     out.files.sort()
     out.sidecars.sort()
@@ -185,13 +215,39 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
                 sheets.cleanup()
 
 
-def draw_previews(result: BackProjection, folder, photos=None, *, views: int = 4,
-                  workers: Optional[int] = None, overwrite: bool = False, progress=None,
-                  is_cancelled=None) -> PhotoCropResult:
-    """Only the preview sheets (see :func:`crop_photos`)."""
-    return crop_photos(result, None, photos, previews_folder=folder, preview_views=views,
-                       workers=workers, overwrite=overwrite, progress=progress,
-                       is_cancelled=is_cancelled)
+@renamed_parameters(folder="output_folder", views="max_views", photos="photos_folder")
+def draw_previews(result: BackProjection, output_folder, photos_folder=None, *,
+                  max_views: int = 4, workers: Optional[int] = None, overwrite: bool = False,
+                  progress=None, is_cancelled=None) -> PhotoCropResult:
+    """Only the preview sheets of :func:`crop_photos`: one PNG per ROI with its best photos.
+
+    Parameters
+    ----------
+    result : BackProjection
+        The ROI × photo pairs (:func:`back_project`).
+    output_folder : str or path
+        The folder of the previews.
+    photos_folder : str or path, optional
+        The folder the photos are in now, when they moved (matched by file name).
+    max_views : int
+        The most photos on a preview sheet.
+    workers : int, optional
+        Decoding and writing threads.
+    overwrite : bool
+        Replace this run's earlier outputs.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    PhotoCropResult
+        The previews written.
+    """
+    return crop_photos(result, None, photos_folder, previews_folder=output_folder,
+                       preview_views=max_views, workers=workers, overwrite=overwrite,
+                       progress=progress, is_cancelled=is_cancelled)
 
 
 # --- crops -------------------------------------------------------------------------------------------

@@ -44,11 +44,12 @@ from typing import Dict, List, Optional, Sequence
 import numpy as np
 
 from .. import indices as ix
+from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
 from ..geometry import rasterize
 from ..progress import as_progress
-from ..radiometry import VALUES, PhotoValues, read_photo_values, reflectance_values
+from ..radiometry import VALUES, PhotoValues, read_photo_values
 from ..photo_files import photo_notes
 from .across_views import aggregate_views
 from .photos import DecodedPhotos, resolve_photos
@@ -88,11 +89,12 @@ def _check_args(statistics, percentiles, min_visible, max_images, cover_threshol
     return stats, qs
 
 
-def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Sequence[str]] = None,
+@renamed_parameters(photos="photos_folder", max_images="max_views")
+def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optional[Sequence[str]] = None,
                      statistics: Sequence[str] = STATISTICS, percentiles: Sequence[float] = (),
                      indices: Optional[Sequence[str]] = None,
                      cover_threshold: Optional[float] = None, min_visible: float = 0.0,
-                     max_images: int = 0, weighted: bool = False, recon=None, rois=None,
+                     max_views: int = 0, weighted: bool = False, recon=None, rois=None,
                      occlusion_dsm=None, distortion: Optional[bool] = None,
                      occlusion_samples: int = 256, previews_folder=None, preview_views: int = 4,
                      overwrite: bool = False, workers: Optional[int] = None, progress=None,
@@ -102,12 +104,12 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     """Measure every ROI × photo of ``result`` in the raw photos, and summarise each ROI across
     its views (see the module docstring).
 
-    ``photos``: folder of the photos when they moved (matched by file name). ``bands``: the
+    ``photos_folder``: folder of the photos when they moved (matched by file name). ``bands``: the
     photos' band names (default red, green, blue for 3 bands, else b1…; name multispectral bands
     ``blue, green, red, rededge, nir`` for NDVI/NDRE; a band named ``alpha`` masks).
     ``statistics``: of :data:`STATISTICS`; ``percentiles``: numbers 0–100; ``indices``: of
     :data:`core.indices.INDICES` (default all that the bands allow). ``cover_threshold``: None
-    for Otsu's. ``min_visible``/``max_images``: which views are used across views;
+    for Otsu's. ``min_visible``/``max_views``: which views are used across views;
     ``weighted``: score-weighted medians. ``occlusion_dsm`` (with ``recon``, the project, and
     ``rois``, the ROI set the back-projection was made from): leave out the pixels whose line of
     sight meets the DSM outside the ROI (:mod:`.pixel_occlusion`; ``occlusion_samples`` coarse
@@ -127,11 +129,7 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     """
     if values not in VALUES:
         raise EasyIDPError(f"Unknown values {values!r}: choose from {', '.join(VALUES)}.")
-    if values == "reflectance" and reflectance_values is None:
-        raise EasyIDPError("reflectance: not in this build (its multispectral readers are not "
-                           "part of this version); measure the photos as stored or as "
-                           "temperature.")
-    stats, qs = _check_args(statistics, percentiles, min_visible, max_images, cover_threshold)
+    stats, qs = _check_args(statistics, percentiles, min_visible, max_views, cover_threshold)
     wanted = ix.check_indices(indices)
     prog = as_progress(progress, is_cancelled)
     if distortion is None:
@@ -142,7 +140,8 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     k = len(result)
     used_photos = sorted(set(result.photo_index.tolist()), key=lambda j: result.photo_labels[j])
     labels = [result.photo_labels[j] for j in used_photos]
-    found, missing = resolve_photos(labels, [result.photo_paths[j] for j in used_photos], photos)
+    found, missing = resolve_photos(labels, [result.photo_paths[j] for j in used_photos],
+                                    photos_folder)
     if k and not found:
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
@@ -151,7 +150,7 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
     state.notes += photo_notes(list(found.values()))
     sheets = None
     if previews_folder is not None:
-        sheets = StatSheets(result, previews_folder, preview_views, min_visible, max_images)
+        sheets = StatSheets(result, previews_folder, preview_views, min_visible, max_views)
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
         by_photo.setdefault(j, []).append(i)
@@ -196,7 +195,7 @@ def photo_statistics(result: BackProjection, photos=None, *, bands: Optional[Seq
                         sheets.add(i, img)
                 del img
                 prog.set(95.0 * (n + 1) / max(len(todo), 1))
-        out = state.finish(min_visible, max_images, weighted)
+        out = state.finish(min_visible, max_views, weighted)
         sun = view_sun(result, rois, recon, found, utc_offset)
         out.acquired = sun["acquired"]
         out.sun_zenith, out.sun_azimuth = sun["sun_zenith"], sun["sun_azimuth"]

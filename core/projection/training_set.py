@@ -66,6 +66,7 @@ import numpy as np
 
 from ..annotations import (TILE_INDEX, LabelledImage, LabelledShape, tile_index_document,
                            write_coco, write_labelme, write_yolo_labels, yolo_data_yaml)
+from ..deprecation import renamed_parameters
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import orient, points_in_rings, polygons_area
@@ -200,8 +201,9 @@ def _visible_pairs(bp, rois, recon, dsm, min_visible: float, best_k: int, prog):
     return out, notes
 
 
-def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_folder, *,
-                        dsm_crs=None, photos_folder=None, cameras=None, best_k: int = 0,
+@renamed_parameters(out_folder="output_folder", dsm_crs="source_crs", best_k="max_views")
+def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output_folder, *,
+                        source_crs=None, photos_folder=None, cameras=None, max_views: int = 0,
                         min_visible: float = 0.5, tile_size: int = 0, tile_overlap: int = 0,
                         split: str = "region", val_fraction: float = 0.2,
                         region_size: float = 10.0, seed: int = 0, overwrite: bool = False,
@@ -210,7 +212,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     photos of ``recon`` (layout and rules: the module docstring).
 
     ``rois``: the labelled objects (ROI names = instance names, unique); ``classes``: the class
-    of each ROI; ``dsm``: GeoTIFF path of the DSM (vertex heights and occlusion; ``dsm_crs``
+    of each ROI; ``dsm``: GeoTIFF path of the DSM (vertex heights and occlusion; ``source_crs``
     overrides its GeoKeys); ``photos_folder``: where the photos are when they moved;
     ``cameras``: photo labels to use (default all aligned). ``tile_size``/``tile_overlap``:
     pixels (0: whole photos); ``region_size``: map units of the ROIs' CRS.
@@ -237,13 +239,13 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     cams = recon.select_cameras(cameras)
     _check_tiles(tile_size, tile_overlap,
                  [(recon.sensors[c.sensor_id].width, recon.sensors[c.sensor_id].height) for c in cams])
-    dsm = as_dsm(dsm, dsm_crs)
+    dsm = as_dsm(dsm, source_crs)
     bp = back_project(rois, recon, heights=dsm, cameras=cameras, occlusion_dsm=None,
-                      min_visible=min_visible, max_images=0, progress=prog.sub(0, 40))
-    bp, notes = _visible_pairs(bp, rois, recon, dsm, float(min_visible), int(best_k),
+                      min_visible=min_visible, max_views=0, progress=prog.sub(0, 40))
+    bp, notes = _visible_pairs(bp, rois, recon, dsm, float(min_visible), int(max_views),
                                prog.sub(40, 60))
     categories = sorted(set(classes))
-    result = TrainingSet(os.path.abspath(os.fspath(out_folder)), categories=categories,
+    result = TrainingSet(os.path.abspath(os.fspath(output_folder)), categories=categories,
                          unseen=dict(bp.unseen), notes=notes)
 
     used = sorted(set(bp.photo_index.tolist()), key=lambda j: bp.photo_labels[j])
@@ -297,10 +299,10 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
     for s in SPLITS:               # the split is not drawn yet: either may hold an image
         for x in images:
             names.update(_image_files(s, x[1].file_name))
-    root = os.path.realpath(os.fspath(out_folder)) + os.sep
+    root = os.path.realpath(os.fspath(output_folder)) + os.sep
     inputs = [p for p in [dsm.path] + list(found.values())         # an output can only be an
               if p and os.path.realpath(p).startswith(root)]         # input inside the folder
-    with OutputFolder(out_folder, overwrite=overwrite, inputs=inputs,
+    with OutputFolder(output_folder, overwrite=overwrite, inputs=inputs,
                       what="Training set folder") as out:
         plan = TrainingFolder(out.folder)
         plan.check(overwrite)
@@ -344,7 +346,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, out_fo
         manifest = {
             "pixels": "origin at the top-left corner of the image, x right, y down; the centre of "
                       "the top-left pixel is (0.5, 0.5) (COCO, YOLO and LabelMe alike)",
-            "rules": {"min_visible": float(min_visible), "best_k": int(best_k),
+            "rules": {"min_visible": float(min_visible), "best_k": int(max_views),
                       "tile_size": tile_size, "tile_overlap": tile_overlap, "split": split,
                       "val_fraction": float(val_fraction), "region_size": float(region_size),
                       "seed": int(seed),

@@ -8,19 +8,24 @@ ROIs on the pixel grid, cropping, the DSM and its heights.
 * :mod:`.crop` crops ROIs out of a raster.
 * :mod:`.dsm`: the :class:`DSM` (opens and checks a DSM, samples its heights at points in any
   CRS, gives its ray surface); :mod:`.ray_surface`: the exact first hits of rays on it.
-* :mod:`.roi_heights` gives ROIs their heights from a DSM (per vertex or per polygon).
+* :mod:`.dsm_heights` gives ROIs their heights from a DSM (per vertex or per polygon).
 """
-from .crop import CropResult, crop_raster_by_rois
+from ..deprecation import moved_names
+from .crop import RasterCropResult, crop_raster_by_rois
 from .dsm import DSM, SAMPLING, as_dsm, valid_heights
 from .geotiff import TAG_GDAL_METADATA, GeoTiff, open_geotiff
 from .geotiff_write import epsg_geo_tags, write_geotiff
 from .ray_surface import HIT, LEFT, MISS, NODATA, STATUS_NAMES, RayHits, RaySurface, first_hits
-from .roi_heights import HeightResult, roi_heights, vertex_heights
+from .dsm_heights import HeightResult, dsm_roi_heights, vertex_heights
 from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
 from .sweep import Window, sweep_windows, thread_pool
 
 __all__ = ["GeoTiff", "open_geotiff", "TAG_GDAL_METADATA", "write_geotiff", "epsg_geo_tags",
            "Window", "sweep_windows", "thread_pool", "place_rois", "rois_in_raster_crs",
-           "require_overlap", "NO_PIXEL", "CropResult", "crop_raster_by_rois", "DSM", "SAMPLING",
+           "require_overlap", "NO_PIXEL", "RasterCropResult", "crop_raster_by_rois", "DSM", "SAMPLING",
            "as_dsm", "valid_heights", "RaySurface", "RayHits", "first_hits", "HIT", "MISS", "LEFT",
-           "NODATA", "STATUS_NAMES", "HeightResult", "roi_heights", "vertex_heights"]
+           "NODATA", "STATUS_NAMES", "HeightResult", "dsm_roi_heights", "vertex_heights"]
+
+# the names before the glossary's renames, for one release (core.deprecation)
+__getattr__ = moved_names(__name__, globals(), CropResult="RasterCropResult",
+                          roi_heights="dsm_roi_heights")

@@ -14,6 +14,7 @@ from typing import Dict, List, Optional
 
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..errors import ROIError
 from ..files import OutputFolder
 from ..naming import unique_names
@@ -28,7 +29,9 @@ MAX_PENDING_WRITES = 32
 
 
 @dataclass
-class CropResult:
+class RasterCropResult:
+    """The files :func:`crop_raster_by_rois` wrote, sorted by path, and the ROIs it skipped."""
+
     files: List[str] = field(default_factory=list)
     names: List[str] = field(default_factory=list)        # ROI name of each file
     rois: List[int] = field(default_factory=list)         # ROI index of each file
@@ -51,21 +54,52 @@ def declared_nodata(tif: GeoTiff):
     return value, repr(value) if dt.kind == "f" else str(int(value))
 
 
+@renamed_parameters(raster_crs="source_crs")
 def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touched: bool = False,
-                        raster_crs=None, overwrite: bool = False, progress=None, is_cancelled=None,
-                        workers: Optional[int] = None) -> CropResult:
+                        source_crs=None, overwrite: bool = False, progress=None, is_cancelled=None,
+                        workers: Optional[int] = None) -> RasterCropResult:
     """Crop every ROI out of ``raster`` into ``output_folder/<name>.tif``.
 
-    ``rois`` are reprojected to the raster CRS when they differ (``raster_crs`` overrides the
-    CRS read from the GeoKeys). ROIs that miss the raster are listed in ``result.skipped``; if
-    none overlaps, :class:`ROIError` is raised. File names are the ROI names made safe and
-    unique. The output folder is checked and locked before any work (:class:`..files.OutputFolder`):
-    an existing file is never replaced unless ``overwrite`` (the run stops first, listing the
-    names taken), and the input never. Every file is written atomically, so a cancelled or
-    failed run leaves only complete files.
+    ROIs are reprojected to the raster's CRS when they differ. A pixel belongs to an ROI when
+    its centre is inside ([Conventions](../background/conventions.md)). File names are the ROI
+    names made safe and unique. The output folder is checked and locked before any work
+    (:class:`..files.OutputFolder`); every file is written atomically, so a cancelled or failed
+    run leaves only complete files.
+
+    Parameters
+    ----------
+    raster : str or path
+        A GeoTIFF: orthomosaic, DSM or multispectral map.
+    rois : ROISet
+        The ROIs; those that miss the raster are listed in ``result.skipped``.
+    output_folder : str or path
+        The folder the crops are written into.
+    all_touched : bool
+        Also take the pixels the ROI only touches.
+    source_crs : CRS, optional
+        The CRS to assume for the raster, instead of the one its GeoKeys give.
+    overwrite : bool
+        Replace this run's earlier outputs; without it an existing file stops the run before any
+        work, listing the names taken. The input is never replaced.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+    workers : int, optional
+        Threads that decode and write (default: the CPU count).
+
+    Returns
+    -------
+    RasterCropResult
+        The files written, sorted by path, and the ROIs skipped with the reason.
+
+    Raises
+    ------
+    ROIError
+        When no ROI overlaps the raster or none contains a pixel centre.
     """
     prog = as_progress(progress, is_cancelled)
-    tif = open_geotiff(raster, crs=raster_crs)
+    tif = open_geotiff(raster, crs=source_crs)
     rois = rois_in_raster_crs(rois, tif)
     placed, skipped = place_rois(tif, rois, all_touched)
     require_overlap(placed, skipped, rois, tif)
@@ -83,11 +117,11 @@ def crop_raster_by_rois(raster: str, rois: ROISet, output_folder: str, all_touch
     return result
 
 
-def _crop(tif: GeoTiff, placed, skipped, paths, prog, workers) -> CropResult:
+def _crop(tif: GeoTiff, placed, skipped, paths, prog, workers) -> RasterCropResult:
     """The sweep: mask each window as it completes and hand it to a pool of writers."""
     nodata, nodata_text = declared_nodata(tif)
     kind = tif.kind
-    result = CropResult(skipped=skipped, nodata=None if kind == "rgb" else nodata,
+    result = RasterCropResult(skipped=skipped, nodata=None if kind == "rgb" else nodata,
                         notes=list(tif.notes))
     pending = []
 

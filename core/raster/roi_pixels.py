@@ -134,10 +134,8 @@ def require_overlap(placed, skipped, rois: ROISet, tif: GeoTiff) -> None:
     allxy = np.concatenate([r for roi in rois for r in roi.rings])
     rext = (*allxy.min(axis=0), *allxy.max(axis=0))
     crs = tif.crs.name if tif.crs is not None else "the raster CRS"
-    raise ROIError(
-        f"None of the {len(rois)} ROIs overlaps the raster {tif.path}. Raster extent "
-        f"{_fmt(ext)}, ROI extent {_fmt(rext)} (both in {crs}). Check that the ROI layer and the "
-        "raster cover the same area and that the ROI layer's CRS is set correctly.")
+    raise ROIError.of("rois_miss_raster", count=len(rois), raster=tif.path,
+                      raster_extent=_fmt(ext), roi_extent=_fmt(rext), crs=crs)
 
 
 def _fmt(e) -> str:

@@ -1,7 +1,7 @@
 """Regions of interest (plots, trees, plants): the :class:`ROI` and :class:`ROISet` types and
 readers for the files users have.
 
-``open_rois(source, name_field=None, crs=None, raster=None, layer=None)`` reads ESRI shapefiles
+``open_rois(source, name_field=None, source_crs=None, raster=None, layer=None)`` reads ESRI shapefiles
 (pyshp), GeoPackage polygon layers, GeoJSON, LabelMe polygons drawn on a georeferenced raster
 (opened by the caller), CloudCompare point lists, and any
 object with ``__geo_interface__`` (shapely, geopandas).

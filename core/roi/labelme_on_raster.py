@@ -44,7 +44,8 @@ def _needs_raster(path: str, image: Optional[str], given) -> str:
     """What to say when the raster is missing or given as a path (it must be opened)."""
     if given is not None:
         return (f"{path} holds LabelMe polygons in pixels: give the georeferenced raster they "
-                f"were drawn on opened, raster=open_geotiff({os.fspath(given)!r}), not its path.")
+                f"were drawn on opened, raster=open_geotiff({os.fspath(given)!r}), not its path "
+                "(easyidp_toolbox.core.open_rois opens a path itself).")
     cand = os.path.join(os.path.dirname(path), image) if image else None
     beside = cand and os.path.isfile(cand) and cand.lower().endswith((".tif", ".tiff"))
     return (f"{path} holds LabelMe polygons in pixels: give the georeferenced raster they were "

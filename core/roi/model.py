@@ -74,6 +74,23 @@ def roi_from_coordinates(name: str, geom_type: str, coordinates, attributes=None
 
     A third coordinate is kept as the ROI's vertex heights (:attr:`ROI.z`) when every vertex
     has one; a repeated closing vertex and consecutive duplicates are dropped.
+
+    Parameters
+    ----------
+    name : str
+        The ROI's name.
+    geom_type : {"Polygon", "MultiPolygon"}
+        The GeoJSON geometry type of ``coordinates``.
+    coordinates : nested sequences
+        GeoJSON-style rings: ``[[(x, y), …], …]`` for a polygon (outer ring first, then holes),
+        a list of those for a multipolygon; (x, y, z) vertices keep their z.
+    attributes : dict, optional
+        The ROI's attributes.
+
+    Returns
+    -------
+    ROI
+        The ROI (not yet validated: :meth:`ROI.validate`).
     """
     if geom_type == "Polygon":
         polys = [coordinates]
@@ -141,7 +158,7 @@ class ROISet(Sequence[ROI]):
         """The ROIs reprojected vertex by vertex into ``crs``."""
         crs = as_crs(crs)
         if self.crs is None:
-            raise ROIError("The ROIs have no CRS: set one on the layer before using it.")
+            raise ROIError.of("rois_no_crs")
         if same_crs(self.crs, crs):
             return ROISet(self.rois, crs)
         return ROISet([r.map_xy(lambda xy: transform_xy(self.crs, crs, xy)) for r in self.rois], crs)
@@ -150,7 +167,7 @@ class ROISet(Sequence[ROI]):
         """Raise :class:`ROIError` for an empty set or the first invalid ROI; the set as it was
         validated is remembered (a tool validates, then the core function it calls again)."""
         if not self.rois:
-            raise ROIError("The ROI layer has no features.")
+            raise ROIError.of("rois_no_features")
         key = tuple(map(id, self.rois))
         if getattr(self, "_validated", None) == key:
             return self

@@ -3,6 +3,7 @@ import json
 import os
 from typing import Optional
 
+from ..deprecation import renamed_parameters
 from ..errors import InputError
 from .cloudcompare import read_cloudcompare
 from .geo_interface import rois_from_geo_interface
@@ -13,40 +14,55 @@ from .model import ROISet
 from .shapefile import read_shapefile
 
 
-def open_rois(source, name_field: Optional[str] = None, crs=None, raster=None,
+@renamed_parameters(crs="source_crs")
+def open_rois(source, name_field: Optional[str] = None, source_crs=None, raster=None,
               layer: Optional[str] = None) -> ROISet:
     """ROIs from a file or an object, with their CRS.
 
-    * ``.shp`` / ``.zip``: ESRI shapefile (CRS from ``.prj``, encoding from ``.cpg``);
-    * ``.gpkg``: a polygon layer of a GeoPackage (``layer``: its name, when it has several);
-    * ``.geojson`` / ``.json``: GeoJSON, or a LabelMe file (recognised by its ``shapes``), whose
-      pixel polygons are placed on the georeferenced ``raster`` they were drawn on (opened:
-      ``core.raster.open_geotiff``);
-    * ``.txt`` / ``.csv``: a CloudCompare point list (one polygon; ``crs`` required);
-    * any object with ``__geo_interface__`` (shapely, geopandas) or a GeoJSON-like dict.
+    Parameters
+    ----------
+    source : str, path or object
+        * ``.shp`` / ``.zip``: ESRI shapefile (CRS from ``.prj``, encoding from ``.cpg``);
+        * ``.gpkg``: a polygon layer of a GeoPackage;
+        * ``.geojson`` / ``.json``: GeoJSON, or a LabelMe file (recognised by its ``shapes``),
+          whose pixel polygons are placed on the georeferenced ``raster`` they were drawn on;
+        * ``.txt`` / ``.csv``: a CloudCompare point list (one polygon; ``source_crs``
+          required);
+        * any object with ``__geo_interface__`` (shapely, geopandas) or a GeoJSON-like dict.
+    name_field : str, optional
+        The attribute that names each ROI (default: the feature id or index).
+    source_crs : CRS, optional
+        Overrides (or, where the source has none, supplies) the CRS.
+    raster : GeoTiff or path, optional
+        LabelMe only: the georeferenced raster the polygons were drawn on, opened
+        (``core.raster.open_geotiff``); ``easyidp_toolbox.core.open_rois`` also takes its path.
+    layer : str, optional
+        GeoPackage only: the layer's name, when it has several.
 
-    ``crs`` overrides (or, where the source has none, supplies) the CRS. ``name_field``: the
-    attribute that names each ROI (default: the feature id or index).
+    Returns
+    -------
+    ROISet
+        The ROIs with their CRS.
     """
     if not isinstance(source, (str, os.PathLike)):
-        return rois_from_geo_interface(source, crs, name_field)
+        return rois_from_geo_interface(source, source_crs, name_field)
     path = os.fspath(source)
     ext = os.path.splitext(path)[1].lower()
     if not os.path.isfile(path):
-        raise InputError(f"ROI file not found: {path}")
+        raise InputError.of("roi_file_not_found", path=path)
     if ext in (".shp", ".zip"):
-        return read_shapefile(path, name_field, crs)
+        return read_shapefile(path, name_field, source_crs)
     if ext == ".gpkg":
-        return read_geopackage(path, name_field, crs, layer)
+        return read_geopackage(path, name_field, source_crs, layer)
     if ext in (".geojson", ".json"):
         if _is_labelme(path):
             if name_field is not None:
                 raise InputError(f"{path} is a LabelMe file: its ROIs are named by their labels; "
                                  "do not give a name field.")
-            return read_labelme_rois(path, raster, crs)
-        return read_geojson(path, name_field, crs)
+            return read_labelme_rois(path, raster, source_crs)
+        return read_geojson(path, name_field, source_crs)
     if ext in (".txt", ".csv", ".xyz"):
-        return read_cloudcompare(path, crs)
+        return read_cloudcompare(path, source_crs)
     raise InputError(f"{path}: {ext or 'no extension'} is not an ROI format I read. Use a "
                      "shapefile (.shp), GeoPackage (.gpkg), GeoJSON (.geojson), LabelMe (.json) "
                      "or a CloudCompare point list (.txt), or load the layer in QGIS and use the "

@@ -301,5 +301,5 @@ def _crop_raster(job: Job, res: JobResult, prog: Progress) -> None:
     """The optional crops of this raster (a second sweep, only when asked)."""
     if not job.crops:
         return
-    crop_raster_by_rois(job.path, job.rois, job.crops, raster_crs=job.crs,
+    crop_raster_by_rois(job.path, job.rois, job.crops, source_crs=job.crs,
                         overwrite=job.overwrite, progress=prog, workers=job.threads)

@@ -14,6 +14,7 @@ import time
 from dataclasses import dataclass, field
 from typing import Callable, Dict, List, Optional, Sequence, Tuple, Union
 
+from ..deprecation import renamed_parameters
 from ..errors import Cancelled, EasyIDPError, ROIError
 from ..files import check_not_inputs
 from ..progress import as_progress
@@ -63,10 +64,12 @@ class SeasonResult:
         return [by_roi.get(r.name, (None, {})) for r in self.rois]
 
 
+@renamed_parameters(ground_crs="ground_source_crs")
 def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
                traits: Optional[Sequence[str]] = None,
                percentiles: Sequence[float] = tr.DEFAULT_PERCENTILES,
-               ground: Optional[str] = None, ground_crs=None, ground_percentile: float = 2.0,
+               ground: Optional[str] = None, ground_source_crs=None,
+               ground_percentile: float = 2.0,
                cover_threshold: Optional[float] = None, crops: Optional[str] = None,
                overwrite: bool = False, workers: Optional[int] = None,
                scheduler: Optional[str] = None,
@@ -74,19 +77,51 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
                log: Optional[Callable[[str], None]] = None) -> SeasonResult:
     """Traits of every ROI at every date of the season.
 
-    ``table``: a survey table (CSV path, :class:`SurveyTable` or surveys). ``traits``: a subset
-    of :data:`traits.TRAIT_GROUPS` (default all). ``ground``: a bare-soil DSM or DTM (GeoTIFF)
-    of the season, heights in the DSMs' and clouds' vertical reference; without it, each ROI's
-    ground is the plane through its own ``ground_percentile``-th percentile heights (see
-    :mod:`.ground`). ``cover_threshold``: the vegetation index above which a pixel is canopy
-    (default: Otsu per orthomosaic). ``crops``: a folder for the crops, ``<date>/<kind>/``
-    (existing crops are replaced only with ``overwrite``).
+    On cancellation pending jobs are cancelled, running ones stop at their next block, and
+    :class:`Cancelled` is raised. Bad rows and files are reported in ``result.problems`` and
+    left out.
 
-    Execution: ``workers`` local processes (default: the cores), or Dask: a scheduler address
-    ``tcp://host:port``, or ``local_cluster=True`` for a LocalCluster of ``workers`` processes.
-    ``progress(percent)`` after every job, ``is_cancelled()`` polled; on cancellation pending
-    jobs are cancelled, running ones stop at their next block, :class:`Cancelled` is raised.
-    Bad rows and files are reported in ``result.problems`` and left out.
+    Parameters
+    ----------
+    table : str, SurveyTable or sequence of Survey
+        The survey table: a CSV path, a :class:`SurveyTable` or the surveys.
+    rois : ROISet
+        The ROIs.
+    traits : sequence of str, optional
+        A subset of :data:`traits.TRAIT_GROUPS` (default all).
+    percentiles : sequence of float
+        The height percentiles (0–100) of the height traits.
+    ground : str, optional
+        A bare-soil DSM or DTM (GeoTIFF) of the season, heights in the DSMs' and clouds'
+        vertical reference; without it, each ROI's ground is the plane through its own
+        ``ground_percentile``-th percentile heights (see :mod:`.ground`).
+    ground_source_crs : CRS, optional
+        The CRS to assume for ``ground``, instead of the one its GeoKeys give.
+    ground_percentile : float
+        The percentile (0–100) of an ROI's heights taken as its ground without ``ground``.
+    cover_threshold : float, optional
+        The vegetation index above which a pixel is canopy (default: Otsu per orthomosaic).
+    crops : str, optional
+        A folder for the crops, ``<date>/<kind>/``.
+    overwrite : bool
+        Replace existing crops.
+    workers : int, optional
+        Local processes (default: the cores), or the processes of a local Dask cluster.
+    scheduler : str, optional
+        A Dask scheduler address ``tcp://host:port``.
+    local_cluster : bool
+        Run on a Dask LocalCluster of ``workers`` processes.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100) after every job.
+    is_cancelled : callable, optional
+        Polled; returns True to stop.
+    log : callable, optional
+        Called with each line of the run's log.
+
+    Returns
+    -------
+    SeasonResult
+        The traits per ROI per date, with the problems met.
     """
     t0 = time.perf_counter()
     say = log or (lambda _m: None)
@@ -124,7 +159,7 @@ def run_season(table: Union[str, SurveyTable, Sequence[Survey]], rois: ROISet,
         raise EasyIDPError("Nothing to compute: no survey row has a readable file for the traits "
                            f"asked ({', '.join(traits)}). {detail}")
     if ground and later:
-        first.insert(0, Job(key="ground", kind="ground", path=ground, crs=ground_crs, **base))
+        first.insert(0, Job(key="ground", kind="ground", path=ground, crs=ground_source_crs, **base))
     with open_runner(workers, scheduler, local_cluster, log=say) as runner:
         results = _execute(runner, first, later, not scheduler, prog, say)
 

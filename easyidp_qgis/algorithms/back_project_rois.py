@@ -155,7 +155,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
             clip=self.parameterAsEnum(parameters, self.CLIP, context) == 0,
             occlusion_dsm=dsm if occlusion else None,
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
-            max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
+            max_views=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
             progress=feedback_progress(feedback, 5, 5 + span), is_cancelled=feedback.isCanceled),
             dict(source=source, features=features, crops=crops, previews=previews, span=span))
 

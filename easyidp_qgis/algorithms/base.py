@@ -11,6 +11,7 @@ from qgis.PyQt.QtGui import QIcon
 from .. import dependencies
 from ..compat import ProcessingParameterFlag
 from ..layer_files import unreadable_inputs_message
+from ..messages import error_message
 from ..outputs import check_values, claim_outputs
 from ..resources import ICON, help_url
 
@@ -147,7 +148,7 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
                                feedback):
                 return self.run_tool(parameters, context, feedback)
         except EasyIDPError as exc:
-            raise QgsProcessingException(str(exc)) from None
+            raise QgsProcessingException(error_message(exc)) from None
         except ImportError as exc:  # a package the table does not list for this tool
             raise QgsProcessingException(dependencies.import_error_message(exc)) from None
         finally:
@@ -180,7 +181,7 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         try:
             return self.core_step(parameters, context, feedback)
         except EasyIDPError as exc:
-            raise QgsProcessingException(str(exc)) from None
+            raise QgsProcessingException(error_message(exc)) from None
 
     def write_outputs(self, parameters, context, feedback, step: CoreStep, result) -> dict:
         """The core's ``result`` → the tool's outputs (sinks, map layers, log)."""

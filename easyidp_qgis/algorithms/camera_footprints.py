@@ -94,7 +94,7 @@ class CameraFootprints(EasyIDPAlgorithm):
                 "Give a DSM or a ground height: the footprints are where the photos meet the ground."))
         qcrs, target = self._output_crs(parameters, context, feedback, recon, layer)
         return CoreStep(camera_footprints, dict(
-            recon=recon, ground=ground, crs=target,
+            recon=recon, ground=ground, output_crs=target,
             cameras=[c for c in recon.cameras if c.aligned],
             progress=feedback_progress(feedback, 0, 95), is_cancelled=feedback.isCanceled),
             dict(qcrs=qcrs))

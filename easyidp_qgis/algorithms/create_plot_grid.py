@@ -268,30 +268,35 @@ class CreatePlotGrid(EasyIDPAlgorithm):
         return rows, source.sourceName()
 
     def core_step(self, parameters, context, feedback):
-        from ...core.plotgrid import create_plot_grid
+        from ...core.plotgrid import (FieldBookJoin, GridAnchor, GridLayout, Numbering,
+                                      create_plot_grid)
 
         kind, value, crs = self._anchor(parameters, context)
         book, book_name = self._field_book(parameters, context)
         num = lambda n: optional_number(self, parameters, n, context)  # noqa: E731
         text = lambda n: self.parameterAsString(parameters, n, context) or None  # noqa: E731
-        return CoreStep(create_plot_grid, dict(
-            crs=crs_string(crs), rows=self.parameterAsInt(parameters, self.ROWS, context),
-            cols=self.parameterAsInt(parameters, self.COLS, context), **{kind: value},
-            bearing=self.parameterAsDouble(parameters, self.BEARING, context),
+        anchor = GridAnchor(**{kind: value},
+                            bearing=self.parameterAsDouble(parameters, self.BEARING, context),
+                            tolerance=self.parameterAsDouble(parameters, self.TOLERANCE, context))
+        layout = GridLayout(
             size_x=num(self.SIZE_X), size_y=num(self.SIZE_Y), gap_x=num(self.GAP_X),
             gap_y=num(self.GAP_Y), spacing_x=num(self.SPACING_X), spacing_y=num(self.SPACING_Y),
             blocks_x=self.parameterAsInt(parameters, self.BLOCKS_X, context),
             blocks_y=self.parameterAsInt(parameters, self.BLOCKS_Y, context),
             block_gap_x=num(self.BLOCK_GAP_X), block_gap_y=num(self.BLOCK_GAP_Y),
-            buffer=self.parameterAsDouble(parameters, self.BUFFER, context),
+            buffer=self.parameterAsDouble(parameters, self.BUFFER, context))
+        numbering = Numbering(
             order=ORDERS[self.parameterAsEnum(parameters, self.ORDER, context)][0],
             start=STARTS[self.parameterAsEnum(parameters, self.START, context)][0],
             start_id=self.parameterAsInt(parameters, self.START_ID, context),
-            pattern=self.parameterAsString(parameters, self.PATTERN, context) or "{plot_no}",
-            tolerance=self.parameterAsDouble(parameters, self.TOLERANCE, context),
-            field_book=book,
-            join_by=JOINS[self.parameterAsEnum(parameters, self.JOIN_BY, context)][0],
-            book_id=text(self.BOOK_ID), book_row=text(self.BOOK_ROW), book_col=text(self.BOOK_COL)),
+            pattern=self.parameterAsString(parameters, self.PATTERN, context) or "{plot_no}")
+        field_book = None if book is None else FieldBookJoin(
+            book, join_by=JOINS[self.parameterAsEnum(parameters, self.JOIN_BY, context)][0],
+            book_id=text(self.BOOK_ID), book_row=text(self.BOOK_ROW), book_col=text(self.BOOK_COL))
+        return CoreStep(create_plot_grid, dict(
+            crs=crs_string(crs), rows=self.parameterAsInt(parameters, self.ROWS, context),
+            cols=self.parameterAsInt(parameters, self.COLS, context), anchor=anchor,
+            layout=layout, numbering=numbering, field_book=field_book),
             dict(crs=crs, book_name=book_name))
 
     def write_outputs(self, parameters, context, feedback, step, result):

@@ -77,7 +77,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
         return CoreStep(crop_raster_by_rois, dict(
             raster=raster, rois=rois, output_folder=folder,
             all_touched=self.parameterAsBool(parameters, self.ALL_TOUCHED, context),
-            raster_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
+            source_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
             progress=feedback_progress(feedback, 5, 100)),
             dict(layer=layer, source=source, features=features))
 

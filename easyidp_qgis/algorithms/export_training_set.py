@@ -153,10 +153,10 @@ class ExportTrainingSet(EasyIDPAlgorithm):
                                       id_field, crs)
         return CoreStep(export_training_set, dict(
             rois=rois, classes=classes, recon=recon, dsm=dsm,
-            out_folder=self.parameterAsString(parameters, self.OUTPUT_FOLDER, context),
-            dsm_crs=crs_string(crs),
+            output_folder=self.parameterAsString(parameters, self.OUTPUT_FOLDER, context),
+            source_crs=crs_string(crs),
             photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context) or None,
-            best_k=self.parameterAsInt(parameters, self.BEST_K, context),
+            max_views=self.parameterAsInt(parameters, self.BEST_K, context),
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
             tile_size=self.parameterAsInt(parameters, self.TILE_SIZE, context),
             tile_overlap=self.parameterAsInt(parameters, self.TILE_OVERLAP, context),

@@ -115,7 +115,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context) or None,
             gsd=self.parameterAsDouble(parameters, self.GSD, context) or None,
             occlusion=self.parameterAsEnum(parameters, self.MASK, context) == 0,
-            dsm_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
+            source_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
             progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled),
             dict(source=source, features=features))
 

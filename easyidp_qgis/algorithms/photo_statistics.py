@@ -230,13 +230,13 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             feedback.pushInfo(self.tr("Projecting {n} ROIs into {m} photos ({h})").format(
                 n=len(rois), m=len(recon.aligned_cameras), h=heights.describe()))
         return CoreStep(roi_photo_statistics, dict(
-            rois=rois, recon=recon, photos=self.parameterAsFile(parameters, self.PHOTOS, context)
+            rois=rois, recon=recon, photos_folder=self.parameterAsFile(parameters, self.PHOTOS, context)
             or None, backprojection=backprojection, heights=heights, distortion=distortion,
             occlusion_dsm=dsm, occlusion=occlusion, bands=bands, statistics=stats,
             percentiles=percentiles, indices=indices,
             cover_threshold=optional_number(self, parameters, self.COVER_THRESHOLD, context),
             min_visible=self.parameterAsDouble(parameters, self.MIN_VISIBLE, context),
-            max_images=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
+            max_views=self.parameterAsInt(parameters, self.MAX_IMAGES, context),
             weighted=self.parameterAsBool(parameters, self.WEIGHTED, context),
             previews_folder=previews, overwrite=self.overwrite(parameters, context),
             progress=feedback_progress(feedback, 0, 100), is_cancelled=feedback.isCanceled,

@@ -80,7 +80,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         self.add_overwrite_parameter()
 
     def core_step(self, parameters, context, feedback):
-        from ...core.raster import DSM, roi_heights, vertex_heights
+        from ...core.raster import DSM, dsm_roi_heights, vertex_heights
 
         layer = self.parameterAsRasterLayer(parameters, self.DSM, context)
         dsm = DSM(geotiff_source(layer, self.tr("DSM")), crs=crs_string(layer.crs()))
@@ -96,7 +96,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
         rois.validate()
         inputs = dict(layer=layer, source=source, features=features, rois=rois)
         if mode == "polygon":
-            return CoreStep(roi_heights, dict(dsm=dsm, rois=rois, mode="polygon", **stats), inputs)
+            return CoreStep(dsm_roi_heights, dict(dsm=dsm, rois=rois, mode="polygon", **stats), inputs)
         # sample at the layer's own vertices (closing vertices included), in the DSM CRS
         rings = [_rings(f.geometry()) for f in features]
         to_dsm = QgsCoordinateTransform(source.sourceCrs(), layer.crs(), context.transformContext())

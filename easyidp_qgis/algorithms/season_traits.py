@@ -163,7 +163,7 @@ class SeasonTraits(EasyIDPAlgorithm):
             table=table, rois=rois, traits=traits,
             percentiles=parse_percentiles(self, self.parameterAsString(
                 parameters, self.PERCENTILES, context), default=(50.0, 95.0, 99.0)),
-            ground=ground, ground_crs=crs_string(ground_layer.crs()) if ground_layer else None,
+            ground=ground, ground_source_crs=crs_string(ground_layer.crs()) if ground_layer else None,
             ground_percentile=self.parameterAsDouble(parameters, self.GROUND_PERCENTILE, context),
             cover_threshold=optional_number(self, parameters, self.COVER_THRESHOLD, context),
             crops=self.parameterAsString(parameters, self.CROPS, context) or None,

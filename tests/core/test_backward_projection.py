@@ -123,7 +123,7 @@ def test_clipped_visible_fractions_against_dense_sampling(survey, truth, plots, 
 
 def test_ranking_fields_and_limits(survey, plots, metashape):
     res = back_project(plots, metashape, heights=DSM(survey.dsm), min_visible=0.5,
-                       max_images=3)
+                       max_views=3)
     assert isinstance(res, BackProjection)
     counts = res.photos_per_roi()
     assert counts.max() <= 3 and (counts > 0).all()
@@ -308,7 +308,7 @@ def test_real_pix4d_roi_shapefile(realdata):
     from easyidp_toolbox.core.roi import open_rois
     base = realdata / "easyidp" / "pix4d_origin"
     rois = open_rois(base / "roi" / "roi.shp", name_field="id")
-    recon = open_reconstruction(base, crs="EPSG:32654")
+    recon = open_reconstruction(base, source_crs="EPSG:32654")
     res = back_project(rois, recon, heights=96.0, min_visible=0)
     counts = dict(zip(res.roi_names, res.photos_per_roi()))
     whole = back_project(rois, recon, heights=96.0, clip=False, min_visible=0)
@@ -358,7 +358,7 @@ def test_project_without_aligned_cameras(plots):
 
 
 def test_bad_numbers(plots, metashape):
-    for kw, msg in (({"min_visible": 1.5}, "min_visible"), ({"max_images": -1}, "max_images"),
+    for kw, msg in (({"min_visible": 1.5}, "min_visible"), ({"max_views": -1}, "max_views"),
                     ({"densify_tolerance": 0}, "densify_tolerance")):
         with pytest.raises(EasyIDPError, match=msg):
             back_project(plots, metashape, heights=95.0, **kw)

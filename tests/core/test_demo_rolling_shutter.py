@@ -152,7 +152,7 @@ def test_footprint_rings_project_back_onto_the_photo_border(recon):
     """Footprints get the motion for free: every ring point, projected back, is on the border
     of its photo (each border pixel's ray leaves from its row's centre)."""
     ground = float(np.median(recon.camera_centres("EPSG:32654")[1][:, 2])) - 25.0
-    fps = camera_footprints(recon, ground, crs="EPSG:4326", cameras=recon.aligned_cameras[:6])
+    fps = camera_footprints(recon, ground, output_crs="EPSG:4326", cameras=recon.aligned_cameras[:6])
     s = recon.sensors["0"]
     for fp in fps:
         assert fp.complete

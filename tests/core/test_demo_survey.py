@@ -151,7 +151,7 @@ def test_footprints_contain_the_truth_points_each_photo_sees(survey, truth, proj
     recon = open_reconstruction({"metashape": survey.metashape_project, "pix4d": survey.pix4d_project,
                                  "odm": survey.odm_project, "opf": survey.opf_project}[project])
     dsm = DSM(survey.dsm)
-    fps = camera_footprints(recon, dsm, crs="EPSG:32654", per_edge=24)
+    fps = camera_footprints(recon, dsm, output_crs="EPSG:32654", per_edge=24)
     (west, east), (north, south) = dsm.tif.pixel_to_map(np.array([40.0, dsm.tif.width]),
                                                        np.array([0.0, dsm.tif.height]))
     w, h = truth["image_size"]
@@ -275,7 +275,7 @@ def test_plot_layers_and_point_cloud(survey):
         con.close()
     assert srs == (32654,) and [r[0] for r in rows] == survey.plot_ids
     laz = read_point_cloud(survey.point_cloud_laz)
-    ply = read_point_cloud(survey.point_cloud_ply, crs="EPSG:32654")
+    ply = read_point_cloud(survey.point_cloud_ply, source_crs="EPSG:32654")
     assert laz.crs.to_epsg() == 32654 and len(laz) == len(ply) > 200_000
     xyz = laz.xyz
     assert {"red", "green", "blue"} <= set(laz.attribute_names)

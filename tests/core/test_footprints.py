@@ -13,12 +13,12 @@ def wheat(realdata):
 
 @pytest.fixture(scope="module")
 def pix4d(realdata):
-    return open_reconstruction(realdata / "easyidp" / "pix4d_origin", crs="EPSG:32654")
+    return open_reconstruction(realdata / "easyidp" / "pix4d_origin", source_crs="EPSG:32654")
 
 
 def test_footprints_on_constant_height_project_back_onto_the_border(wheat):
     ground = float(np.mean([m.reference[2] for m in wheat.markers]))      # ellipsoidal, m
-    fps = camera_footprints(wheat, ground, crs="EPSG:32654", cameras=wheat.aligned_cameras[:6],
+    fps = camera_footprints(wheat, ground, output_crs="EPSG:32654", cameras=wheat.aligned_cameras[:6],
                             per_edge=6)
     assert len(fps) == 6
     for fp in fps:

@@ -160,7 +160,7 @@ def test_dsm_in_another_crs(demo, project, tmp_path):
     dsm_tm = DSM(path, crs=tm.to_wkt())
     errors = []
     for ann, cam in read_annotations(os.path.dirname(demo.labelme[0]), project):
-        shapes = forward_project(ann.shapes, cam, project, dsm_tm, densify=False, crs="EPSG:32654")
+        shapes = forward_project(ann.shapes, cam, project, dsm_tm, densify=False, output_crs="EPSG:32654")
         for s, t in zip(shapes, _truth_shapes(demo, cam)):
             errors.append(np.linalg.norm(s.points[0] - np.array(t["map"]), axis=1))
     e = np.concatenate(errors)

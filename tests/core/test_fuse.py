@@ -46,7 +46,7 @@ def round_trip(tmp_path_factory):
     dsm = DSM(s.dsm)
     shapes = [f for ann, cam in items for f in forward_project(ann.shapes, cam, recon, dsm)]
     photos = [cam.label for _, cam in items]
-    fused = merge_views(shapes, "fuse", recon=recon, dsm=s.dsm, photos=photos)
+    fused = merge_views(shapes, "fuse", recon=recon, dsm=s.dsm, cameras=photos)
     union = merge_views(shapes, "union")
     return dict(survey=s, objs=objs, sim=sim, fused=fused, union=union, shapes=shapes,
                 photos=photos)
@@ -230,7 +230,7 @@ def test_nms_within_a_photo_and_groups_across_photos(round_trip):
     shapes = [_shape("DJI_0001", sq + [x0, y0], 0.9), _shape("DJI_0001", sq + [x0 + 0.02, y0], 0.5),
               _shape("DJI_0002", sq + [x0 + 0.1, y0], 0.8), _shape("DJI_0003", sq + [x0 - 0.1, y0], 0.7),
               _shape("DJI_0002", sq + [x0 + 10, y0], 0.6)]
-    out = fuse_views(shapes, recon, s.dsm, photos=["DJI_0001", "DJI_0002", "DJI_0003"])
+    out = fuse_views(shapes, recon, s.dsm, cameras=["DJI_0001", "DJI_0002", "DJI_0003"])
     assert sorted(o.views for o in out) == [1, 3]
     big = [o for o in out if o.views == 3][0]
     assert big.max_score == 0.9 and abs(big.mean_score - 0.8) < 1e-9
@@ -250,7 +250,7 @@ def test_an_object_over_the_dsm_edge_is_fused(round_trip):
     xe, yn = dsm.tif.pixel_to_map(np.array([float(dsm.tif.width)]), np.array([dsm.tif.height / 2.0]))
     sq = np.array([[-0.5, 0], [0.5, 0], [0.5, 1], [-0.5, 1]], float) + [float(xe[0]), float(yn[0])]
     out = fuse_views([_shape(p, sq, 0.8) for p in ("DJI_0001", "DJI_0002", "DJI_0003")],
-                     recon, dsm, photos=["DJI_0001", "DJI_0002", "DJI_0003"])
+                     recon, dsm, cameras=["DJI_0001", "DJI_0002", "DJI_0003"])
     assert len(out) == 1 and out[0].views == 3
     assert np.isfinite(out[0].parts[0][0][:, 2]).all() and np.isfinite(out[0].position[2])
 
@@ -287,9 +287,9 @@ def test_a_view_moved_by_what_hides_it_joins_its_object(round_trip):
     moved = np.column_stack([sq + shift, z])
     base = [shape(p, ground.copy()) for p in near]
     photos = near + [far]
-    joined = fuse_views(base + [shape(far, raised)], recon, dsm, photos=photos)
-    apart = fuse_views(base + [shape(far, moved)], recon, dsm, photos=photos)
-    alone = fuse_views(base, recon, dsm, photos=photos)
+    joined = fuse_views(base + [shape(far, raised)], recon, dsm, cameras=photos)
+    apart = fuse_views(base + [shape(far, moved)], recon, dsm, cameras=photos)
+    alone = fuse_views(base, recon, dsm, cameras=photos)
     assert [o.views for o in joined] == [4] and sorted(joined[0].photos) == sorted(photos)
     np.testing.assert_allclose(joined[0].parts[0][0], alone[0].parts[0][0])
     assert sorted(o.views for o in apart) == [1, 3]

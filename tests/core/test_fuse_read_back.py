@@ -91,7 +91,7 @@ def test_exact_polygons_give_the_exact_outline(demo, angle):
     ring = L @ np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]]).T + \
         [319830.0 + 0.0123 * angle, 3956030.0 + 0.0371]
     for visibility in (False, True):
-        out = fuse_views([_shape(p, ring) for p in photos], recon, demo.dsm, photos=photos,
+        out = fuse_views([_shape(p, ring) for p in photos], recon, demo.dsm, cameras=photos,
                          visibility=visibility)
         assert len(out) == 1 and out[0].views == 3
         got = out[0].parts[0][0][:, :2]

@@ -104,7 +104,7 @@ def _file(tmp_path, name, data):
     ("tif", "x.tif", lambda p: open_geotiff(str(p))),
     ("las", "x.las", read_point_cloud),
     ("laz", "x.laz", read_point_cloud),
-    ("ply", "x.ply", lambda p: read_point_cloud(p, crs="EPSG:32654")),
+    ("ply", "x.ply", lambda p: read_point_cloud(p, source_crs="EPSG:32654")),
     ("geojson", "x.geojson", read_geojson),
     ("labelme", "x.json", read_labelme),
     ("chunk_xml", "cameras.xml", open_reconstruction),
@@ -181,7 +181,7 @@ def test_pix4d_params_files(realdata, tmp_path_factory, suffix):
     @given(data=damaged(seed))
     def run(data):
         target.write_bytes(data)
-        _only_our_errors(lambda p: open_reconstruction(p, crs="EPSG:32654"), params)
+        _only_our_errors(lambda p: open_reconstruction(p, source_crs="EPSG:32654"), params)
     run()
 
 

@@ -112,7 +112,7 @@ def test_multiband_16bit_photos_give_tiffs_with_alpha(tmp_path):
 
 def test_previews_one_per_roi(tmp_path):
     recon, res, _ = _scene(tmp_path)
-    out = draw_previews(res, tmp_path / "previews", views=2)
+    out = draw_previews(res, tmp_path / "previews", max_views=2)
     seen = [n for n, c in zip(res.roi_names, res.photos_per_roi()) if c]
     assert len(out.previews) == len(seen) and not out.files
     sheet = imagecodecs.imread(out.previews[0])
@@ -137,15 +137,15 @@ def test_photos_folder_override_and_bad_folders(tmp_path):
     recon, res, folder = _scene(tmp_path)
     moved = tmp_path / "moved"
     folder.rename(moved)
-    out = crop_photos(res, tmp_path / "crops", photos=moved)
+    out = crop_photos(res, tmp_path / "crops", photos_folder=moved)
     assert out.files and not out.skipped_photos
     with pytest.raises(InputError, match="does not exist"):
-        crop_photos(res, tmp_path / "c2", photos=tmp_path / "nope")
+        crop_photos(res, tmp_path / "c2", photos_folder=tmp_path / "nope")
     other = tmp_path / "other"
     other.mkdir()
     (other / "DSC_1.JPG").write_bytes(b"x")
     with pytest.raises(InputError, match="holds none of the project's 3 photos"):
-        crop_photos(res, tmp_path / "c3", photos=other)
+        crop_photos(res, tmp_path / "c3", photos_folder=other)
     with pytest.raises(InputError, match="None of the 3 photos is available"):
         crop_photos(res, tmp_path / "c4")                    # the project's paths are gone
 

@@ -88,7 +88,7 @@ def test_sixteen_bit_multiband_photos(folder, tmp_path):
     bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)
     photos16 = _sixteen_bit_multiband(folder, tmp_path / "p16")
     st8 = photo_statistics(bp, statistics=("mean",))
-    st16 = photo_statistics(bp, photos=photos16, bands=["red", "green", "blue", "nir"],
+    st16 = photo_statistics(bp, photos_folder=photos16, bands=["red", "green", "blue", "nir"],
                             statistics=("mean",))
     for b in ("red", "green", "blue"):
         np.testing.assert_allclose(st16.values[:, st16.columns.index(f"{b}_mean")],
@@ -146,12 +146,12 @@ def test_dji_thermal_rjpeg_is_said_to_be_a_palette(folder, tmp_path):
     bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)
     rj = _photos_as_jpeg(folder, tmp_path / "rjpeg", make="DJI", app3_segments=11)
     assert jpeg_facts(next(rj.iterdir()))["thermal"] is True
-    st = photo_statistics(bp, photos=rj, statistics=("mean",))
+    st = photo_statistics(bp, photos_folder=rj, statistics=("mean",))
     note = [n for n in st.notes if "R-JPEG" in n]
     assert len(note) == 1 and "palette" in note[0] and "not temperatures" in note[0]
     assert np.isfinite(st.median).any()
     plain = _photos_as_jpeg(folder, tmp_path / "plain", make="DJI")
-    assert not any("R-JPEG" in n for n in photo_statistics(bp, photos=plain,
+    assert not any("R-JPEG" in n for n in photo_statistics(bp, photos_folder=plain,
                                                            statistics=("mean",)).notes)
 
 
@@ -166,5 +166,5 @@ def test_exif_rotated_photos_are_read_as_stored(folder, tmp_path):
     first = sorted(rot.iterdir())[0]
     assert jpeg_facts(first)["orientation"] == 6
     assert read_photo(first).shape == (912, 1368, 3)
-    st = photo_statistics(bp, photos=rot, statistics=("mean",))
+    st = photo_statistics(bp, photos_folder=rot, statistics=("mean",))
     assert any("EXIF orientation [6]" in n and "read as stored" in n for n in st.notes)

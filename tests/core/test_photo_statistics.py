@@ -222,7 +222,7 @@ def test_each_photo_decoded_once_and_weighting_and_selection(flat):
     real = photos_module.read_photo
     photos_module.read_photo = lambda p: decoded.append(p) or real(p)
     try:
-        st = photo_statistics(res, workers=2, max_images=2, weighted=True)
+        st = photo_statistics(res, workers=2, max_views=2, weighted=True)
     finally:
         photos_module.read_photo = real
     assert len(decoded) == len(set(decoded)) == len(set(res.photo)) == st.photos_decoded
@@ -305,7 +305,7 @@ def test_bad_inputs_are_named(flat, tmp_path):
                     ({"percentiles": ["x"]}, "not a number"),
                     ({"indices": ["ndwi"]}, "Unknown vegetation index"),
                     ({"min_visible": 2}, "between 0 and 1"),
-                    ({"max_images": -1}, "0 \\(all\\) or more"),
+                    ({"max_views": -1}, "0 \\(all\\) or more"),
                     ({"statistics": [], "percentiles": []}, "No statistic"),
                     ({"bands": ["red", "green"]}, "3 band\\(s\\) but 2"),
                     ({"bands": ["red", "red", "blue"]}, "must differ"),
@@ -505,7 +505,7 @@ def test_demo_plots_against_the_colour_truth_and_the_orthomosaic(defects_survey)
     recon = open_reconstruction(s.metashape_project)
     dsm = DSM(s.dsm)
     res = back_project(rois, recon, heights=dsm, occlusion_dsm=dsm, min_visible=0.0)
-    st = photo_statistics(res, statistics=("mean",), indices=["exg"], max_images=3,
+    st = photo_statistics(res, statistics=("mean",), indices=["exg"], max_views=3,
                           recon=recon, rois=rois, occlusion_dsm=dsm)
     exg = dict(zip(st.roi_names, st.roi_value("exg_mean")))
     cover = dict(zip(st.roi_names, st.roi_value("cover")))

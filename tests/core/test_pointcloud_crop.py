@@ -16,7 +16,7 @@ from easyidp_toolbox.core.pointcloud import crop_indices
                                     ("simple.las", 8), ("simple.laz", 8)])
 def test_real_crop_counts_and_records(realdata, tmp_path, name, k):
     src = realdata / "laspy" / name
-    cloud = read_point_cloud(src, crs=None if "autzen" in name else "EPSG:2994")
+    cloud = read_point_cloud(src, source_crs=None if "autzen" in name else "EPSG:2994")
     xyz = cloud.xyz
     lo, hi = xyz.min(axis=0), xyz.max(axis=0)
     rmax = min(hi[:2] - lo[:2]) / 5
@@ -81,7 +81,7 @@ def test_rois_reprojected_to_cloud_crs(tmp_path, realdata):
 
 
 def test_missed_and_empty_rois_reported(tmp_path, realdata):
-    cloud = read_point_cloud(realdata / "laspy" / "simple.las", crs=2994)
+    cloud = read_point_cloud(realdata / "laspy" / "simple.las", source_crs=2994)
     lo, hi = cloud.bounds()
     cx, cy = (lo[:2] + hi[:2]) / 2
     rois = ROISet([ROI("far away", [[polygon(cx + 1e5, cy, 10)]]),
@@ -105,7 +105,7 @@ def test_no_crs_is_refused_with_a_clear_message(tmp_path, realdata):
     arr_cloud = PointCloud.from_arrays(np.array([[637000.0, 849000.0, 1.0]]))
     with pytest.raises(InputError, match="INPUT_CRS"):
         crop_point_cloud(arr_cloud, rois, tmp_path)
-    res = crop_point_cloud(realdata / "laspy" / "simple.las", rois, tmp_path, crs=2994)
+    res = crop_point_cloud(realdata / "laspy" / "simple.las", rois, tmp_path, source_crs=2994)
     assert list(res.counts) == ["p"]
 
 

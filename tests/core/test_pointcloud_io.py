@@ -38,7 +38,7 @@ def test_real_crs_from_geotiff_keys_and_wkt(realdata):
     assert "Lambert_Conformal_Conic" in trim.crs.to_wkt()  # WKT VLR
     assert trim.crs.axis_info[0].unit_name in ("foot", "US survey foot")
     assert read_point_cloud(realdata / "laspy" / "simple.las").crs is None
-    given = read_point_cloud(realdata / "laspy" / "simple.las", crs=2994)
+    given = read_point_cloud(realdata / "laspy" / "simple.las", source_crs=2994)
     assert given.crs.to_epsg() == 2994
 
 
@@ -67,11 +67,11 @@ def test_real_subset_round_trip_is_bit_exact(realdata, tmp_path, name, out):
 
 
 def test_crs_given_for_las_without_crs_is_written(realdata, tmp_path):
-    cloud = read_point_cloud(realdata / "laspy" / "simple.las", crs="EPSG:2994")
+    cloud = read_point_cloud(realdata / "laspy" / "simple.las", source_crs="EPSG:2994")
     back = read_point_cloud(write_point_cloud(cloud, tmp_path / "with_crs.las"))
     assert back.crs.to_epsg() == 2994
     custom = CRS.from_proj4("+proj=tmerc +lat_0=0 +lon_0=139.5 +k=1 +x_0=0 +y_0=0 +ellps=GRS80 +units=m")
-    cloud = read_point_cloud(realdata / "laspy" / "simple.laz", crs=custom)
+    cloud = read_point_cloud(realdata / "laspy" / "simple.laz", source_crs=custom)
     back = read_point_cloud(write_point_cloud(cloud, tmp_path / "custom.laz"))
     assert back.crs is not None and back.crs.equals(custom)
 
@@ -95,7 +95,7 @@ def test_extra_bytes_and_16bit_colour_kept(tmp_path):
     las.gps_time = rng.uniform(0, 1e6, n)
     src = tmp_path / "ext.las"
     las.write(str(src))
-    cloud = read_point_cloud(src, crs=32654)
+    cloud = read_point_cloud(src, source_crs=32654)
     idx = np.arange(0, n, 2)
     back = read_point_cloud(write_point_cloud(cloud, tmp_path / "out.laz", index=idx))
     for name in ("red", "classification", "height_above", "gps_time"):
@@ -103,7 +103,7 @@ def test_extra_bytes_and_16bit_colour_kept(tmp_path):
     np.testing.assert_array_equal(back.attribute("normal"), np.asarray(las["normal"])[idx])
     assert back.crs.to_epsg() == 32654
     # LAS → PLY keeps every dimension, coordinates exact as float64
-    ply = read_point_cloud(write_point_cloud(cloud, tmp_path / "out.ply"), crs=32654)
+    ply = read_point_cloud(write_point_cloud(cloud, tmp_path / "out.ply"), source_crs=32654)
     np.testing.assert_array_equal(ply.xyz, cloud.xyz)
     np.testing.assert_array_equal(ply.attribute("red"), np.asarray(las.red))
     np.testing.assert_array_equal(ply.attribute("normal_2"), np.asarray(las.normal)[:, 2])
@@ -132,7 +132,7 @@ def test_ply_round_trip_keeps_every_property(tmp_path, text, order):
     arr["alpha"] = rng.integers(0, 256, n)
     src = tmp_path / "in.ply"
     _ply(src, arr, text, order)
-    cloud = read_point_cloud(src, crs=32654)
+    cloud = read_point_cloud(src, source_crs=32654)
     np.testing.assert_array_equal(cloud.xyz[:, 0], arr["x"])  # float64 exact
     assert cloud.header.text == text
     idx = np.arange(1, n, 4)
@@ -254,6 +254,6 @@ def test_unreadable_crs_record_is_noted(realdata, tmp_path):
     cloud = read_point_cloud(path)
     assert cloud.crs is None and len(cloud.notes) == 1
     assert "badcrs.las" in cloud.notes[0] and "CRS record cannot be read" in cloud.notes[0]
-    given = read_point_cloud(path, crs="EPSG:32654")
+    given = read_point_cloud(path, source_crs="EPSG:32654")
     assert given.crs.to_epsg() == 32654 and "the CRS given is used" in given.notes[0]
     assert read_point_cloud(realdata / "laspy/autzen_geo_proj.las").notes == []

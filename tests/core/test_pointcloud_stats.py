@@ -5,7 +5,7 @@ from easyidp_toolbox.tests.support.pc_helpers import winding_inside
 
 from easyidp_toolbox.core import (ROI, EasyIDPError, InputError, PointCloud, ROISet,
                                   canopy_summary, read_point_cloud)
-from easyidp_toolbox.core.pointcloud import roi_heights
+from easyidp_toolbox.core.pointcloud import cloud_roi_heights
 from easyidp_toolbox.core.height_statistics import statistic_of
 
 E0, N0 = 368000.0, 3955000.0  # UTM-size coordinates
@@ -38,7 +38,7 @@ def test_polygon_statistics_match_direct_computation(field_cloud):
     xyz = cloud.xyz
     for stat, q in (("mean", 50), ("median", 50), ("min", 50), ("max", 50), ("std", 50),
                     ("percentile", 95), ("pmin", 5), ("pmax", 10)):
-        got = roi_heights(cloud, _rois(), mode="polygon", statistic=stat, percentile=q)
+        got = cloud_roi_heights(cloud, _rois(), mode="polygon", statistic=stat, percentile=q)
         assert got.mode == "polygon" and len(got.values) == len(_rois())
         for i, roi in enumerate(_rois()):
             z = xyz[winding_inside(xyz[:, 0], xyz[:, 1], roi.rings), 2]
@@ -55,16 +55,16 @@ def test_polygon_statistics_match_direct_computation(field_cloud):
     assert statistic_of(z, "percentile", 50) == 5.5 and statistic_of(z, "max") == 10
     assert np.isnan(statistic_of(np.array([]), "mean"))
     with pytest.raises(EasyIDPError, match="between 0 and 100, not 120"):
-        roi_heights(cloud, _rois(), statistic="percentile", percentile=120)
+        cloud_roi_heights(cloud, _rois(), statistic="percentile", percentile=120)
     with pytest.raises(EasyIDPError, match="Unknown statistic 'p95'"):
-        roi_heights(cloud, _rois(), statistic="p95")
+        cloud_roi_heights(cloud, _rois(), statistic="p95")
 
 
 def test_vertex_mode_nearest_and_buffer(field_cloud):
     cloud, _ = field_cloud
     xyz = cloud.xyz
-    near = roi_heights(cloud, _rois(), mode="point")             # EasyIDP's name for vertex
-    disc = roi_heights(cloud, _rois(), mode="vertex", statistic="mean", buffer=0.5)
+    near = cloud_roi_heights(cloud, _rois(), mode="point")             # EasyIDP's name for vertex
+    disc = cloud_roi_heights(cloud, _rois(), mode="vertex", statistic="mean", buffer=0.5)
     assert near.mode == disc.mode == "vertex"
     for i, roi in enumerate(_rois()):
         v = np.concatenate(roi.rings)
@@ -76,7 +76,7 @@ def test_vertex_mode_nearest_and_buffer(field_cloud):
             assert np.concatenate(disc.values[i][0])[j] == pytest.approx(xyz[d2 <= 0.25, 2].mean(),
                                                                           abs=1e-12)
     far = ROISet([ROI("outside", [[_sq(100, 100, 101, 101)]])], 32654)
-    assert np.all(np.isfinite(roi_heights(cloud, far, mode="vertex").values[0][0][0]))
+    assert np.all(np.isfinite(cloud_roi_heights(cloud, far, mode="vertex").values[0][0][0]))
 
 
 def test_canopy_summary_grounds(field_cloud):
@@ -110,7 +110,7 @@ def test_empty_roi_gives_nan_and_zero_count(field_cloud):
     rois = ROISet([ROI("off", [[_sq(300, 300, 301, 301)]])], 32654)
     (row,) = canopy_summary(cloud, rois)
     assert row["count"] == 0 and np.isnan(row["h_p50"])
-    res = roi_heights(cloud, rois)
+    res = cloud_roi_heights(cloud, rois)
     assert np.isnan(res.values[0]) and "no point" in res.missing[0]
 
 

@@ -128,7 +128,7 @@ def test_lv95_chunk_that_proj_cannot_use_asks_for_the_crs(tmp_path):
     with pytest.raises(InputError) as e:
         open_reconstruction(path)
     assert "cameras.xml" in str(e.value) and "CH1903+ / LV95" in str(e.value)
-    recon = open_reconstruction(path, crs="EPSG:2056")
+    recon = open_reconstruction(path, source_crs="EPSG:2056")
     np.testing.assert_allclose(recon.camera_centres()[1][0], CENTRE_LV95, atol=1e-3)
 
 

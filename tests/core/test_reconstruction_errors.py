@@ -91,13 +91,13 @@ def _pix4d_copy(tmp_path, params, drop=(), edit=None):
 def test_pix4d_without_offset(tmp_path, params):
     folder = _pix4d_copy(tmp_path, params, drop=("_offset.xyz",))
     with pytest.raises(InputError, match=rf"{tmp_path}: no \*_offset\.xyz"):
-        open_reconstruction(folder, crs="EPSG:32654")
+        open_reconstruction(folder, source_crs="EPSG:32654")
 
 
 def test_pix4d_without_pmatrix(tmp_path, params):
     folder = _pix4d_copy(tmp_path, params, drop=("_pmatrix.txt", "_calibrated_camera_parameters.txt"))
     with pytest.raises(InputError, match=rf"{tmp_path}: no \*_pmatrix\.txt"):
-        open_reconstruction(folder, crs="EPSG:32654")
+        open_reconstruction(folder, source_crs="EPSG:32654")
 
 
 def test_pix4d_malformed_numbers(tmp_path, params):
@@ -109,11 +109,11 @@ def test_pix4d_malformed_numbers(tmp_path, params):
     p = next(folder2.glob("*_calibrated_camera_parameters.txt"))
     p.write_text(p.read_text().replace("0.02006588392682263564", "nan(", 1))
     with pytest.raises(InputError, match=r"_calibrated_camera_parameters\.txt, line 13: expected numbers"):
-        open_reconstruction(folder2, crs="EPSG:32654")
+        open_reconstruction(folder2, source_crs="EPSG:32654")
     off = next(folder2.glob("*_offset.xyz"))
     off.write_text("368109.000 3956043.000")
     with pytest.raises(InputError, match=r"_offset\.xyz: expected three numbers"):
-        open_reconstruction(folder2, crs="EPSG:32654")
+        open_reconstruction(folder2, source_crs="EPSG:32654")
 
 
 def test_unknown_path_and_unknown_crs(tmp_path, params):

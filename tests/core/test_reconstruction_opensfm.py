@@ -310,13 +310,13 @@ def test_not_georeferenced_dataset_is_local(tmp_path):
     X = np.array([[1.0, 2.0, 3.0]])
     assert np.array_equal(recon.from_model(X), X)
     with pytest.raises(InputError, match="not georeferenced.*EPSG:32654|not georeferenced"):
-        open_reconstruction(f, crs="EPSG:32654")
+        open_reconstruction(f, source_crs="EPSG:32654")
 
 
 def test_map_crs_can_be_chosen_for_a_plain_dataset(tmp_path):
     f = _dataset(tmp_path, {"cam": CAMERAS["brown"]})
     a = open_reconstruction(f)
-    b = open_reconstruction(f, crs="EPSG:6677")            # JGD2011 / Japan Plane IX
+    b = open_reconstruction(f, source_crs="EPSG:6677")            # JGD2011 / Japan Plane IX
     assert a.crs.to_epsg() == 32654 and b.crs.to_epsg() == 6677
     X = np.array([[3.0, -4.0, 1.5], [-10.0, 7.0, 0.2]])
     assert np.abs(a.to_model(b.from_model(X), b.crs) - X).max() < 1e-6
@@ -412,7 +412,7 @@ def test_odm_crs_conflict_and_bad_coords_file(tmp_path):
     # the name of EPSG:6677 is PROJ's: JGD2011 in Debian 12 and 13, JGD2024 in sid's newer EPSG data
     with pytest.raises(InputError, match=r"georeferenced in WGS 84 / UTM zone 54N.*do not pass "
                                          r"another project CRS \(JGD20(11|24) / Japan Plane"):
-        open_reconstruction(tmp_path, crs="EPSG:6677")
+        open_reconstruction(tmp_path, source_crs="EPSG:6677")
     (geo / "coords.txt").write_text("NAD27 somewhere\n1 2\n")
     with pytest.raises(InputError, match=r"coords\.txt: the first line 'NAD27 somewhere' is not a CRS"):
         open_reconstruction(tmp_path)

@@ -24,7 +24,7 @@ def params(p4):
 
 @pytest.fixture(scope="module")
 def recon(p4):
-    return open_reconstruction(p4, crs=UTM54)
+    return open_reconstruction(p4, source_crs=UTM54)
 
 
 def test_reads_project_folder_params_folder_and_offset(p4, params, recon):
@@ -36,7 +36,7 @@ def test_reads_project_folder_params_folder_and_offset(p4, params, recon):
     assert (s.width, s.height) == (5472, 3648)
     assert s.calibration.f == pytest.approx(4470.8971027662546)
     assert s.calibration.cx == pytest.approx(2806.803999853511)
-    again = open_reconstruction(params, crs=UTM54)
+    again = open_reconstruction(params, source_crs=UTM54)
     assert [c.label for c in again.cameras] == [c.label for c in recon.cameras]
 
 
@@ -83,7 +83,7 @@ def test_pmatrix_only_project_matches_ccp_project(params, tmp_path, recon):
     for f in params.iterdir():
         if not f.name.endswith("_calibrated_camera_parameters.txt"):
             (tmp_path / f.name).symlink_to(f)
-    only_p = open_reconstruction(tmp_path, crs=UTM54)
+    only_p = open_reconstruction(tmp_path, source_crs=UTM54)
     pts = np.column_stack([np.linspace(368095, 368125, 40), np.linspace(3956020, 3956060, 40),
                            np.full(40, 96.0)])
     a = recon.project_points(pts, UTM54)

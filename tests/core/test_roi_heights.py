@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from easyidp_toolbox.core import ROI, ROISet, read_geojson
-from easyidp_toolbox.core.raster import DSM, roi_heights, vertex_heights
+from easyidp_toolbox.core.raster import DSM, dsm_roi_heights, vertex_heights
 from easyidp_toolbox.core.errors import InputError
 from easyidp_toolbox.tests.support.synthetic import write_tif
 
@@ -39,7 +39,7 @@ def test_diamond_on_constant_dsm_without_nodata_is_the_constant(tmp_path):
     d = np.array([[O[0] + 15, O[1] - 2], [O[0] + 28, O[1] - 15], [O[0] + 15, O[1] - 28],
                   [O[0] + 2, O[1] - 15]])
     for stat in ("mean", "median", "min", "max", "percentile"):
-        assert roi_heights(path, ROISet([ROI("d", [[d]])], 32654), statistic=stat).values == [100.0]
+        assert dsm_roi_heights(path, ROISet([ROI("d", [[d]])], 32654), statistic=stat).values == [100.0]
 
 
 def test_statistics_equal_numpy_on_the_selected_pixels(tmp_path):
@@ -52,11 +52,11 @@ def test_statistics_equal_numpy_on_the_selected_pixels(tmp_path):
     sel = z[5:30, 5:40]
     sel = sel[sel != -9999].astype(float)
     rois = ROISet([ROI("r", [[ring]])], 32654)
-    assert roi_heights(path, rois, statistic="mean").values[0] == pytest.approx(sel.mean())
-    assert roi_heights(path, rois, statistic="median").values[0] == pytest.approx(np.median(sel))
-    assert roi_heights(path, rois, statistic="percentile", percentile=95).values[0] == \
+    assert dsm_roi_heights(path, rois, statistic="mean").values[0] == pytest.approx(sel.mean())
+    assert dsm_roi_heights(path, rois, statistic="median").values[0] == pytest.approx(np.median(sel))
+    assert dsm_roi_heights(path, rois, statistic="percentile", percentile=95).values[0] == \
         pytest.approx(np.percentile(sel, 95))
-    assert roi_heights(path, rois, statistic="min").values[0] == pytest.approx(sel.min())
+    assert dsm_roi_heights(path, rois, statistic="min").values[0] == pytest.approx(sel.min())
 
 
 def test_all_nodata_polygon_is_reported_never_zero(tmp_path):
@@ -67,14 +67,14 @@ def test_all_nodata_polygon_is_reported_never_zero(tmp_path):
                                            [O[0] + 10, O[1] - 10]])]]),
                    ROI("ok", [[np.array([[O[0] + 25, O[1] - 25], [O[0] + 35, O[1] - 25],
                                          [O[0] + 35, O[1] - 35]])]])], 32654)
-    res = roi_heights(path, rois)
+    res = dsm_roi_heights(path, rois)
     assert np.isnan(res.values[0]) and res.values[1] == 7.0
     assert list(res.missing) == [0] and "nodata" in res.missing[0]
-    v = roi_heights(path, rois, mode="vertex")
+    v = dsm_roi_heights(path, rois, mode="vertex")
     assert np.isnan(v.values[0][0][0]).all() and list(v.missing) == [0]
     # results are aligned with the ROI order: two ROIs with one name keep their own heights
     twins = ROISet([ROI("A1", rois[0].parts), ROI("A1", rois[1].parts)], 32654)
-    res = roi_heights(path, twins, statistic="max")
+    res = dsm_roi_heights(path, twins, statistic="max")
     assert np.isnan(res.values[0]) and res.values[1] == 7.0 and list(res.missing) == [0]
 
 
@@ -85,11 +85,11 @@ def test_buffer_grows_and_shrinks_the_polygon(tmp_path):
     ring = np.array([[O[0] + 40, O[1] - 40], [O[0] + 60, O[1] - 40], [O[0] + 60, O[1] - 60],
                      [O[0] + 40, O[1] - 60]])
     rois = ROISet([ROI("b", [[ring]])], 32654)
-    assert roi_heights(path, rois, statistic="mean").values[0] == 1.0
-    grown = roi_heights(path, rois, statistic="mean", buffer=5).values[0]
+    assert dsm_roi_heights(path, rois, statistic="mean").values[0] == 1.0
+    grown = dsm_roi_heights(path, rois, statistic="mean", buffer=5).values[0]
     # buffered square: 400 + 4 * 20 * 5 + pi * 25 pixels, of which 400 are 1
     assert grown == pytest.approx(400 / (400 + 400 + np.pi * 25), rel=0.03)
-    assert roi_heights(path, rois, statistic="min", buffer=-3).values[0] == 1.0
+    assert dsm_roi_heights(path, rois, statistic="min", buffer=-3).values[0] == 1.0
 
 
 def test_vertex_buffer_statistic(tmp_path):
@@ -102,7 +102,7 @@ def test_vertex_buffer_statistic(tmp_path):
 def test_dsm_must_have_one_band(realdata):
     rois = read_geojson(str(realdata / "data-to-science/zones_inside_test_tif.geojson"))
     with pytest.raises(InputError, match="test_multispectral.tif has 6 bands"):
-        roi_heights(str(realdata / "data-to-science/test_multispectral.tif"), rois)
+        dsm_roi_heights(str(realdata / "data-to-science/test_multispectral.tif"), rois)
 
 
 @pytest.mark.gdal
@@ -113,7 +113,7 @@ def test_real_polygon_means_match_gdal(realdata, tmp_path):
     gdal.UseExceptions()
     src = str(realdata / "data-to-science/test.tif")
     path = str(realdata / "data-to-science/zones_inside_test_tif.geojson")
-    ours = roi_heights(src, read_geojson(path), statistic="mean").values
+    ours = dsm_roi_heights(src, read_geojson(path), statistic="mean").values
     doc = json.load(open(path))
     c, a, _, f, _, e = gdal.Open(src).GetGeoTransform()
     to_utm = Transformer.from_crs("OGC:CRS84", 32616, always_xy=True)
@@ -133,7 +133,7 @@ def test_real_polygon_means_match_gdal(realdata, tmp_path):
 
 def test_real_vertex_heights_on_lonlat_rois(realdata):
     rois = read_geojson(str(realdata / "d2spy/feature_in_dsm.geojson"))
-    res = roi_heights(str(realdata / "d2spy/dsm.tif"), rois, mode="vertex")
+    res = dsm_roi_heights(str(realdata / "d2spy/dsm.tif"), rois, mode="vertex")
     z = np.concatenate([r for p in res.values[0] for r in p])
     assert np.isfinite(z).all() and (187.9 < z).all() and (z < 188.4).all()
 
@@ -179,6 +179,6 @@ def test_a_negative_buffer_larger_than_the_roi_blames_the_buffer(tmp_path):
     path = write_tif(str(tmp_path / "b.tif"), z, origin=O, pixel=1.0)
     ring = np.array([[O[0] + 40, O[1] - 40], [O[0] + 60, O[1] - 40], [O[0] + 60, O[1] - 60],
                      [O[0] + 40, O[1] - 60]])
-    res = roi_heights(path, ROISet([ROI("p", [[ring]])], 32654), buffer=-1000)
+    res = dsm_roi_heights(path, ROISet([ROI("p", [[ring]])], 32654), buffer=-1000)
     assert np.isnan(res.values[0]) and "buffer of -1000" in res.missing[0]
     assert "smaller negative buffer" in res.missing[0]

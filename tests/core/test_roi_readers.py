@@ -214,13 +214,13 @@ def test_geopackage_bad_inputs(tmp_path, realdata):
         "p", [], [()], [[[np.array([[0, 0], [0, 1], [1, 1.0]])]]], None)])
     with pytest.raises(InputError, match="its CRS is undefined"):
         open_rois(nocrs)
-    assert open_rois(nocrs, crs="EPSG:32654").crs.to_epsg() == 32654
+    assert open_rois(nocrs, source_crs="EPSG:32654").crs.to_epsg() == 32654
     con = sqlite3.connect(nocrs)
     con.execute("UPDATE p SET geom = substr(geom, 1, 30)")
     con.commit()
     con.close()
     with pytest.raises(InputError, match=r"nocrs.gpkg, layer 'p', feature 1: the geometry is truncated"):
-        open_rois(nocrs, crs="EPSG:32654")
+        open_rois(nocrs, source_crs="EPSG:32654")
 
 # ---- LabelMe on a georeferenced raster, CloudCompare, geo_interface ---------------------------
 def test_labelme_real_file_on_a_raster(tmp_path, realdata):
@@ -244,22 +244,48 @@ def test_labelme_needs_its_raster(tmp_path, realdata):
         open_rois(realdata / "easyidp/labelme/labelme_demo_img.json", raster=small)
 
 
+def test_labelme_raster_as_a_path_from_the_facade(tmp_path):
+    """[independent] easyidp_toolbox.core.open_rois takes the LabelMe raster as a path (what the
+    README documented): a LabelMe file written here, on a GeoTIFF of 0.05 m pixels from
+    (500000, 4000100); the map vertices are the pixel corners through that affine, by hand."""
+    import easyidp_toolbox.core as core
+    tif = write_tif(tmp_path / "ortho.tif", np.zeros((200, 300), np.uint8),
+                    origin=(500000.0, 4000100.0), pixel=0.05)
+    points = [[10.0, 20.0], [110.5, 20.0], [110.5, 80.25], [10.0, 80.25]]
+    doc = {"version": "5.2.1", "flags": {}, "imagePath": "ortho.tif", "imageData": None,
+           "imageHeight": 200, "imageWidth": 300,
+           "shapes": [{"label": "plot_7", "points": points, "group_id": None,
+                       "shape_type": "polygon", "flags": {}}]}
+    lm = tmp_path / "plots.json"
+    lm.write_text(json.dumps(doc))
+    for raster in (str(tif), tif):                                   # str and PathLike
+        rois = core.open_rois(lm, raster=raster)
+        assert rois.names == ["plot_7"] and rois.crs.to_epsg() == 32654
+        ring = rois[0].rings[0]
+        want = np.array([[500000 + 0.05 * c, 4000100 - 0.05 * r] for c, r in points])
+        np.testing.assert_allclose(ring[:4] if len(ring) > 4 else ring, want, atol=1e-9)
+    with pytest.raises(InputError, match="Raster not found: .*nothing.tif"):
+        core.open_rois(lm, raster=tmp_path / "nothing.tif")
+    with pytest.raises(InputError, match="opens a path itself"):    # the subpackage's refuses
+        open_rois(lm, raster=str(tif))
+
+
 def test_cloudcompare_point_lists(tmp_path):
     a = tmp_path / "tree_7.txt"
     a.write_text("1.5,2.0,30.1\n4.0,2.0,30.2\n4.0,5.5,30.3\n1.5,2.0,30.1\n")
     b = tmp_path / "labels.txt"
     b.write_text("Point #0, 1, 2, 3\nPoint #1, 5, 2, 3\nPoint #2, 5, 6, 4\n")
-    (ra,) = open_rois(a, crs="EPSG:32654")
+    (ra,) = open_rois(a, source_crs="EPSG:32654")
     assert ra.name == "tree_7" and len(ra.rings[0]) == 3 and ra.area == pytest.approx(4.375)
     np.testing.assert_allclose(ra.ring_z[0], [30.1, 30.2, 30.3])
-    (rb,) = open_rois(b, crs="EPSG:32654")
+    (rb,) = open_rois(b, source_crs="EPSG:32654")
     np.testing.assert_allclose(rb.rings[0], [[1, 2], [5, 2], [5, 6]])
     with pytest.raises(InputError, match="carry no CRS"):
         open_rois(a)
     bad = tmp_path / "bad.txt"
     bad.write_text("1,2,3\nhello world\n4,5,6\n")
     with pytest.raises(InputError, match="line 2"):
-        open_rois(bad, crs="EPSG:32654")
+        open_rois(bad, source_crs="EPSG:32654")
 
 
 @pytest.mark.geopandas
@@ -288,7 +314,7 @@ def test_bad_inputs_name_the_file(tmp_path):
                    [lambda w: w.poly([[[0, 0], [0, 1], [1, 1], [0, 0]]])], [["a"]], prj=None)
     with pytest.raises(InputError, match="no .prj file"):
         open_rois(p)
-    assert open_rois(p, crs="EPSG:32654").crs.to_epsg() == 32654
+    assert open_rois(p, source_crs="EPSG:32654").crs.to_epsg() == 32654
     pts = _write_shp(tmp_path / "pts.shp", shapefile.POINT, [lambda w: w.point(1, 2)], [["a"]])
     with pytest.raises(InputError, match="Point shapes, not polygons"):
         open_rois(pts)
@@ -300,7 +326,7 @@ def test_bad_inputs_name_the_file(tmp_path):
             trunc.with_suffix(ext).write_bytes(src.read_bytes())
     trunc.write_bytes(data[:120])
     with pytest.raises(InputError, match="trunc.shp"):
-        open_rois(trunc, crs="EPSG:32654")
+        open_rois(trunc, source_crs="EPSG:32654")
     empty = tmp_path / "empty.geojson"
     empty.write_text('{"type": "FeatureCollection", "features": []}')
     with pytest.raises(InputError, match="empty"):

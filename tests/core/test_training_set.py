@@ -276,7 +276,7 @@ def test_detections_on_tiles_come_back_to_the_photo_and_the_map(setup):
                 assert len(a) == len(b)
                 for ra, rb in zip(a, b):
                     assert ra.shape == rb.shape and np.abs(ra - rb).max() <= tol
-    fused = fuse_views(shapes, s["recon"], dsm, photos=sorted(photos))
+    fused = fuse_views(shapes, s["recon"], dsm, cameras=sorted(photos))
     labelled = set(s["res_tiles"].object_split)
     truth = [o for o in s["objs"] if o["id"] in labelled]
     found = [{"class": o.label, "x": o.position[0], "y": o.position[1]} for o in fused]

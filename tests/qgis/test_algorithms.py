@@ -69,8 +69,8 @@ def test_crop_rgb_gets_alpha_in_qgis(provider, tmp_path):
 
 def test_heights_per_polygon_and_per_vertex(provider, realdata):
     from easyidp_toolbox.core import read_geojson
-    from easyidp_toolbox.core.raster import roi_heights
-    truth = roi_heights(str(realdata / DSM), read_geojson(str(realdata / ZONES)), statistic="median").values
+    from easyidp_toolbox.core.raster import dsm_roi_heights
+    truth = dsm_roi_heights(str(realdata / DSM), read_geojson(str(realdata / ZONES)), statistic="median").values
     res = _run("easyidp:roiheightsfromdsm", {"ROIS": str(realdata / ZONES), "DSM": str(realdata / DSM),
                                              "MODE": 0, "STATISTIC": 1, "OUTPUT": "memory:"})
     layer = res["OUTPUT"]

@@ -61,7 +61,7 @@ def test_pix4d_roi_centroid_is_seen_by_the_footprints_of_its_17_photos(provider,
     ring = next(roi.getFeatures()).geometry().asMultiPolygon()[0][0][:-1]
     centroid = QgsGeometry.fromPointXY(QgsPointXY(np.mean([q.x() for q in ring]), np.mean([q.y() for q in ring])))
     by_footprint = {f["label"] for f in fps.getFeatures() if f.geometry().contains(centroid)}
-    recon = open_reconstruction(str(project), crs="EPSG:32654")
+    recon = open_reconstruction(str(project), source_crs="EPSG:32654")
     p = centroid.asPoint()
     proj = recon.project_points(np.array([[p.x(), p.y(), 96.0]]), "EPSG:32654")
     inside = {lab for lab, st in zip(proj.camera_labels, proj.status[:, 0]) if st == 0}

@@ -48,11 +48,11 @@ def test_crop_raster_step(provider, raster, tmp_path, all_touched, overwrite):
         "ALL_TOUCHED": all_touched, "OVERWRITE": overwrite, "OUTPUT_FOLDER": str(out)})
     assert step.function is crop_raster_by_rois
     kw = step.kwargs
-    assert set(kw) == {"raster", "rois", "output_folder", "all_touched", "raster_crs", "overwrite",
+    assert set(kw) == {"raster", "rois", "output_folder", "all_touched", "source_crs", "overwrite",
                        "progress"}
     assert kw["raster"] == raster and kw["output_folder"] == str(out)
     assert kw["all_touched"] is all_touched and kw["overwrite"] is overwrite
-    assert kw["raster_crs"] == "EPSG:32654" and kw["rois"].names == ["a", "b"]
+    assert kw["source_crs"] == "EPSG:32654" and kw["rois"].names == ["a", "b"]
     assert isinstance(kw["progress"], Progress)
     assert len(step.inputs["features"]) == 2
     assert not out.exists()                       # the step ran nothing
@@ -163,7 +163,7 @@ def test_season_step_refuses_bad_parameters(provider, season, change, match):
 # ---- ROI heights from DSM, Create plot grid, Create demo survey ------------------------------
 
 @pytest.mark.parametrize("mode, function, extra", [
-    (0, "roi_heights", {"mode": "polygon"}),
+    (0, "dsm_roi_heights", {"mode": "polygon"}),
     (1, "vertex_heights", {"sampling": "nearest"}),
 ])
 def test_roi_heights_step(provider, raster, mode, function, extra):
@@ -188,8 +188,10 @@ def test_create_plot_grid_step(provider, tmp_path):
     assert step.function is create_plot_grid
     kw = step.kwargs
     assert (kw["crs"], kw["rows"], kw["cols"]) == ("EPSG:32654", 2, 3)
-    assert kw["origin"] == pytest.approx((500000, 4000000)) and kw["spacing_x"] == 2.5
-    assert kw["size_x"] == 2 and kw["gap_y"] == 1 and kw["gap_x"] is None
+    assert kw["anchor"].origin == pytest.approx((500000, 4000000))
+    lay = kw["layout"]
+    assert lay.spacing_x == 2.5 and lay.size_x == 2 and lay.gap_y == 1 and lay.gap_x is None
+    assert kw["field_book"] is None and kw["numbering"].pattern == "{plot_no}"
     assert not (tmp_path / "c.gpkg").exists()
 
 
@@ -215,7 +217,7 @@ def test_camera_footprints_step(provider, survey, ground):
     step = _step("easyidp:camerafootprints", params)
     assert step.function is camera_footprints
     kw = step.kwargs
-    assert set(kw) == {"recon", "ground", "crs", "cameras", "progress", "is_cancelled"}
+    assert set(kw) == {"recon", "ground", "output_crs", "cameras", "progress", "is_cancelled"}
     assert isinstance(kw["ground"], DSM) if ground == "dsm" else kw["ground"] == 12.5
     assert kw["cameras"] and all(c.aligned for c in kw["cameras"])
     assert step.inputs["qcrs"].isValid()
@@ -238,7 +240,7 @@ def test_photo_statistics_step(provider, survey, tmp_path, occlusion):
         "OUTPUT": str(tmp_path / "stats.gpkg"), "OUTPUT_VIEWS": str(tmp_path / "views.gpkg")})
     assert step.function is roi_photo_statistics
     kw = step.kwargs
-    assert kw["backprojection"] is None and kw["max_images"] == 3
+    assert kw["backprojection"] is None and kw["max_views"] == 3
     assert kw["occlusion"] is occlusion and isinstance(kw["occlusion_dsm"], DSM)
     assert len(kw["rois"]) == 40 and kw["heights"].describe().startswith("DSM")
     assert not (tmp_path / "stats.gpkg").exists()           # the step ran nothing

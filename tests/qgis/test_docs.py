@@ -182,27 +182,3 @@ def test_readme_is_a_front_page():
     assert len(text.splitlines()) < 250
     assert "make demo" in text and "make test" in text
 
-
-def test_glossary_banned_names_listed_as_waiting():
-    """Every banned synonym still in the public API is in the glossary's 'Renames waiting', so the
-    list of what to rename is complete (the renames themselves wait for issue 32)."""
-    import inspect
-    import importlib
-    glossary = (DOCS / "developer" / "glossary.md").read_text(encoding="utf-8")
-    waiting = glossary.split("## Renames waiting", 1)[1].split("\n## ", 1)[0]
-    banned = {"out_folder", "raster_crs", "dsm_crs", "best_k", "ground_crs", "max_images"}
-    found = {}
-    for mod in ("roi", "raster", "pointcloud", "projection", "reconstruction", "plotgrid", "season"):
-        m = importlib.import_module(f"easyidp_toolbox.core.{mod}")
-        for name in m.__all__:
-            obj = getattr(m, name)
-            if inspect.isfunction(obj):
-                for p in inspect.signature(obj).parameters:
-                    if p in banned:
-                        found.setdefault(p, []).append(f"{mod}.{name}")
-    assert found, "no banned name left: remove this test's list and ban them outright"
-    for p, where in found.items():
-        assert f"`{p}`" in waiting, f"{p} ({', '.join(where)}) is not in the glossary's renames"
-        for w in where:
-            assert w.split(".")[1] in waiting, f"{w} uses {p}; add it to the glossary's renames"
-

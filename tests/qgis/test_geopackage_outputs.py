@@ -175,9 +175,9 @@ def case_createplotgrid(s, season, out, trial):
 
 def case_fitplotgrid(s, season, out, trial):
     from easyidp_toolbox.core.demo.trial import FIELD_BEARING, TRIAL, trial_corners
-    from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
-    grid, _ = create_plot_grid("EPSG:32654", origin=trial_corners()[0], bearing=FIELD_BEARING,
-                               **TRIAL)
+    from easyidp_toolbox.core.plotgrid import create_plot_grid, grid_options, write_plot_grid
+    grid, _ = create_plot_grid("EPSG:32654", **grid_options(
+        origin=trial_corners()[0], bearing=FIELD_BEARING, **TRIAL))
     params = {"GRID": write_plot_grid(str(out / "plot_grid.gpkg"), grid),
               "ORTHOMOSAIC": trial.orthomosaic, "OUTPUT": out / "fitted.gpkg"}
     return params, lambda res, log: {"OUTPUT": TRIAL["rows"] * TRIAL["cols"]}

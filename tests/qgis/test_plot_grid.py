@@ -15,7 +15,7 @@ from qgis.core import (QgsApplication, QgsProcessingContext, QgsProcessingExcept
 
 from easyidp_toolbox.core.demo.trial import EMPTY, TRIAL, make_demo_trial, \
     perturbed_start
-from easyidp_toolbox.core.plotgrid import create_plot_grid, write_plot_grid
+from easyidp_toolbox.core.plotgrid import GridAnchor, GridLayout, create_plot_grid, write_plot_grid
 from easyidp_toolbox.scripts.qgis_process import run, run_algorithm
 
 
@@ -154,8 +154,8 @@ def test_fit_plot_grid_in_qgis_recovers_the_planted_plots(plugin, trial, tmp_pat
 
 
 def test_fit_plot_grid_refuses_a_grid_off_the_orthomosaic(plugin, trial, tmp_path):
-    grid, _ = create_plot_grid("EPSG:32654", 2, 2, origin=(500000, 4000000), size_x=2,
-                               size_y=1, gap_x=1, gap_y=1)
+    grid, _ = create_plot_grid("EPSG:32654", 2, 2, anchor=GridAnchor(origin=(500000, 4000000)),
+                               layout=GridLayout(size_x=2, size_y=1, gap_x=1, gap_y=1))
     path = write_plot_grid(str(tmp_path / "far.gpkg"), grid)
     res, ok, log = _run("easyidp:fitplotgrid", {"GRID": path, "ORTHOMOSAIC": trial.orthomosaic,
                                                 "OUTPUT": str(tmp_path / "x.gpkg")})

@@ -6,6 +6,7 @@ or polygon without any valid pixel gets NaN and is reported, never 0.
 """
 import numpy as np
 
+from ..deprecation import renamed_parameters
 from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
 from ..progress import as_progress
 from ..roi import ROI, ROISet
@@ -14,23 +15,54 @@ from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_cr
 from .sweep import sweep_windows
 
 
-def roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean",
-                percentile: float = 50.0, buffer: float = 0.0, sampling: str = "bilinear",
-                dsm_crs=None, progress=None, is_cancelled=None) -> HeightResult:
-    """Heights of ROIs from a DSM (a :class:`~.dsm.DSM`, a path or an opened :class:`GeoTiff`;
-    ``dsm_crs`` overrides its CRS).
+@renamed_parameters(dsm_crs="source_crs")
+def dsm_roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean",
+                    percentile: float = 50.0, buffer: float = 0.0, sampling: str = "bilinear",
+                    source_crs=None, progress=None, is_cancelled=None) -> HeightResult:
+    """Heights of ROIs from a DSM, per vertex or one statistic per polygon.
 
-    ``mode="vertex"``: the DSM sampled at every vertex (``sampling`` nearest or bilinear); with
-    ``buffer`` > 0, the ``statistic`` of the valid pixels whose centres lie within ``buffer``
-    (map units of the DSM CRS) of the vertex instead.
-    ``mode="polygon"``: the ``statistic`` (see :mod:`core.height_statistics`) of the valid
-    pixels whose centres are inside the polygon grown (``buffer`` > 0) or shrunk (< 0) by
-    ``buffer``. ROIs in another CRS are reprojected to the DSM's for sampling; vertex heights stay aligned with the
-    ROIs' own vertices.
+    Heights are in the DSM's own vertical reference and units. ROIs in another CRS are
+    reprojected to the DSM's for sampling; vertex heights stay aligned with the ROIs' own
+    vertices. Pixels, CRS and heights follow the
+    [Conventions](../background/conventions.md).
+
+    Parameters
+    ----------
+    dsm : DSM, GeoTiff or path
+        The DSM (a :class:`~.dsm.DSM`, an opened :class:`GeoTiff` or a GeoTIFF path).
+    rois : ROISet
+        The ROIs.
+    mode : {"polygon", "vertex"}
+        ``"vertex"``: the DSM sampled at every vertex (with ``sampling``); with ``buffer`` > 0,
+        the ``statistic`` of the valid pixels whose centres lie within ``buffer`` of the vertex
+        instead. ``"polygon"``: the ``statistic`` of the valid pixels whose centres are inside
+        the polygon grown (``buffer`` > 0) or shrunk (< 0) by ``buffer``. EasyIDP's ``"point"``
+        and ``"face"`` also work.
+    statistic : str
+        ``mean``, ``median``, ``min``, ``max``, ``std``, ``percentile``, ``pmin`` or ``pmax``
+        (:mod:`core.height_statistics`).
+    percentile : float
+        The percentile (0–100) for ``statistic="percentile"``.
+    buffer : float
+        Map units of the DSM's CRS (see ``mode``).
+    sampling : {"bilinear", "nearest"}
+        How a vertex is sampled when ``buffer`` <= 0.
+    source_crs : CRS, optional
+        The CRS to assume for the DSM, instead of the one its GeoKeys give.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    HeightResult
+        One value per ROI (per vertex in ``"vertex"`` mode), in the ROI order; NaN where no
+        valid pixel is found, with the reason in ``missing``, never 0.
     """
     mode = check_heights_args(mode, statistic, percentile)
     prog = as_progress(progress, is_cancelled)
-    dsm = as_dsm(dsm, dsm_crs)
+    dsm = as_dsm(dsm, source_crs)
     tif = dsm.tif
     local = rois_in_raster_crs(rois, tif)
     if mode == "vertex":
@@ -64,7 +96,7 @@ def roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "mean
 def vertex_heights(dsm, x: np.ndarray, y: np.ndarray, sampling: str = "bilinear",
                    buffer: float = 0.0, statistic: str = "mean", percentile: float = 50.0,
                    progress=None, is_cancelled=None) -> np.ndarray:
-    """Heights at points (x, y) in the DSM CRS (``dsm``: as for :func:`roi_heights`): sampled
+    """Heights at points (x, y) in the DSM CRS (``dsm``: as for :func:`dsm_roi_heights`): sampled
     (``buffer`` <= 0, :meth:`~.dsm.DSM.heights`), or the ``statistic`` of the valid pixels
     whose centres lie within ``buffer`` map units of each point. NaN where there is no valid
     pixel."""
