@@ -60,7 +60,7 @@ def run_multispectral_demo(s, out, *, views: int = 3) -> list:
     rois = read_geojson(os.path.join(s["OUTPUT_FOLDER"], "plots.geojson"), name_field="plot_id")
     recon = open_reconstruction(s["METASHAPE_PROJECT"])
     dsm = DSM(s["DSM"])
-    bp = back_project(rois, recon, heights=dsm, occlusion_dsm=dsm, clip=False, max_images=views)
+    bp = back_project(rois, recon, heights=dsm, occlusion_dsm=dsm, clip=False, max_views=views)
     sums = {}                              # plot -> {"refl"|"truth"|"dn": {band: [view means]}}
     cache = {}
     masked = [0]                           # saturated pixels left out inside the plot masks
