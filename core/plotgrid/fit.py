@@ -168,6 +168,25 @@ def _similarity(nominal, measured, ok, c0, axes):
     return theta, (su, sv), t, M
 
 
+def _robust_similarity(nominal, measured, good, c0, axes, px):
+    """:func:`_similarity` over the ``good`` plots, outliers (over 3 × the median residual)
+    left out until none changes."""
+    ok = good.copy()
+    for _ in range(5):
+        if ok.sum() < 3:
+            raise EasyIDPError("Plot grid: fewer than three plots have crop rows where the "
+                               "grid puts them: check that the grid belongs to this "
+                               "orthomosaic (or lower the cover threshold).")
+        theta, scale, t, M = _similarity(nominal, measured, ok, c0, axes)
+        res = np.hypot(*(measured - (c0 + t + (nominal - c0) @ M.T)).T)
+        lim = max(3 * np.median(res[ok]), 2 * px, 0.02)
+        new_ok = good & (res <= lim)
+        if (new_ok == ok).all():
+            break
+        ok = new_ok
+    return theta, scale, t, M
+
+
 def _check_index(tif, index, bands):
     """(index, 0-based bands) checked against the raster."""
     if index == "auto":
@@ -262,11 +281,11 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     groups = _groups(hf)
     n = len(rings)
     with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
-        def measure(pred, axes, lengths):
+        def measure(pred, axes, lengths, reach=math.inf):
             out = {k: np.zeros(n) for k in ("row", "amp", "ends", "span", "score")}
             for g, idx in enumerate(groups):
                 m = measure_plots(img, pred[idx], axes, hf[idx[0]], s, margin_u,
-                                  None if lengths is None else lengths[g], pool, prog)
+                                  None if lengths is None else lengths[g], reach, pool, prog)
                 for key in out:
                     out[key][idx] = m[key]
             return out
@@ -300,32 +319,24 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         pred = pred + (a_best + b * pv)[:, None] * A0[1]
         lengths = [float(np.median(m["span"][idx][good[idx]])) if good[idx].any() else None
                    for idx in groups]
-        m = measure(pred, A0, lengths)
-        meas = locate(pred, A0, m, parity)
-        good = m["amp"] >= min_cover * np.median(m["amp"])
-        ok = good.copy()
-        for _ in range(5):
-            if ok.sum() < 3:
-                raise EasyIDPError("Plot grid: fewer than three plots have crop rows where the "
-                                   "grid puts them: check that the grid belongs to this "
-                                   "orthomosaic (or lower the cover threshold).")
-            theta, scale, t, M = _similarity(centres, meas, ok, c0, [ux, uy])
-            res = np.hypot(*(meas - (c0 + t + (centres - c0) @ M.T)).T)
-            lim = max(3 * np.median(res[ok]), 2 * img.px, 0.02)
-            new_ok = good & (res <= lim)
-            if (new_ok == ok).all():
-                break
-            ok = new_ok
+        # (c) each plot measured on its rows, then the similarity from the grid's centres to
+        # the measured ones, twice: the second time from windows the first laid on the rows
+        # and with each plot's vote held near its place (reach: the per-plot bound)
+        axes = A0
+        for hold in (math.inf, max_shift):
+            m = measure(pred, axes, lengths, hold)
+            meas = locate(pred, axes, m, parity)
+            good = m["amp"] >= min_cover * np.median(m["amp"])
+            theta, scale, t, M = _robust_similarity(centres, meas, good, c0, [ux, uy], img.px)
+            pred = c0 + t + (centres - c0) @ M.T
+            axes = base @ _rot(theta).T
         lap("global fit")
         prog.set(90)
 
-        # per plot, from the global correction
-        Rt = _rot(theta)
-        At = base @ Rt.T
-        pred = c0 + t + (centres - c0) @ M.T
-        m = measure(pred, At, lengths)
-        m2 = measure(locate(pred, At, m, parity), At, lengths)      # windows recentred
-        meas = locate(locate(pred, At, m, parity), At, m2, parity)
+        # per plot: its windows recentred on its measured place
+        m2 = measure(meas, axes, lengths, max_shift)
+        meas = locate(meas, axes, m2, parity)
+    Rt = _rot(theta)
     cover = m2["amp"] / max(float(np.median(m2["amp"])), 1e-12)
     shift = meas - pred
     flags = []
