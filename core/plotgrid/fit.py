@@ -320,8 +320,9 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
         lengths = [float(np.median(m["span"][idx][good[idx]])) if good[idx].any() else None
                    for idx in groups]
         # (c) each plot measured on its rows, then the similarity from the grid's centres to
-        # the measured ones, twice: the second time from windows the first laid on the rows
-        # and with each plot's vote held near its place (reach: the per-plot bound)
+        # the measured ones, twice: the second time from windows the first laid on the rows,
+        # with each plot's vote held near its place (within the per-plot bound); that second
+        # measurement is each plot's own
         axes = A0
         for hold in (math.inf, max_shift):
             m = measure(pred, axes, lengths, hold)
@@ -330,20 +331,16 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
             theta, scale, t, M = _robust_similarity(centres, meas, good, c0, [ux, uy], img.px)
             pred = c0 + t + (centres - c0) @ M.T
             axes = base @ _rot(theta).T
-        lap("global fit")
-        prog.set(90)
-
-        # per plot: its windows recentred on its measured place
-        m2 = measure(meas, axes, lengths, max_shift)
-        meas = locate(meas, axes, m2, parity)
+            prog.set(90 if hold == max_shift else 85)
+    lap("global fit and per plot")
     Rt = _rot(theta)
-    cover = m2["amp"] / max(float(np.median(m2["amp"])), 1e-12)
+    cover = m["amp"] / max(float(np.median(m["amp"])), 1e-12)
     shift = meas - pred
     flags = []
     for i in range(n):
         if cover[i] < min_cover:
             flags.append(FLAG_BARE)
-        elif m2["score"][i] < min_score:
+        elif m["score"][i] < min_score:
             flags.append(FLAG_WEAK)
         elif math.hypot(*shift[i]) > max_shift:
             flags.append(FLAG_BOUND)
@@ -353,8 +350,8 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, crs=None, index: 
     shift[~moved] = 0.0
     final = pred + shift
     out_rings = [(r - centres[i]) @ Rt.T + final[i] for i, r in enumerate(rings)]
-    lap("per plot")
+    lap("flags and rings")
     prog.set(100)
-    return FitResult(out_rings, shift, m2["score"], cover, flags, moved, math.degrees(theta),
+    return FitResult(out_rings, shift, m["score"], cover, flags, moved, math.degrees(theta),
                      scale, (float(t[0]), float(t[1])), (float(c0[0]), float(c0[1])),
                      row_bearing, s, img.px, notes, centres, final, seconds)

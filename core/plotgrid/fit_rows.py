@@ -18,14 +18,15 @@ constant or a slow change contributes exactly nothing there).
   amplitude and how much of the row signal lies within the crop's length.
 """
 import math
-from typing import Optional, Tuple
+from typing import Tuple
 
 import numpy as np
+
+from .fit_ends import plot_ends
 
 BATCH_SAMPLES = 1_000_000      # lattice samples per batch of plots
 PER_PERIOD = 8                 # samples per row period across the rows
 END_SMOOTHING = 0.025          # m: sigma of the Gaussian along a row before its ends are found
-END_AGREEMENT = 0.008          # m: row-end estimates of a plot this close agree
 
 
 def rot(t: float) -> np.ndarray:
@@ -224,10 +225,8 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, reach, pool, pr
         S1 = img.sample_frame(ck, axes, u, v1)
         ak = smooth(np.einsum("kvu,v->ku", S1, np.cos(2 * np.pi * v1 / s).astype(np.float32))
                     / PER_PERIOD)
-        ak = ak.reshape(len(c), len(ks), nu)
-        for m, idx in enumerate(range(*sl.indices(n))):
-            out["ends"][idx], out["span"][idx], out["score"][idx] = _plot_ends(
-                ak[m], np.abs(vk[m]) < half[1], u, inner, length, reach)
+        out["ends"][sl], out["span"][sl], out["score"][sl] = plot_ends(
+            ak.reshape(len(c), len(ks), nu), np.abs(vk) < half[1], u, inner, length, reach)
 
     b = max(1, BATCH_SAMPLES // max(len(u) * (len(v) + len(ks) * PER_PERIOD), 1))
     slices = [slice(i, min(n, i + b)) for i in range(0, n, b)]
@@ -238,83 +237,3 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, reach, pool, pr
         for _ in pool.map(batch, slices):
             pass
     return out
-
-
-def _row_ends(a: np.ndarray, u: np.ndarray, plateau: float) -> Optional[Tuple[float, float]]:
-    """(start, end) of one row's signal: where it crosses half its level just inside each end
-    (interpolated between samples), found from its first and last crossings of half
-    ``plateau`` (missing segments inside bridged); None when it has no such crossing. The
-    local level makes an end of low vigour end where it ends, not further in."""
-    above = np.flatnonzero(a > 0.5 * plateau)
-    if not len(above):
-        return None
-
-    def cross(i, j, level):
-        ai, aj = a[i] - level, a[j] - level
-        return u[i] + (u[j] - u[i]) * (ai / (ai - aj)) if ai != aj else u[i]
-
-    def edge(first: int, inward: int) -> float:
-        """The crossing at the end whose outermost sample over half the plateau is ``first``
-        (``inward`` +1 at the start, −1 at the end)."""
-        out = first - inward
-        if not 0 <= out < len(a):
-            return float(u[first])
-        pos = cross(out, first, 0.5 * plateau)
-        band = (inward * (u - pos) > 0.05) & (inward * (u - pos) < 0.25)
-        local = float(np.median(a[band])) if band.any() else plateau
-        if local <= 0:
-            return float(pos)
-        half = 0.5 * local
-        js = np.flatnonzero(np.abs(u - pos) < 0.15)
-        js = js[(js - inward >= 0) & (js - inward < len(a))]
-        js = js[(a[js] >= half) & (a[js - inward] < half)]
-        if len(js):
-            j = int(js[np.argmin(np.abs(u[js] - pos))])
-            return float(cross(j - inward, j, half))
-        return float(pos)
-    return edge(int(above[0]), 1), edge(int(above[-1]), -1)
-
-
-def _plot_ends(ak, valid, u, inner, length, reach) -> Tuple[float, float, float]:
-    """(middle, span, score) of one plot from its rows' signals ``ak`` (rows, u)."""
-    plateaus = np.percentile(ak[:, inner], 75, axis=1)
-    top = plateaus[valid].max() if valid.any() else 0.0
-    if top <= 0:
-        return 0.0, 0.0, 0.0
-    use = valid & (plateaus > 0.4 * top)
-    ends = [_row_ends(a, u, p) for a, p in zip(ak[use], plateaus[use])]
-    ends = [e for e in ends if e is not None]
-    if not ends:
-        return 0.0, 0.0, 0.0
-    lo, hi = np.array(ends).T
-    span = float(np.median(hi - lo))
-    if length is None:
-        mid = float(np.median(0.5 * (lo + hi)))
-    else:
-        tol = max(END_AGREEMENT, 0.5 * (u[1] - u[0]))
-        mid = _consensus(np.concatenate([lo + length / 2, hi - length / 2]), tol,
-                         max(reach, 4 * tol))
-    # the score: whether the rows stop where the crop's length ends (the median over the rows,
-    # then along the outside, so that weeds and a lodged end count for little)
-    prof = np.clip(np.median(ak[use] / plateaus[use, None], axis=0), 0, None)
-    box = np.abs(u - mid) <= 0.5 * (span if length is None else length)
-    level = float(np.median(prof[box])) if box.any() else 0.0
-    if level <= 0 or box.all():
-        return mid, span, 0.0
-    return mid, span, float(np.clip(1 - np.median(prof[~box]) / level, 0, 1))
-
-
-def _consensus(cand: np.ndarray, tol: float, reach: float) -> float:
-    """The middle (m from the window's centre) most of the rows' end estimates ``cand`` agree
-    on: the largest group within ``tol`` of one of them (ties: the tightest), averaged. A vote
-    weighs less the further it would move the plot, 1 − (d / ``reach``)², and nothing beyond
-    ``reach``: two rows lodged or missing at the same end outvote one clean end only close to
-    the plot's place. Ties: the group nearest the median; with no vote within reach, the median."""
-    d = np.abs(cand[:, None] - cand[None, :])
-    near = d <= tol
-    support = near @ np.clip(1 - (cand / reach) ** 2, 0, None)
-    if support.max() <= 0:
-        return float(np.median(cand))
-    spread = np.where(near, d, 0).sum(1)
-    best = int(np.lexsort((np.abs(cand - np.median(cand)), spread, -np.round(support, 9)))[0])
-    return float(cand[near[best]].mean())
