@@ -20,21 +20,29 @@ alone: rows at the planted spacing along the known row direction (:mod:`.fit_row
    and spacing across to a fraction of a row. (b) Each plot is then measured on its rows (4.),
    and a least-squares similarity (rotation, a spacing scale per axis, a shift) from the
    grid's plot centres to the measured ones, with bare plots and outliers (3 × the median
-   residual) left out, is the global correction.
-4. **Per plot.** Around its globally corrected place, each plot is centred on its rows: across
-   the rows, on the rows' positions (the phase of the row component over a whole number of
-   periods; the plot's centre is on a row or midway between two, whichever the plots agree
-   on); along the rows, on the row ends (a box of the crop length the plots agree on, balanced
-   on the row signal, so that a missing segment at one row end does not pull it). Never on the
-   centroid of green. The shift is kept when it is within ``max_shift``; plots without rows
-   (row amplitude under ``min_cover`` × the median: empty or bare), whose row signal lies
-   mostly outside them (score under ``min_score``) or whose shift would exceed the bound are
-   *left in place*: they keep the global correction and no shift.
+   residual) left out, is the global correction. (c) The plots are measured again from the
+   windows (b) laid on the rows, each plot's vote now held near its place (within
+   ``max_shift``), and the similarity fitted again: that is the global correction, and that
+   measurement each plot's own.
+4. **Per plot** (:func:`.fit_rows.measure_plots`, :mod:`.fit_ends`), each plot is centred on
+   its rows: across the rows, on the rows' positions (the phase, at the row period, of the
+   median along the rows at each offset across, so that weeds, lodged patches and missing
+   segments, each on a minority of a row's length, do not pull it; the plot's centre is on a
+   row or midway between two, whichever the plots agree on); along the rows, on the row ends
+   (each row's two ends give two estimates of the plot's middle given the crop length the
+   plots agree on, and the plot takes the largest group that agrees within 0.8 cm (or half
+   a working pixel), a vote weighing less the further it would move the plot, so that a
+   missing segment, a lodged end or a weed at one row end is outvoted). Never on the centroid of green. The shift is kept
+   when it is within ``max_shift``; plots without rows (row amplitude under ``min_cover`` ×
+   the median: empty or bare), whose rows go on beyond the crop's length (score under
+   ``min_score``) or whose shift would exceed the bound are *left in place*: they keep the
+   global correction and no shift.
 
 Plots keep their shape and size; they turn by the global rotation about their centre. The
-score of a plot is how much more of the row signal of its plot-plus-margin window the box of
-the crop's length holds than an even spread would put there: (f − a) / (1 − a), f the share
-inside, a the box's share of the window (1: all inside; 0: no rows of its own).
+score of a plot is 1 − the rows' level outside the crop's length (within the plot's window)
+over their level inside it, the level at each point along the rows being the median over the
+rows of each row's signal over its plateau (1: the rows stop at the plot's ends; 0: they go on
+beyond them).
 """
 import math
 import os
