@@ -32,11 +32,11 @@ alone: rows at the planted spacing along the known row direction (:mod:`.fit_row
    (each row's two ends give two estimates of the plot's middle given the crop length the
    plots agree on, and the plot takes the largest group that agrees within 0.8 cm (or half
    a working pixel), a vote weighing less the further it would move the plot, so that a
-   missing segment, a lodged end or a weed at one row end is outvoted). Never on the centroid of green. The shift is kept
-   when it is within ``max_shift``; plots without rows (row amplitude under ``min_cover`` ×
-   the median: empty or bare), whose rows go on beyond the crop's length (score under
-   ``min_score``) or whose shift would exceed the bound are *left in place*: they keep the
-   global correction and no shift.
+   missing segment, a lodged end or a weed at one row end is outvoted). Never on the
+   centroid of green. The shift is kept when it is within ``max_shift``; plots without rows
+   (row amplitude under ``min_cover`` × the median: empty or bare), whose rows go on beyond
+   the crop's length (score under ``min_score``) or whose shift would exceed the bound are
+   *left in place*: they keep the global correction and no shift.
 
 Plots keep their shape and size; they turn by the global rotation about their centre. The
 score of a plot is 1 − the rows' level outside the crop's length (within the plot's window)
@@ -63,7 +63,7 @@ from .fit_rows import (block_search, measure_plots, rot as _rot, row_consensus,
                        row_spectrum)
 
 FLAG_BARE = "bare soil or missing"
-FLAG_WEAK = "crop rows mostly outside the plot"
+FLAG_WEAK = "crop rows go on beyond the plot's ends"
 FLAG_BOUND = "shift beyond the bound"
 MIN_ROW_STRENGTH = 20.0     # the row peak over the spectrum's median, for rows to be found
 
