@@ -80,10 +80,11 @@ def cover_kind(names: Sequence[str]) -> Optional[str]:
     return None
 
 
-def compute(kind: str, bands: np.ndarray, names: Sequence[str]) -> np.ndarray:
-    """Index ``kind`` of the values ``bands`` (bands, n) whose rows are ``names``; float64,
-    NaN where undefined."""
-    v = np.asarray(bands, np.float64)
+def compute(kind: str, bands: np.ndarray, names: Sequence[str], *,
+            dtype=np.float64) -> np.ndarray:
+    """Index ``kind`` of the values ``bands`` (bands, n) whose rows are ``names``; of
+    ``dtype`` (float64, or float32 for half the memory traffic), NaN where undefined."""
+    v = np.asarray(bands, dtype)
 
     def b(name):
         return v[list(names).index(name)]

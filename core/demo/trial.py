@@ -299,3 +299,15 @@ def start_grids(count: int = 8, seed: int = 0):
             shift = (r * math.cos(ang), r * math.sin(ang))
         out.append(((rot, shift, sp), perturbed_start(rot, shift, sp)))
     return out
+
+
+FIT_SEEDS = (0, 1, 2)
+"""The trial seeds the fit is checked on (issue 32: start grids spread over seeds)."""
+
+
+def start_grids_over_seeds(seeds=FIT_SEEDS, count: int = 9):
+    """:func:`start_grids` (``count`` of them) dealt to the trial ``seeds`` in turn, so that
+    each seed gets extremes and random ones. Returns [(seed, (rotation°, (dx, dy) m,
+    spacing), (grid, corners))]."""
+    return [(seeds[k % len(seeds)],) + start for k, start in enumerate(start_grids(count))]
+

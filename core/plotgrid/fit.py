@@ -20,21 +20,29 @@ alone: rows at the planted spacing along the known row direction (:mod:`.fit_row
    and spacing across to a fraction of a row. (b) Each plot is then measured on its rows (4.),
    and a least-squares similarity (rotation, a spacing scale per axis, a shift) from the
    grid's plot centres to the measured ones, with bare plots and outliers (3 × the median
-   residual) left out, is the global correction.
-4. **Per plot.** Around its globally corrected place, each plot is centred on its rows: across
-   the rows, on the rows' positions (the phase of the row component over a whole number of
-   periods; the plot's centre is on a row or midway between two, whichever the plots agree
-   on); along the rows, on the row ends (a box of the crop length the plots agree on, balanced
-   on the row signal, so that a missing segment at one row end does not pull it). Never on the
+   residual) left out, is the global correction. (c) The plots are measured again from the
+   windows (b) laid on the rows, each plot's vote now held near its place (within
+   ``max_shift``), and the similarity fitted again: that is the global correction, and that
+   measurement each plot's own.
+4. **Per plot** (:func:`.fit_rows.measure_plots`, :mod:`.fit_ends`), each plot is centred on
+   its rows: across the rows, on the rows' positions (the phase, at the row period, of the
+   median along the rows at each offset across, so that weeds, lodged patches and missing
+   segments, each on a minority of a row's length, do not pull it; the plot's centre is on a
+   row or midway between two, whichever the plots agree on); along the rows, on the row ends
+   (each row's two ends give two estimates of the plot's middle given the crop length the
+   plots agree on, and the plot takes the largest group that agrees within 0.8 cm (or half
+   a working pixel), a vote weighing less the further it would move the plot, so that a
+   missing segment, a lodged end or a weed at one row end is outvoted). Never on the
    centroid of green. The shift is kept when it is within ``max_shift``; plots without rows
-   (row amplitude under ``min_cover`` × the median: empty or bare), whose row signal lies
-   mostly outside them (score under ``min_score``) or whose shift would exceed the bound are
+   (row amplitude under ``min_cover`` × the median: empty or bare), whose rows go on beyond
+   the crop's length (score under ``min_score``) or whose shift would exceed the bound are
    *left in place*: they keep the global correction and no shift.
 
 Plots keep their shape and size; they turn by the global rotation about their centre. The
-score of a plot is how much more of the row signal of its plot-plus-margin window the box of
-the crop's length holds than an even spread would put there: (f − a) / (1 − a), f the share
-inside, a the box's share of the window (1: all inside; 0: no rows of its own).
+score of a plot is 1 − the rows' level outside the crop's length (within the plot's window)
+over their level inside it, the level at each point along the rows being the median over the
+rows of each row's signal over its plateau (1: the rows stop at the plot's ends; 0: they go on
+beyond them).
 """
 import math
 import os
@@ -56,7 +64,7 @@ from .fit_rows import (block_search, measure_plots, rot as _rot, row_consensus,
                        row_spectrum)
 
 FLAG_BARE = "bare soil or missing"
-FLAG_WEAK = "crop rows mostly outside the plot"
+FLAG_WEAK = "crop rows go on beyond the plot's ends"
 FLAG_BOUND = "shift beyond the bound"
 MIN_ROW_STRENGTH = 20.0     # the row peak over the spectrum's median, for rows to be found
 
@@ -167,6 +175,25 @@ def _similarity(nominal, measured, ok, c0, axes):
     M = _rot(theta) @ G @ np.diag([su, sv]) @ G.T
     t = (Q - P @ M.T).mean(axis=0)
     return theta, (su, sv), t, M
+
+
+def _robust_similarity(nominal, measured, good, c0, axes, px):
+    """:func:`_similarity` over the ``good`` plots, outliers (over 3 × the median residual)
+    left out until none changes."""
+    ok = good.copy()
+    for _ in range(5):
+        if ok.sum() < 3:
+            raise EasyIDPError("Plot grid: fewer than three plots have crop rows where the "
+                               "grid puts them: check that the grid belongs to this "
+                               "orthomosaic (or lower the cover threshold).")
+        theta, scale, t, M = _similarity(nominal, measured, ok, c0, axes)
+        res = np.hypot(*(measured - (c0 + t + (nominal - c0) @ M.T)).T)
+        lim = max(3 * np.median(res[ok]), 2 * px, 0.02)
+        new_ok = good & (res <= lim)
+        if (new_ok == ok).all():
+            break
+        ok = new_ok
+    return theta, scale, t, M
 
 
 def _check_index(tif, index, bands):
@@ -294,11 +321,11 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, source_crs=None,
     groups = _groups(hf)
     n = len(rings)
     with ThreadPoolExecutor(max_workers=workers or os.cpu_count() or 2) as pool:
-        def measure(pred, axes, lengths):
+        def measure(pred, axes, lengths, reach=math.inf):
             out = {k: np.zeros(n) for k in ("row", "amp", "ends", "span", "score")}
             for g, idx in enumerate(groups):
                 m = measure_plots(img, pred[idx], axes, hf[idx[0]], s, margin_u,
-                                  None if lengths is None else lengths[g], pool, prog)
+                                  None if lengths is None else lengths[g], reach, pool, prog)
                 for key in out:
                     out[key][idx] = m[key]
             return out
@@ -332,39 +359,28 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, source_crs=None,
         pred = pred + (a_best + b * pv)[:, None] * A0[1]
         lengths = [float(np.median(m["span"][idx][good[idx]])) if good[idx].any() else None
                    for idx in groups]
-        m = measure(pred, A0, lengths)
-        meas = locate(pred, A0, m, parity)
-        good = m["amp"] >= min_cover * np.median(m["amp"])
-        ok = good.copy()
-        for _ in range(5):
-            if ok.sum() < 3:
-                raise EasyIDPError("Plot grid: fewer than three plots have crop rows where the "
-                                   "grid puts them: check that the grid belongs to this "
-                                   "orthomosaic (or lower the cover threshold).")
-            theta, scale, t, M = _similarity(centres, meas, ok, c0, [ux, uy])
-            res = np.hypot(*(meas - (c0 + t + (centres - c0) @ M.T)).T)
-            lim = max(3 * np.median(res[ok]), 2 * img.px, 0.02)
-            new_ok = good & (res <= lim)
-            if (new_ok == ok).all():
-                break
-            ok = new_ok
-        lap("global fit")
-        prog.set(90)
-
-        # per plot, from the global correction
-        Rt = _rot(theta)
-        At = base @ Rt.T
-        pred = c0 + t + (centres - c0) @ M.T
-        m = measure(pred, At, lengths)
-        m2 = measure(locate(pred, At, m, parity), At, lengths)      # windows recentred
-        meas = locate(locate(pred, At, m, parity), At, m2, parity)
-    cover = m2["amp"] / max(float(np.median(m2["amp"])), 1e-12)
+        # (c) each plot measured on its rows, then the similarity from the grid's centres to
+        # the measured ones, twice: the second time from windows the first laid on the rows,
+        # with each plot's vote held near its place (within the per-plot bound); that second
+        # measurement is each plot's own
+        axes = A0
+        for hold in (math.inf, max_shift):
+            m = measure(pred, axes, lengths, hold)
+            meas = locate(pred, axes, m, parity)
+            good = m["amp"] >= min_cover * np.median(m["amp"])
+            theta, scale, t, M = _robust_similarity(centres, meas, good, c0, [ux, uy], img.px)
+            pred = c0 + t + (centres - c0) @ M.T
+            axes = base @ _rot(theta).T
+            prog.set(90 if hold == max_shift else 85)
+    lap("global fit and per plot")
+    Rt = _rot(theta)
+    cover = m["amp"] / max(float(np.median(m["amp"])), 1e-12)
     shift = meas - pred
     flags = []
     for i in range(n):
         if cover[i] < min_cover:
             flags.append(FLAG_BARE)
-        elif m2["score"][i] < min_score:
+        elif m["score"][i] < min_score:
             flags.append(FLAG_WEAK)
         elif math.hypot(*shift[i]) > max_shift:
             flags.append(FLAG_BOUND)
@@ -374,8 +390,8 @@ def fit_plot_grid(rings: Sequence[np.ndarray], orthomosaic, *, source_crs=None,
     shift[~moved] = 0.0
     final = pred + shift
     out_rings = [(r - centres[i]) @ Rt.T + final[i] for i, r in enumerate(rings)]
-    lap("per plot")
+    lap("flags and rings")
     prog.set(100)
-    return FitResult(out_rings, shift, m2["score"], cover, flags, moved, math.degrees(theta),
+    return FitResult(out_rings, shift, m["score"], cover, flags, moved, math.degrees(theta),
                      scale, (float(t[0]), float(t[1])), (float(c0[0]), float(c0[1])),
                      row_bearing, s, img.px, notes, centres, final, seconds)

@@ -124,7 +124,8 @@ def read_vegetation(tif, bbox, kind: str, bands: Sequence[int], prog,
             data = data * mask[..., None].astype(data.dtype)
         sums = cell_sums(data)
         h, w = sums.shape[:2]
-        vals = indices.compute(kind, sums.reshape(-1, len(bands)).T, names).reshape(h, w)
+        vals = indices.compute(kind, sums.reshape(-1, len(bands)).T, names,
+                               dtype=np.float32).reshape(h, w)
         if mask is not None:
             cnt = cell_sums(mask[..., None].astype(np.uint8))[..., 0]
             vals[cnt < 0.25 * k * k] = np.nan

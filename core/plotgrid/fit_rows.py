@@ -18,14 +18,15 @@ constant or a slow change contributes exactly nothing there).
   amplitude and how much of the row signal lies within the crop's length.
 """
 import math
-from typing import Optional, Tuple
+from typing import Tuple
 
 import numpy as np
+
+from .fit_ends import plot_ends
 
 BATCH_SAMPLES = 1_000_000      # lattice samples per batch of plots
 PER_PERIOD = 8                 # samples per row period across the rows
 END_SMOOTHING = 0.025          # m: sigma of the Gaussian along a row before its ends are found
-END_AGREEMENT = 0.015          # m: row-end estimates of a plot this close agree
 
 
 def rot(t: float) -> np.ndarray:
@@ -174,7 +175,7 @@ def row_consensus(row: np.ndarray, v: np.ndarray, weight: np.ndarray, s: float,
     return float(np.angle(z[i]) * s / (2 * np.pi)), float(bs[i])
 
 
-def measure_plots(img, centres, axes, half, s, margin_u, length, pool, prog) -> dict:
+def measure_plots(img, centres, axes, half, s, margin_u, length, reach, pool, prog) -> dict:
     """Each plot's crop rows around ``centres`` (n, 2) in the frame ``axes`` (plots of one size:
     ``half`` (2,) half sizes along, across the rows; ``margin_u`` m searched beyond each end).
 
@@ -185,9 +186,10 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, pool, prog) -> 
     the middle, its start + ``length``/2 and its end − ``length``/2, and the plot takes the
     largest group of estimates that agree, so that a row missing at one end, lodged or
     lengthened by a weed is outvoted; with ``length`` None, the median of the rows' middles),
-    ``span`` (the median row length, m) and ``score`` (the share of the positive row signal of
-    the window inside the crop's length, scaled so that an even spread gives 0 and all inside
-    1)."""
+    ``span`` (the median row length, m) and ``score`` (1 − the rows' level outside the crop's
+    length over their level inside it: 1 when the rows stop at the plot's ends, 0 when they go
+    on beyond them; the level at each u is the median over the rows of each row's signal over
+    its plateau, and the levels the medians along the inside and the outside)."""
     from scipy.ndimage import gaussian_filter1d
     n = len(centres)
     step = min(img.px, img.py)
@@ -211,22 +213,20 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, pool, prog) -> 
         prog.check()
         c = centres[sl]
         S = img.sample_frame(c, axes, u, v)                                   # (m, nv, nu)
-        z = np.einsum("mvu,v->mu", S, ph.astype(np.complex64))               # row component
-        zin = (z * inner).sum(1).astype(np.complex128)
-        row = -np.angle(zin) * s / (2 * np.pi)
+        inside = S[:, :, inner]
+        # across: the median along the rows at each offset across (weeds, lodged patches and
+        # missing segments cover a minority of a row's length), its phase at the row period
+        row = -np.angle(np.median(inside, axis=2) @ ph) * s / (2 * np.pi)
         out["row"][sl] = row
-        out["amp"][sl] = np.abs(zin) / max(int(inner.sum()), 1) / len(v)
-        total = smooth((z * np.exp(2j * np.pi * row / s)[:, None]).real / len(v))
+        out["amp"][sl] = np.abs(inside.sum(2) @ ph) / inside.shape[2] / len(v)
         # each row on its own: one period across it, projected on its phase
         vk = row[:, None] + ks[None, :] * s                                  # (m, rows)
         ck = (c[:, None, :] + vk[..., None] * axes[1][None, None, :]).reshape(-1, 2)
         S1 = img.sample_frame(ck, axes, u, v1)
         ak = smooth(np.einsum("kvu,v->ku", S1, np.cos(2 * np.pi * v1 / s).astype(np.float32))
                     / PER_PERIOD)
-        ak = ak.reshape(len(c), len(ks), nu)
-        for m, idx in enumerate(range(*sl.indices(n))):
-            out["ends"][idx], out["span"][idx], out["score"][idx] = _plot_ends(
-                ak[m], np.abs(vk[m]) < half[1], total[m], u, inner, length)
+        out["ends"][sl], out["span"][sl], out["score"][sl] = plot_ends(
+            ak.reshape(len(c), len(ks), nu), np.abs(vk) < half[1], u, inner, length, reach)
 
     b = max(1, BATCH_SAMPLES // max(len(u) * (len(v) + len(ks) * PER_PERIOD), 1))
     slices = [slice(i, min(n, i + b)) for i in range(0, n, b)]
@@ -237,69 +237,3 @@ def measure_plots(img, centres, axes, half, s, margin_u, length, pool, prog) -> 
         for _ in pool.map(batch, slices):
             pass
     return out
-
-
-def _row_ends(a: np.ndarray, u: np.ndarray, plateau: float) -> Optional[Tuple[float, float]]:
-    """(start, end) of one row's signal: where it crosses half its level just inside each end
-    (interpolated between samples), found from its first and last crossings of half
-    ``plateau`` (missing segments inside bridged); None when it has no such crossing. The
-    local level makes an end of low vigour end where it ends, not further in."""
-    above = np.flatnonzero(a > 0.5 * plateau)
-    if not len(above):
-        return None
-
-    def cross(i, j, level):
-        ai, aj = a[i] - level, a[j] - level
-        return u[i] + (u[j] - u[i]) * (ai / (ai - aj)) if ai != aj else u[i]
-
-    def edge(first: int, inward: int) -> float:
-        """The crossing at the end whose outermost sample over half the plateau is ``first``
-        (``inward`` +1 at the start, −1 at the end)."""
-        out = first - inward
-        if not 0 <= out < len(a):
-            return float(u[first])
-        pos = cross(out, first, 0.5 * plateau)
-        band = (inward * (u - pos) > 0.05) & (inward * (u - pos) < 0.25)
-        local = float(np.median(a[band])) if band.any() else plateau
-        if local <= 0:
-            return float(pos)
-        half = 0.5 * local
-        js = np.flatnonzero(np.abs(u - pos) < 0.15)
-        js = js[(js - inward >= 0) & (js - inward < len(a))]
-        js = js[(a[js] >= half) & (a[js - inward] < half)]
-        if len(js):
-            j = int(js[np.argmin(np.abs(u[js] - pos))])
-            return float(cross(j - inward, j, half))
-        return float(pos)
-    return edge(int(above[0]), 1), edge(int(above[-1]), -1)
-
-
-def _plot_ends(ak, valid, total, u, inner, length) -> Tuple[float, float, float]:
-    """(middle, span, score) of one plot from its rows' signals ``ak`` (rows, u)."""
-    plateaus = np.percentile(ak[:, inner], 75, axis=1)
-    top = plateaus[valid].max() if valid.any() else 0.0
-    if top <= 0:
-        return 0.0, 0.0, 0.0
-    ends = [_row_ends(a, u, p) for a, p, ok in zip(ak, plateaus, valid & (plateaus > 0.4 * top))
-            if ok]
-    ends = [e for e in ends if e is not None]
-    if not ends:
-        return 0.0, 0.0, 0.0
-    lo, hi = np.array(ends).T
-    span = float(np.median(hi - lo))
-    if length is None:
-        mid = float(np.median(0.5 * (lo + hi)))
-    else:
-        cand = np.concatenate([lo + length / 2, hi - length / 2])
-        tol = max(END_AGREEMENT, 0.75 * (u[1] - u[0]))
-        near = np.abs(cand[:, None] - cand[None, :]) <= tol
-        count = near.sum(1) - 1e-3 * np.abs(cand - np.median(cand))
-        mid = float(cand[near[int(np.argmax(count))]].mean())
-    L = span if length is None else length
-    pos = np.clip(total, 0, None)
-    inside = np.abs(u - mid) <= L / 2
-    share = inside.mean()
-    score = 0.0
-    if pos.sum() > 0 and share < 1:
-        score = (pos[inside].sum() / pos.sum() - share) / (1 - share)
-    return mid, span, float(np.clip(score, 0, 1))
