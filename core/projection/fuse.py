@@ -583,17 +583,24 @@ def _in_frame(xy: List[np.ndarray], cams_of: List[np.ndarray], cams, recon, dsm)
     sizes = np.array([len(a) for a in xy], np.int64)
     allxy = np.vstack(xy) if len(xy) else np.zeros((0, 2))
     z = dsm.heights(allxy[:, 0], allxy[:, 1]) if len(allxy) else np.zeros(0)
-    ok = np.flatnonzero(np.isfinite(z))
-    inside = np.zeros(0, np.int64)
-    if len(ok):
-        vis = recon.project_points(np.column_stack([allxy, z])[ok], dsm.crs, cameras=cams,
-                                   inside_only=True)
-        inside = ok[vis.point] * len(cams) + vis.camera.astype(np.int64)
-    out, k = [], 0
-    for c, s in zip(cams_of, sizes.tolist()):
-        key = (k + np.arange(s))[None, :] * len(cams) + c[:, None]
-        out.append(np.isin(key, inside))
-        k += s
+    xyz = np.column_stack([allxy, z])
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    # each photo gets the points of the groups it belongs to, no others
+    groups_of = {}
+    for g, c in enumerate(cams_of):
+        for j, cam in enumerate(c.tolist()):
+            groups_of.setdefault(cam, []).append((g, j))
+    out = [np.zeros((len(c), s), bool) for c, s in zip(cams_of, sizes.tolist())]
+    for cam, gj in groups_of.items():
+        idx = np.concatenate([np.arange(start[g], start[g + 1]) for g, _ in gj])
+        idx = idx[np.isfinite(z[idx])]
+        if not len(idx):
+            continue
+        st = recon.project_points(xyz[idx], dsm.crs, cameras=[cams[cam]]).status[0] == INSIDE
+        hit = np.zeros(len(allxy), bool)
+        hit[idx[st]] = True
+        for g, j in gj:
+            out[g][j] = hit[start[g]:start[g + 1]]
     return out
 
 
