@@ -274,6 +274,8 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
 
 The same seed gives the same files. Small takes seconds; medium has larger photos.
 
+Field (advanced): messy (default) gives the field what real ones have: grass in the margins, weeds in and between the plots, uneven vigour, missing row segments, empty and lodged plots, shadows, a soil-colour gradient, rows tall and full enough to hide the soil between them in oblique views, and one block of plots without alleys. Tidy gives the field of earlier versions: narrow rows on bare soil, nothing else.
+
 Growth season (advanced): with N dates, also the same field flown on N dates while the crop grows along known curves, in season/: per date an orthomosaic, a DSM and a point cloud, a bare-soil DSM, the plots with their variety, surveys.csv (the table for 'Plot traits over a season') and season_truth.json (height and cover per plot and date).</source>
       <translation>既知の正解を持つ、小さいながら完全な合成ドローン空撮データを書き出します。何もダウンロードせずに、EasyIDP のすべてのツールをすぐに試せます。空撮データは 40 区画からなる 60 m × 40 m の圃場です（UTM 54N）：
 - オルソモザイク（1 cm）、DSM（2 cm）、区画（GeoPackage と GeoJSON、フィールド plot_id）
@@ -285,11 +287,17 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
 
 同じシードからは同じファイルが作られます。「小」は数秒で完了し、「中」は写真が大きくなります。
 
+圃場（詳細）：雑然（既定）は実際の圃場にあるものを与えます：周縁の草、区画内外の雑草、生育むら、欠株区間、空の区画と倒伏区画、影、土の色の勾配、斜めの視点で条間の土を隠すほど高く密な作物列、通路のない区画のブロック。整然は以前の版の圃場です：裸地に細い列だけ。
+
 生育シーズン（高度な設定）：N 個の日付を指定すると、作物が既知の曲線に沿って生育する間に同じ圃場を N 日飛行したデータも season/ に作成します：日付ごとのオルソモザイク、DSM、点群、裸地の DSM、品種付きの区画、surveys.csv（「シーズンを通した区画の形質」用の表）、season_truth.json（区画と日付ごとの高さと被覆）。</translation>
     </message>
     <message>
       <source>Random seed</source>
       <translation>乱数シード</translation>
+    </message>
+    <message>
+      <source>Field</source>
+      <translation>圃場</translation>
     </message>
     <message>
       <source>Growth season: dates flown (0: none)</source>
@@ -344,8 +352,16 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
       <translation>デモ空撮データ</translation>
     </message>
     <message>
-      <source>Writing a {size} demo survey (seed {seed}) into {folder}</source>
-      <translation>{size} サイズのデモ空撮データ（シード {seed}）を {folder} に書き出しています</translation>
+      <source>messy (weeds, margin grass, tall rows, gaps, …)</source>
+      <translation>雑然（雑草、周縁の草、高い作物列、欠株…）</translation>
+    </message>
+    <message>
+      <source>tidy (narrow rows on bare soil)</source>
+      <translation>整然（裸地に細い列）</translation>
+    </message>
+    <message>
+      <source>Writing a {size} demo survey (seed {seed}, {field} field) into {folder}</source>
+      <translation>{size} のデモ調査（シード {seed}、{field} の圃場）を {folder} に書き込み中</translation>
     </message>
     <message>
       <source>Demo survey written in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots, {dates} season dates, in {folder}.</source>

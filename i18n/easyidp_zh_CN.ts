@@ -274,6 +274,8 @@ Outputs are in the output CRS if one is chosen, else in the DSM's CRS, else in t
 
 The same seed gives the same files. Small takes seconds; medium has larger photos.
 
+Field (advanced): messy (default) gives the field what real ones have: grass in the margins, weeds in and between the plots, uneven vigour, missing row segments, empty and lodged plots, shadows, a soil-colour gradient, rows tall and full enough to hide the soil between them in oblique views, and one block of plots without alleys. Tidy gives the field of earlier versions: narrow rows on bare soil, nothing else.
+
 Growth season (advanced): with N dates, also the same field flown on N dates while the crop grows along known curves, in season/: per date an orthomosaic, a DSM and a point cloud, a bare-soil DSM, the plots with their variety, surveys.csv (the table for 'Plot traits over a season') and season_truth.json (height and cover per plot and date).</source>
       <translation>写出一套小型、完整且真值已知的合成无人机航测数据，无需下载任何内容即可立即试用 EasyIDP 的所有工具。航测区域为 60 m × 40 m 的田块，含 40 个小区（UTM 54N）：
 - 正射影像（1 cm）、DSM（2 cm）和小区（GeoPackage 和 GeoJSON，字段 plot_id）；
@@ -285,11 +287,17 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
 
 相同的随机种子生成相同的文件。“小”只需几秒；“中”的照片更大。
 
+田块（高级）：杂乱（默认）给田块以真实田块的一切：边缘的草、小区内外的杂草、长势不均、缺行段、空小区和倒伏小区、阴影、土壤颜色渐变、高而密到斜视时遮住行间土壤的作物行，以及一组没有走道的小区。整齐即早期版本的田块：裸土上的窄行，别无其他。
+
 生长季（高级）：设置 N 个日期时，还会在 season/ 中生成同一田块在 N 个日期飞行的数据，作物按已知曲线生长：每个日期的正射影像、DSM 和点云，一个裸土 DSM，带品种信息的小区，surveys.csv（“生长季小区性状”所用的表）和 season_truth.json（每个小区和日期的高度与覆盖度）。</translation>
     </message>
     <message>
       <source>Random seed</source>
       <translation>随机种子</translation>
+    </message>
+    <message>
+      <source>Field</source>
+      <translation>田块</translation>
     </message>
     <message>
       <source>Growth season: dates flown (0: none)</source>
@@ -344,8 +352,16 @@ Growth season (advanced): with N dates, also the same field flown on N dates whi
       <translation>演示航测数据</translation>
     </message>
     <message>
-      <source>Writing a {size} demo survey (seed {seed}) into {folder}</source>
-      <translation>正在将 {size} 演示航测数据（随机种子 {seed}）写入 {folder}</translation>
+      <source>messy (weeds, margin grass, tall rows, gaps, …)</source>
+      <translation>杂乱（杂草、边缘草、高作物行、缺行…）</translation>
+    </message>
+    <message>
+      <source>tidy (narrow rows on bare soil)</source>
+      <translation>整齐（裸土上的窄行）</translation>
+    </message>
+    <message>
+      <source>Writing a {size} demo survey (seed {seed}, {field} field) into {folder}</source>
+      <translation>正在将 {size} 演示航测数据（随机种子 {seed}，{field} 田块）写入 {folder}</translation>
     </message>
     <message>
       <source>Demo survey written in {seconds:.1f} s: {n_photos} photos, {n_plot_ids} plots, {dates} season dates, in {folder}.</source>

@@ -118,7 +118,7 @@ def clip_convex(polys: Sequence[Sequence[np.ndarray]], region: ConvexRegion,
     when no ring crosses the region's boundary (then one point decides for the whole region).
     Default: the even-odd test on the rings mapped by ``region.to_plane``.
     """
-    chains, inner_ext, inner_holes, rings_2d = [], [], [], []
+    chains, inner_ext, inner_holes, rings_2d, around = [], [], [], [], []
     for p in polys:
         for k, ring in enumerate(p):
             if len(ring) < 3:
@@ -131,6 +131,7 @@ def clip_convex(polys: Sequence[Sequence[np.ndarray]], region: ConvexRegion,
                 rings_2d.append(q)
             elif res == "outside":
                 rings_2d.append(None)
+                around.append(ring)
             else:
                 rings_2d.append(None)
                 for pts, e_in, e_out in res:
@@ -144,12 +145,16 @@ def clip_convex(polys: Sequence[Sequence[np.ndarray]], region: ConvexRegion,
     if not chains and rings_2d:
         v = region.vertices
         probe = v[0] + 1e-7 * (v[2 % region.K] - v[0])   # just inside a corner
+        # whether the region lies inside the rings that stay outside it: the rings wholly
+        # inside it are parts of the result already, and one with a vertex on the probed
+        # corner would otherwise add the whole region
         if probe_inside is None:
-            rings = [region.to_plane(np.asarray(r, np.float64)) for p in polys for r in p
-                     if len(r) >= 3]
-            inside = bool(points_in_rings(probe[:1], probe[1:], rings)[0])
-        else:
-            inside = bool(probe_inside(probe))
+            rings = [region.to_plane(r) for r in around]
+            inside = bool(points_in_rings(probe[:1], probe[1:], rings)[0]) if rings else False
+        else:                                   # even-odd: the inner rings' parity taken out
+            inner = inner_ext + inner_holes
+            inside = bool(probe_inside(probe)) != (
+                bool(points_in_rings(probe[:1], probe[1:], inner)[0]) if inner else False)
         if inside:
             exteriors.append(v.copy())
     result = [[e] for e in exteriors + inner_ext if abs(ring_area(e)) > 0]
@@ -207,10 +212,13 @@ def _half_spaces(ring: np.ndarray, region: ConvexRegion) -> np.ndarray:
 
 
 def _smallest_container(ring: np.ndarray, exteriors: List[np.ndarray]) -> Optional[int]:
+    """The smallest exterior that holds ``ring``: most of the points a third of the way along
+    its edges are inside it (a vertex may lie on the exterior, e.g. at the region's corner)."""
     best, best_a = None, np.inf
-    x, y = ring[:1, 0], ring[:1, 1]
+    q = ring + (_following(ring) - ring) / 3.0
+    x, y = q[:, 0], q[:, 1]
     for i, e in enumerate(exteriors):
-        if points_in_rings(x, y, [e])[0]:
+        if points_in_rings(x, y, [e]).mean() > 0.5:
             a = abs(ring_area(e))
             if a < best_a:
                 best, best_a = i, a

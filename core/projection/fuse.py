@@ -14,8 +14,9 @@ scores, from several photos. Steps:
    partly hidden); a group is a connected component.
 3. **One object per group**: the *consensus* outline is voted on a grid of ``VOTE_CELLS``
    cells across the group. A photo votes only on the cells it can see: where the photos
-   disagree, the cells (on the DSM surface; one test per ``SIGHT_BLOCK``² cells) are tested for
-   being in the photo's frame and on its line of sight (as :mod:`.occlusion` tests samples). An oblique view that cannot see the far
+   disagree, the cells (on the DSM surface) are tested for being in the photo's frame (each
+   cell) and on its line of sight (one test per ``SIGHT_BLOCK``² cells, as :mod:`.occlusion`
+   tests samples). An oblique view that cannot see the far
    flank of a plant puts its outline on the plant's near side; it has no say on the far side,
    so the vote is not pulled towards the camera. A cell is in the outline when more than half
    of the (weighted) photos that see it cover it; with at least ``ROBUST_MIN_PHOTOS`` photos
@@ -23,8 +24,8 @@ scores, from several photos. Steps:
    outline. The outline is sub-cell (:meth:`_Vote.outline`): the zero level of the weighted
    median of the photos' signed distances to their own outlines, whose sign is the vote's
    (but for even splits, where it decides) and which is linear along a straight edge, so an edge lands where the photos put it, not on the
-   cells; and where more than half of the photos put a vertex within one cell of one place,
-   the outline has that vertex (their median). Identical views give back their own polygon.
+   cells; and where more than half of the photos whose frame holds the place put a vertex
+   within one cell of it, the outline has that vertex (their median). Identical views give back their own polygon.
    The outermost ring of the largest piece. Not the union, so a misplaced view neither grows
    nor moves it. ``position`` is the outline's centroid, its
    height the DSM there (bilinear; outline vertices off the DSM or on nodata take the median
@@ -158,6 +159,7 @@ class _Vote:
         self.segments = (np.vstack(seg_a), np.vstack(seg_b), np.concatenate(seg_p))
         self.corners = [(p, self.to_grid(np.asarray(c, np.float64).reshape(-1, 2)))
                         for c, p in zip(corners if corners is not None else [], photo_of)]
+        self.corner_frame = None     # (vertices, photos): the vertex is in the photo's frame
         n = self.cover.sum(axis=0)
         self.disputed = np.flatnonzero(((n > 0) & (n < n_photos)).ravel())
 
@@ -180,6 +182,19 @@ class _Vote:
         br, bc = np.divmod(uniq, self.cover.shape[2] // SIGHT_BLOCK + 1)
         h = SIGHT_BLOCK * self.cell
         return np.column_stack([self.ox + (bc + 0.5) * h, self.oy - (br + 0.5) * h])
+
+    def corner_points(self) -> np.ndarray:
+        """(k, 2) map points of the photos' vertices as drawn, in :meth:`corner_votes`' order
+        (none above MAX_CORNER_VERTICES)."""
+        pts = [c for _, c in self.corners]
+        if not pts or sum(len(c) for c in pts) > MAX_CORNER_VERTICES:
+            return np.zeros((0, 2))
+        return self.to_map(np.vstack(pts))
+
+    def disputed_points(self) -> np.ndarray:
+        """(k, 2) map centres of the disputed cells."""
+        r, c = np.divmod(self.disputed, self.cover.shape[2])
+        return np.column_stack([self.ox + (c + 0.5) * self.cell, self.oy - (r + 0.5) * self.cell])
 
     def share(self, seen: Optional[np.ndarray], weights: Optional[np.ndarray] = None) -> np.ndarray:
         """(rows, cols) weighted share of the photos that see a cell whose polygons cover it.
@@ -306,13 +321,7 @@ class _Vote:
         cov = self.cover.reshape(k, -1)[:, cells].T             # (cells, photos)
         signed = np.where(cov, -dist, dist)
         # the weights of the last vote: per photo, times its sight of the cell
-        w = np.ones(k) if self.weights is None else self.weights
-        wt = np.broadcast_to(w, signed.shape).copy()
-        if self.seen is not None and len(self.disputed):
-            pos = np.searchsorted(self.disputed, cells)
-            pos = np.minimum(pos, len(self.disputed) - 1)
-            hit = self.disputed[pos] == cells
-            wt[hit] *= self.seen[:, pos[hit]].T
+        wt = self.cell_weights(cells)
         # the weighted median, continuous in the weights: each photo's value sits at the middle
         # of its share of the cumulated weight, interpolated at half the total (4 equal
         # weights: the mean of the 2nd and 3rd values); photos with no weight sort last
@@ -329,6 +338,19 @@ class _Vote:
         frac = np.where((j > 0) & (gap > 0), (half[:, 0] - mid[rows_, j0]) / np.where(gap > 0, gap, 1.0), 1.0)
         med = sv[rows_, j0] + np.clip(frac, 0.0, 1.0) * (sv[rows_, j] - sv[rows_, j0])
         return np.where(np.isfinite(med), -med, 0.0)
+
+    def cell_weights(self, cells: np.ndarray) -> np.ndarray:
+        """(cells, photos) the weight of each photo's vote at the given flat cell indices: its
+        weight in the last :meth:`share`, times whether it sees the cell."""
+        k = len(self.cover)
+        w = np.ones(k) if self.weights is None else self.weights
+        wt = np.broadcast_to(w, (len(cells), k)).copy()
+        if self.seen is not None and len(self.disputed):
+            pos = np.searchsorted(self.disputed, cells)
+            pos = np.minimum(pos, len(self.disputed) - 1)
+            hit = self.disputed[pos] == cells
+            wt[hit] *= self.seen[:, pos[hit]].T
+        return wt
 
     def edge_distances(self, cells: np.ndarray, rows: int, cols: int) -> np.ndarray:
         """(cells, photos) distance (cells) of each given cell's centre to each photo's outline,
@@ -375,13 +397,14 @@ class _Vote:
         return out
 
     def corner_votes(self) -> np.ndarray:
-        """(k, 2) grid points where more than half of the photos (the weights of the last
-        vote) put a vertex of their outline as drawn within one cell of each other: the median
-        of those vertices (per coordinate), strongest first, none within one cell of another."""
+        """(k, 2) grid points where more than half of the photos that see the place (the
+        weights and lines of sight of the last vote) put a vertex of their outline as drawn
+        within one cell of each other: the median of those vertices (per coordinate), strongest
+        first, none within one cell of another. A photo whose frame cuts the object off before
+        the corner has no say on it."""
         if not self.corners:
             return np.zeros((0, 2))
         k = len(self.cover)
-        w = np.ones(k) if self.weights is None else np.asarray(self.weights, np.float64)
         pts = np.vstack([c for _, c in self.corners] + [np.zeros((0, 2))])
         ph = np.concatenate([np.full(len(c), p, np.int64) for p, c in self.corners] +
                             [np.zeros(0, np.int64)])
@@ -395,8 +418,14 @@ class _Vote:
         # per vertex and photo: the photo has a vertex within a cell
         support = np.zeros((n, k), bool)
         support[ii, ph[jj]] = True
-        score = support.astype(np.float64) @ w
-        strong = np.flatnonzero(score > 0.5 * w.sum())
+        rows, cols = self.cover.shape[1:]
+        cr = np.clip(np.floor(pts).astype(np.int64), 0, [cols - 1, rows - 1])
+        wt = self.cell_weights(cr[:, 1] * cols + cr[:, 0])           # (n, photos)
+        if self.corner_frame is not None and len(self.corner_frame) == n:
+            fr = self.corner_frame | ~self.corner_frame.any(axis=1, keepdims=True)
+            wt = wt * fr                            # as for cells: in no frame, all have a say
+        score = (support * wt).sum(axis=1)
+        strong = np.flatnonzero(score > 0.5 * wt.sum(axis=1))
         out = []
         if not len(strong):
             return np.zeros((0, 2))
@@ -495,40 +524,84 @@ def _lines_of_sight(votes: List[_Vote], cams_of: List[List[int]], cams, recon, d
 
 
 def _sight_chunk(votes, cams_of, cams, C, recon, dsm, surface, tol):
-    xy = [v.sight_points() if v.cover is not None else np.zeros((0, 2)) for v in votes]
+    """:func:`_lines_of_sight` for a few groups: each disputed cell is tested for being in the
+    photo's frame at its own centre (a block's centre would give a photo that the frame cuts a
+    say on the cells just beyond its edge, and cut the object's corner there), each block of
+    cells for being on the line of sight at the block's centre (traced where one of its cells
+    is in the frame)."""
+    live = [v for v in votes if v.cover is not None]
+    bxy = [v.sight_points() for v in live]
+    cxy = [v.disputed_points() for v in live]
+    vxy = [v.corner_points() for v in live]
+    n_ph = np.array([len(c) for v, c in zip(votes, cams_of) if v.cover is not None], np.int64)
+    cams_l = [np.asarray(c, np.int64) for v, c in zip(votes, cams_of) if v.cover is not None]
+    in_frame = _in_frame([np.vstack([a, b]) for a, b in zip(cxy, vxy)], cams_l, cams, recon, dsm)
+    for v, a, fr in zip(live, cxy, in_frame):      # the drawn vertices': for the corner votes
+        v.corner_frame = fr[:, len(a):].T
+    in_frame = [fr[:, :len(a)] for a, fr in zip(cxy, in_frame)]  # per group (photos, cells)
+    # the blocks to trace: a cell of the block in the frame of the photo
+    bsz = np.array([len(a) for a in bxy], np.int64)
+    pair_blk, pair_cam, todo_g = [], [], []
+    for g, (v, fr) in enumerate(zip(live, in_frame)):
+        want = np.zeros((len(cams_l[g]), len(bxy[g])), bool)
+        ph, cell = np.nonzero(fr)
+        want[ph, v.block[cell]] = True
+        pair_blk.append(want)
+    allb = np.vstack(bxy) if len(bxy) else np.zeros((0, 2))
+    z = dsm.heights(allb[:, 0], allb[:, 1]) if len(allb) else np.zeros(0)
+    ok = np.isfinite(z)
+    model = np.full((len(allb), 3), np.nan)
+    if ok.any():
+        model[ok] = recon.to_model(np.column_stack([allb, z])[ok], dsm.crs)
+    off = np.concatenate([[0], np.cumsum(bsz)])
+    for g, want in enumerate(pair_blk):
+        ph, blk = np.nonzero(want & ok[off[g]:off[g + 1]][None, :])
+        todo_g.append((ph, blk))
+        pair_cam.append(cams_l[g][ph])
+    blk = np.concatenate([off[g] + t[1] for g, t in enumerate(todo_g)] + [np.zeros(0, np.int64)])
+    cam = np.concatenate(pair_cam + [np.zeros(0, np.int64)])
+    clear = np.zeros(len(blk), bool)
+    if len(blk):
+        o = C[cam]
+        d = model[blk] - o
+        dist = np.linalg.norm(d, axis=1)
+        hits = first_hits(surface, recon.frame, o, d / dist[:, None],
+                          max_distance=np.maximum(dist - tol, 0.0))
+        clear = hits.status != HIT
+    out, k = [], 0
+    for g, (ph, b) in enumerate(todo_g):
+        sight = np.zeros((n_ph[g], bsz[g]), bool)
+        sight[ph, b] = clear[k:k + len(ph)]
+        k += len(ph)
+        out.append(in_frame[g] & sight[:, live[g].block])
+    it = iter(out)
+    return [next(it) if v.cover is not None else None for v in votes]
+
+
+def _in_frame(xy: List[np.ndarray], cams_of: List[np.ndarray], cams, recon, dsm) -> List[np.ndarray]:
+    """Per group, (photos of the group, points) bool: the map point, at the DSM's height there,
+    projects into the photo's frame (False on DSM nodata)."""
     sizes = np.array([len(a) for a in xy], np.int64)
     allxy = np.vstack(xy) if len(xy) else np.zeros((0, 2))
     z = dsm.heights(allxy[:, 0], allxy[:, 1]) if len(allxy) else np.zeros(0)
     xyz = np.column_stack([allxy, z])
-    ok = np.isfinite(z)
-    # every (cell, photo of its group) pair, as flat arrays
-    n_ph = np.array([len(c) for c in cams_of], np.int64)
-    pair_cell = np.repeat(np.arange(len(allxy)), np.repeat(n_ph, sizes))
-    pair_cam = np.concatenate([np.tile(np.asarray(c, np.int64), s)
-                               for c, s in zip(cams_of, sizes.tolist())] + [np.zeros(0, np.int64)])
-    seen = np.zeros(len(pair_cell), bool)
-    ok_pair = ok[pair_cell] if len(pair_cell) else np.zeros(0, bool)
-    if ok_pair.any():
-        # in the frame: one projection of the cells into the photos (sparse: the inside pairs)
-        vis = recon.project_points(xyz[ok], dsm.crs, cameras=cams, inside_only=True)
-        where = np.flatnonzero(ok)
-        inside = where[vis.point] * len(cams) + vis.camera.astype(np.int64)
-        ok_pair &= np.isin(pair_cell * len(cams) + pair_cam, inside)
-    todo = np.flatnonzero(ok_pair)
-    if len(todo):
-        model = np.full((len(allxy), 3), np.nan)
-        model[ok] = recon.to_model(xyz[ok], dsm.crs)
-        o = C[pair_cam[todo]]
-        d = model[pair_cell[todo]] - o
-        dist = np.linalg.norm(d, axis=1)
-        hits = first_hits(surface, recon.frame, o, d / dist[:, None],
-                          max_distance=np.maximum(dist - tol, 0.0))
-        seen[todo] = hits.status != HIT
-    out, k = [], 0
-    for v, c, s in zip(votes, cams_of, sizes.tolist()):
-        out.append(seen[k:k + s * len(c)].reshape(s, len(c)).T[:, v.block]
-                   if v.cover is not None else None)
-        k += s * len(c)
+    start = np.concatenate([[0], np.cumsum(sizes)])
+    # each photo gets the points of the groups it belongs to, no others
+    groups_of = {}
+    for g, c in enumerate(cams_of):
+        for j, cam in enumerate(c.tolist()):
+            groups_of.setdefault(cam, []).append((g, j))
+    out = [np.zeros((len(c), s), bool) for c, s in zip(cams_of, sizes.tolist())]
+    for cam, gj in groups_of.items():
+        idx = np.concatenate([np.arange(start[g], start[g + 1]) for g, _ in gj])
+        idx = idx[np.isfinite(z[idx])]
+        if not len(idx):
+            continue
+        st = recon.project_points(xyz[idx], dsm.crs, cameras=[cams[cam]]).status[0] == INSIDE
+        hit = np.zeros(len(allxy), bool)
+        hit[idx[st]] = True
+        for g, j in gj:
+            out[g][j] = hit[start[g]:start[g + 1]]
     return out
 
 

@@ -82,6 +82,8 @@ def merge_views(shapes: List[ForwardShape], mode: str = "union",
             continue
         union = shapely.unary_union([geoms[i] for i in members])
         verts = np.vstack([r for f in fs for r in f.rings if len(r)])
+        from scipy.spatial import cKDTree
+        nearest = cKDTree(verts[:, :2])        # memory: linear, not the (ring, vertices) table
         parts = []
         for p in getattr(union, "geoms", [union]):
             if p.geom_type != "Polygon" or p.is_empty:
@@ -89,7 +91,7 @@ def merge_views(shapes: List[ForwardShape], mode: str = "union",
             rings = []
             for ring in [p.exterior, *p.interiors]:
                 xy = np.asarray(ring.coords)[:-1]
-                near = np.argmin(((xy[:, None, :] - verts[None, :, :2]) ** 2).sum(axis=2), axis=1)
+                near = nearest.query(xy)[1]
                 rings.append(np.column_stack([xy, verts[near, 2]]))
             parts.append(rings)
         # planimetric metres from map units, by the members' own ratio

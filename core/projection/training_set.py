@@ -69,7 +69,7 @@ from ..annotations import (TILE_INDEX, LabelledImage, LabelledShape, tile_index_
 from ..deprecation import renamed_parameters
 from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
-from ..geometry import orient, points_in_rings, polygons_area
+from ..geometry import orient, polygons_area
 from ..naming import unique_names
 from ..photo_files import PHOTO_EXTENSIONS, file_name
 from ..progress import as_progress
@@ -412,8 +412,7 @@ def _tile_parts(polys, w: int, h: int, size: int, overlap: int, min_visible: flo
                 off = np.array([c0, r0], float)
                 q = [[ring - off for ring in part] for part in p]
                 if not (x0 >= c0 and y0 >= r0 and x1 <= c0 + tw and y1 <= r0 + th):
-                    q = [part for part in clip_convex(q, rectangle(tw, th))
-                         if not _spurious_tile(part, p, c0, r0, tw, th)]
+                    q = clip_convex(q, rectangle(tw, th))
                 if not q:
                     continue
                 if polygons_area(q) < min_visible * full:
@@ -421,16 +420,6 @@ def _tile_parts(polys, w: int, h: int, size: int, overlap: int, min_visible: flo
                     continue
                 tiles.setdefault((int(r0), int(c0)), []).append((i, q))
     return sorted(tiles.items())
-
-
-def _spurious_tile(part, polygons, c0, r0, tw, th) -> bool:
-    """A clipped part that is the whole tile although the outline does not hold the tile's
-    centre: what ``clip_convex`` returns beside the true part for a ring through a corner of the
-    rectangle (seen on the demo: a ring clipped to the photo's corner, then to the corner tile)."""
-    if abs(polygons_area([part]) - tw * th) > 1e-6 * tw * th:
-        return False
-    cx, cy = c0 + tw / 2.0, r0 + th / 2.0
-    return not any(points_in_rings(np.array([cx]), np.array([cy]), q)[0] for q in polygons)
 
 
 IMAGE_MAGIC = (b"\xff\xd8", b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+", b"\x89PNG",

@@ -12,6 +12,7 @@ from ..progress import feedback_progress
 from .base import CoreStep, EasyIDPAlgorithm
 
 SIZES = ["small", "medium"]
+FIELDS = ["messy", "tidy"]     # FIELD_MESS options: the core's default field, NO_MESS
 
 
 class CreateDemoSurvey(EasyIDPAlgorithm):
@@ -29,6 +30,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
     TRUTH = "TRUTH"
     SEASON_DATES = "SEASON_DATES"
     SEASON_SURVEYS = "SEASON_SURVEYS"
+    FIELD_MESS = "FIELD_MESS"
 
     NAME = "createdemosurvey"
     DISPLAY = "Create demo survey"
@@ -47,6 +49,11 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         "- LabelMe annotations on four photos;\n"
         "- truth.json: where known ground points are in every photo.\n\n"
         "The same seed gives the same files. Small takes seconds; medium has larger photos.\n\n"
+        "Field (advanced): messy (default) gives the field what real ones have: grass in the "
+        "margins, weeds in and between the plots, uneven vigour, missing row segments, empty "
+        "and lodged plots, shadows, a soil-colour gradient, rows tall and full enough to hide "
+        "the soil between them in oblique views, and one block of plots without alleys. Tidy "
+        "gives the field of earlier versions: narrow rows on bare soil, nothing else.\n\n"
         "Growth season (advanced): with N dates, also the same field flown on N dates while the "
         "crop grows along known curves, in season/: per date an orthomosaic, a DSM and a point "
         "cloud, a bare-soil DSM, the plots with their variety, surveys.csv (the table for 'Plot "
@@ -63,6 +70,12 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         p = QgsProcessingParameterNumber(self.SEED, self.tr("Random seed"),
                                          ProcessingNumberParameterType.Integer, defaultValue=0,
                                          minValue=0)
+        p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
+        self.addParameter(p)
+        p = QgsProcessingParameterEnum(
+            self.FIELD_MESS, self.tr("Field"),
+            options=[self.tr("messy (weeds, margin grass, tall rows, gaps, …)"),
+                     self.tr("tidy (narrow rows on bare soil)")], defaultValue=0)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterNumber(
@@ -84,16 +97,19 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         self.addOutput(QgsProcessingOutputFile(self.TRUTH, self.tr("Truth file")))
 
     def core_step(self, parameters, context, feedback):
-        from ...core.demo import make_demo_survey
+        from ...core.demo import NO_MESS, FieldMess, make_demo_survey
 
         folder = self.parameterAsString(parameters, self.OUTPUT_FOLDER, context)
         size = SIZES[self.parameterAsEnum(parameters, self.SIZE, context)]
         seed = self.parameterAsInt(parameters, self.SEED, context)
-        feedback.pushInfo(self.tr("Writing a {size} demo survey (seed {seed}) into {folder}").format(
-                              size=size, seed=seed, folder=folder))
+        field = FIELDS[self.parameterAsEnum(parameters, self.FIELD_MESS, context)]
+        feedback.pushInfo(self.tr("Writing a {size} demo survey (seed {seed}, {field} field) into "
+                                  "{folder}").format(size=size, seed=seed, field=field,
+                                                     folder=folder))
         return CoreStep(make_demo_survey, dict(
             folder=folder, seed=seed, size=size, overwrite=self.overwrite(parameters, context),
-            progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled), {})
+            progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled,
+            field_mess=NO_MESS if field == "tidy" else FieldMess()), {})
 
     def write_outputs(self, parameters, context, feedback, step, s):
         folder, seed = step.kwargs["folder"], step.kwargs["seed"]

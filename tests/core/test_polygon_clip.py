@@ -162,3 +162,22 @@ def test_a_ring_folded_on_the_frame_edge_is_not_turned_into_the_frame():
         assert polygons_area(out) == pytest.approx(_brute([ring]), abs=0.2)
         folded += abs(ring[i, 0] - 10) < 0.5
     assert folded >= 2          # some folds sit on the edge x = 10
+
+
+@pytest.mark.parametrize("corner", [0, 1, 2, 3])
+def test_a_ring_inside_with_a_vertex_on_a_corner_is_itself(corner):
+    """By construction: a triangle inside the frame with one vertex on a corner of it comes back
+    as itself, and a hole of that shape in a polygon around the frame is cut out of the frame
+    (the frame's corner probe lay inside the triangle: the whole frame came back as a second
+    part)."""
+    c = np.array([[0.0, 0.0], [10.0, 0.0], [10.0, 8.0], [0.0, 8.0]])[corner]
+    inward = np.array([5.0, 4.0]) - c
+    side = np.array([-inward[1], inward[0]])
+    tri = np.array([c, c + 0.6 * inward + 0.1 * side, c + 0.4 * inward - 0.3 * side])
+    got = clip_convex(orient([[tri]]), FRAME)
+    assert len(got) == 1 and len(got[0]) == 1
+    assert polygons_area(got) == pytest.approx(abs(ring_area(tri)), rel=1e-12)
+    around = np.array([[-5.0, -5.0], [15.0, -5.0], [15.0, 13.0], [-5.0, 13.0]])
+    got = clip_convex(orient([[around, tri]]), FRAME)
+    _valid(got)
+    assert polygons_area(got) == pytest.approx(80.0 - abs(ring_area(tri)), rel=1e-12)

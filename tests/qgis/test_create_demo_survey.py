@@ -2,6 +2,8 @@
 from qgis.core import (NULL, QgsProcessingContext, QgsProcessingFeedback, QgsProject,
                        QgsRasterLayer, QgsVectorLayer)
 
+from easyidp_toolbox.core.demo import NO_MESS, FieldMess
+
 
 def test_create_demo_survey(provider, tmp_path):
     import processing
@@ -22,7 +24,31 @@ def test_create_demo_survey(provider, tmp_path):
     assert res["SEASON_SURVEYS"] == str(tmp_path / "survey" / "season" / "surveys.csv")
     names = sorted(d.name for d in context.layersToLoadOnCompletion().values())
     assert names == ["Demo DSM", "Demo orthomosaic", "Demo plots"]
+    assert _field_mess(res) == _asdict(FieldMess())          # the default: the messy field
     _odm_footprints_match_metashape(res)
+
+
+def test_the_tidy_field(provider, tmp_path):
+    """FIELD_MESS 1 writes the tidy field (the core's NO_MESS), as truth.json records it."""
+    import processing
+    res = processing.run("easyidp:createdemosurvey", {"OUTPUT_FOLDER": str(tmp_path / "tidy"),
+                                                      "FIELD_MESS": 1},
+                         context=QgsProcessingContext(), feedback=QgsProcessingFeedback())
+    assert _field_mess(res) == _asdict(NO_MESS)
+    assert QgsVectorLayer(res["PLOTS"], "p", "ogr").featureCount() == 40
+
+
+def _asdict(mess):
+    from dataclasses import asdict
+    return asdict(mess)
+
+
+def _field_mess(res):
+    import json
+    with open(res["TRUTH"]) as fh:
+        doc = json.load(fh)["field_mess"]
+    doc.pop("description", None)
+    return doc
 
 
 def _odm_footprints_match_metashape(res):
