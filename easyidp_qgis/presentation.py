@@ -13,8 +13,10 @@ API (every tool uses it the same way; new tools too):
 
 - :func:`load_project` (parameters, name): the project a layer destination is to be loaded into,
   or None.
-- :func:`present` (alg, context, dest, output, style, name, group, rank): when ``dest`` will be
-  loaded, give it a descriptive name (unless a model named it), a style and a place.
+- :func:`present` (alg, context, dest, output, style, name, group, rank, in_map): when ``dest``
+  will be loaded, give it a descriptive name (unless a model named it), a style and a place; a
+  layer in photo pixels (``in_map=False``) goes into the project for the photo viewer, never into
+  the map (:func:`photo_pixel_layers`).
 - :func:`load_files` (alg, context, feedback, project, files, names, hint, group): queue many
   files (rasters, point clouds) with their layer type, into one collapsed :class:`MapGroup`;
   nothing above :data:`MAX_LAYERS_TO_LOAD`.
@@ -106,18 +108,39 @@ class MapGroup:
         node.parent().removeChildNode(node)
 
 
+PHOTO_PIXELS = "easyidp/photo_pixels"
+"""Custom property of a layer in photo pixels (x = column, y = −row) that a tool loaded: it is
+in the project, for the photo viewer, but not in the layer tree (not drawn in the map)."""
+
+
+def photo_pixel_layers(project=None) -> list:
+    """The layers in photo pixels the tools loaded into ``project`` (see :data:`PHOTO_PIXELS`)."""
+    project = project or QgsProject.instance()
+    return [v for v in project.mapLayers().values() if v.customProperty(PHOTO_PIXELS)]
+
+
 class _Presenter(QgsProcessingLayerPostProcessorInterface):
-    """Applies a style and a place to a layer QGIS has just added to the project."""
+    """Applies a style and a place to a layer QGIS has just added to the project; a layer in
+    photo pixels (``in_map`` False) is taken out of the layer tree: the photo viewer shows it."""
 
     def __init__(self, style=None, group: MapGroup = None, rank: float = 0, project=None,
-                 visible: bool = True):
+                 visible: bool = True, in_map: bool = True):
         super().__init__()
         self.style, self.group, self.rank = style, group, rank
-        self.project, self.visible = project, visible
+        self.project, self.visible, self.in_map = project, visible, in_map
 
     def postProcessLayer(self, layer, context, feedback):  # noqa: N802 (QGIS API)
         if self.style is not None:
             self.style(layer)
+        if not self.in_map:
+            # QGIS has put it in the tree (every version adds, then post-processes): out of
+            # the map before the canvas draws it, or it reports "No transform available"
+            layer.setCustomProperty(PHOTO_PIXELS, True)
+            root = (self.project or context.project() or QgsProject.instance()).layerTreeRoot()
+            node = root.findLayer(layer.id())
+            if node is not None:
+                node.parent().removeChildNode(node)
+            return
         if self.group is not None:
             self.group.add(layer, self.rank, self.project or context.project(), self.visible)
         layer.triggerRepaint()
@@ -130,10 +153,11 @@ def _presenter(**kw) -> _Presenter:
 
 
 def present(alg, context, dest, output: str, style=None, name: str = None,
-            group: MapGroup = None, rank: float = 0) -> bool:
+            group: MapGroup = None, rank: float = 0, in_map: bool = True) -> bool:
     """When the output ``dest`` (the id ``parameterAsSink`` returned for the parameter
     ``output``) will be loaded: name it ``name`` unless a model gave it a name, and style and
-    place it after loading. Returns whether it will be loaded."""
+    place it after loading; ``in_map`` False (a layer in photo pixels): into the project for the
+    photo viewer, not into the layer tree. Returns whether it will be loaded."""
     if not dest or not context.willLoadLayerOnCompletion(dest):
         return False
     details = context.layerToLoadOnCompletionDetails(dest)
@@ -142,7 +166,7 @@ def present(alg, context, dest, output: str, style=None, name: str = None,
     if name and not named_by_model:
         details.name = name
     details.setPostProcessor(_presenter(style=style, group=group, rank=rank,
-                                        project=details.project))
+                                        project=details.project, in_map=in_map))
     return True
 
 

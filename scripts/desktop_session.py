@@ -120,7 +120,7 @@ class Session:
         _pump(1.0)
 
     def shot(self, name: str, widget=None) -> None:
-        iface.messageBar().clearWidgets()
+        """A PNG of the window (or ``widget``) as the user sees it: the message bar as it is."""
         if not self.shots:
             return
         os.makedirs(self.shots, exist_ok=True)
@@ -261,9 +261,11 @@ class Session:
         self.found["tree_map"] = tree()
         self.shot("desktop_map.png")
 
-        self.run_dialog("backward", "easyidp:backprojectrois", {
+        self.run_dialog("backward", "easyidp:backprojectrois", {    # GeoPackages, as users save
             "ROIS": plots.id(), "NAME_FIELD": "plot_id", "PROJECT": r["METASHAPE_PROJECT"],
-            "DSM": dsm.id()})
+            "DSM": dsm.id(), "OUTPUT": os.path.join(self.work, "rois_in_photos.gpkg"),
+            "OUTPUT_SUMMARY": os.path.join(self.work, "photos_per_roi.gpkg")},
+            open_outputs={"OUTPUT": True, "OUTPUT_SUMMARY": True})
         self.raw_photo_view()
         labelme = os.path.join(self.survey, "labelme")
         self.run_dialog("forward", "easyidp:forwardprojectpolygons", {

@@ -9,8 +9,8 @@ import time
 
 import pytest
 
-from easyidp_toolbox.scripts.qgis_desktop import (checkout_env, enable_plugin, run_desktop,
-                                                  run_session)
+from easyidp_toolbox.scripts.qgis_desktop import (DesktopFailed, checkout_env, enable_plugin,
+                                                  run_desktop, run_session)
 
 
 @pytest.fixture(scope="module")
@@ -28,6 +28,21 @@ def test_a_dialog_or_a_python_error_is_closed_and_quoted(tmp_path):
     assert any("ZeroDivisionError" in m for m in found["modal"])       # QGIS's error dialog
     assert any("Replace the planted file?" in m and "QMessageBox" in m for m in found["modal"])
     assert any("ZeroDivisionError" in e for e in found["python_errors"])
+
+
+def test_a_crash_at_exit_and_an_error_in_the_message_bar_fail_the_run(tmp_path):
+    """Negative control of the harness [independent: QGIS's own crash handler and its own
+    transform error]. The error users met (a GeoPackage in photo pixels drawn in a map in
+    EPSG:32654: "No transform available …" in red) and a signal 11 while QGIS quits (its crash
+    handler aborts: 134) each fail the run, though the driver itself finished."""
+    enable_plugin(str(tmp_path))
+    with pytest.raises(DesktopFailed) as failed:
+        run_desktop(str(tmp_path), {"probe": ["pixels_on_map", "crash"]}, timeout=180,
+                    extra_env=checkout_env())
+    message = str(failed.value)
+    assert "(a crash: QGIS's crash handler aborted) after Project ▸ Exit QGIS" in message, message
+    assert "No transform available" in message and "errors in the message bar" in message, message
+    assert failed.value.found["doing"].startswith("exiting through Project ▸ Exit QGIS")
 
 
 def test_a_desktop_that_hangs_fails_in_its_time_limit(tmp_path):
