@@ -31,7 +31,8 @@ adding the layer to the project; ``processAlgorithm`` (a worker thread) only rec
 import collections
 import os
 
-from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, QgsFillSymbol,
+from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile,
+                       QgsCoordinateReferenceSystem, QgsFillSymbol,
                        QgsGraduatedSymbolRenderer, QgsLayerTreeLayer, QgsMarkerSymbol,
                        QgsPalLayerSettings, QgsProcessingContext,
                        QgsProcessingLayerPostProcessorInterface,
@@ -136,6 +137,10 @@ class _Presenter(QgsProcessingLayerPostProcessorInterface):
             # QGIS has put it in the tree (every version adds, then post-processes): out of
             # the map before the canvas draws it, or it reports "No transform available"
             layer.setCustomProperty(PHOTO_PIXELS, True)
+            # and no CRS (a GeoPackage gives it the undefined Cartesian SRS): nothing QGIS
+            # does later with the project's layers (a redraw, the snapping index) tries a
+            # transformation to the map's CRS
+            layer.setCrs(QgsCoordinateReferenceSystem())
             root = (self.project or context.project() or QgsProject.instance()).layerTreeRoot()
             node = root.findLayer(layer.id())
             if node is not None:

@@ -123,7 +123,9 @@ def _bar_item(widget) -> None:
     kept in ``bar_errors``."""
     item = sip.cast(widget, QgsMessageBarItem)      # the signal hands a QWidget to Python
     if item.level() == Qgis.Critical or item.title().startswith("Python error"):
-        FOUND["bar_errors"].append(f"{item.title()}: {item.text()} (while {FOUND['doing']})")
+        python = "".join(traceback.format_stack(limit=6)[:-1])   # what Python code ran then
+        FOUND["bar_errors"].append(f"{item.title()}: {item.text()} (while {FOUND['doing']})\n"
+                                   f"{python}")
         _write(SPEC["out"] + ".partial")
 
 

@@ -127,7 +127,8 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
             owner.append(np.full(len(sel), i))
         idx, owner = np.concatenate(idx), np.concatenate(owner)
         if len(idx):
-            seen = recon.project_points(xyz[idx], dcrs, cameras=[cams[cam_i]]).status[0] == INSIDE
+            seen = recon.project_model_points(model[idx],
+                                              cameras=[cams[cam_i]]).status[0] == INSIDE
             np.add.at(n_in, owner[seen], 1)
             pending.append((owner[seen], idx[seen], np.full(int(seen.sum()), cam_i)))
             queued[0] += int(seen.sum())

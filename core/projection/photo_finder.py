@@ -21,6 +21,9 @@ from .result import BackProjection
 POINT_SIDE = 0.5
 """Side (metres) of the square ROI a clicked point stands for."""
 
+POINT_SAMPLES = 16
+"""Occlusion samples of a clicked point's square (a plot takes Back-project ROIs' 256)."""
+
 METRES_PER_DEGREE = 111_320.0
 
 
@@ -57,18 +60,21 @@ class PhotoFinder:
         """The height source of the queries: the DSM, else the ground height."""
         return self.dsm if self.dsm is not None else self.ground_height
 
-    def rois(self, rois: ROISet, *, progress=None, is_cancelled=None) -> BackProjection:
-        """The photos that see each ROI, ranked: one :func:`back_project` call."""
+    def rois(self, rois: ROISet, *, occlusion_samples: int = 256, progress=None,
+             is_cancelled=None) -> BackProjection:
+        """The photos that see each ROI, ranked: one :func:`back_project` call
+        (``occlusion_samples`` per ROI, as there)."""
         return back_project(rois, self.recon, heights=self.heights, distortion=self.distortion,
                             clip=True, occlusion_dsm=self.dsm if self.occlusion else None,
                             min_visible=self.min_visible, max_images=self.max_images,
-                            progress=progress, is_cancelled=is_cancelled)
+                            occlusion_samples=occlusion_samples, progress=progress,
+                            is_cancelled=is_cancelled)
 
     def point(self, x: float, y: float, crs=None, *, side: float = POINT_SIDE,
               name: str = "point", is_cancelled=None) -> BackProjection:
         """The photos that see the map point (``x``, ``y``) in ``crs`` (default: the DSM's, else
         the project's): a square ROI of ``side`` metres around it (in degrees for a geographic
-        CRS)."""
+        CRS), its occlusion tested at :data:`POINT_SAMPLES` points."""
         if crs is not None:
             crs = as_crs(crs)
         else:
@@ -77,7 +83,8 @@ class PhotoFinder:
         if crs is not None and crs.is_geographic:
             h /= METRES_PER_DEGREE
         ring = np.array([[x - h, y - h], [x + h, y - h], [x + h, y + h], [x - h, y + h]])
-        return self.rois(ROISet([ROI(name, [[ring]])], crs), is_cancelled=is_cancelled)
+        return self.rois(ROISet([ROI(name, [[ring]])], crs), occlusion_samples=POINT_SAMPLES,
+                         is_cancelled=is_cancelled)
 
     def map_points(self, photo: str, pixels: Sequence[Sequence[float]],
                    crs=None) -> np.ndarray:

@@ -22,15 +22,24 @@ def plots(demo):
     return read_geojson(demo.plots_geojson)
 
 
-def test_plots_are_ranked_as_back_project_rois_ranks_them(finder, plots):
+def test_plots_are_ranked_as_back_project_rois_ranks_them(demo, plots):
     """[consistency only] One query lists, for each plot, the photos and ranks that
-    ``back_project`` with the tool's defaults (DSM heights, occlusion, min visible 0.5) gives."""
+    ``back_project`` with the tool's defaults (DSM heights, occlusion, min visible 0.5) gives.
+    Asked again (the DSM's tiles now cached), the same photos and ranks; the occluded shares
+    may differ by a sample (a cold and a warm ray surface differ in about 1 of 260 samples:
+    noticed in issue 37, left to the occlusion code), so scores within 0.01."""
+    recon = open_reconstruction(demo.metashape_project)
+    finder = PhotoFinder(recon, dsm=DSM(demo.dsm))
     ours = finder.rois(plots)
-    tool = back_project(plots, finder.recon, heights=finder.dsm, occlusion_dsm=finder.dsm,
-                        min_visible=0.5, max_images=0, clip=True)
+    dsm = DSM(demo.dsm)
+    tool = back_project(plots, recon, heights=dsm, occlusion_dsm=dsm, min_visible=0.5,
+                        max_images=0, clip=True)
     assert len(ours) == len(tool) > len(plots)
     assert ours.photo.tolist() == tool.photo.tolist()
-    assert np.array_equal(ours.rank, tool.rank) and np.allclose(ours.score, tool.score, equal_nan=True)
+    assert np.array_equal(ours.rank, tool.rank) and np.array_equal(ours.score, tool.score)
+    again = finder.rois(plots)
+    assert again.photo.tolist() == tool.photo.tolist() and np.array_equal(again.rank, tool.rank)
+    assert np.allclose(again.score, tool.score, atol=0.01)
 
 
 def test_a_clicked_point_is_in_every_photo_listed(demo, finder):
