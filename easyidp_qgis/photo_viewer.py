@@ -29,7 +29,7 @@ from .photo_tasks import DecodeTask, PointTool
 from .rasters import geotiff_source
 from .values import is_null
 
-THUMB = 160                      # thumbnail size, pixels (longer side)
+THUMB = 120                      # thumbnail size, pixels (longer side)
 COLUMNS = ("photo", "roi", "rank", "score", "view_angle", "gsd", "visible", "occluded")
 STEP_KEYS = {Qt.Key.Key_Right: 1, Qt.Key.Key_PageDown: 1, Qt.Key.Key_Space: 1,
              Qt.Key.Key_Left: -1, Qt.Key.Key_PageUp: -1, Qt.Key.Key_Backspace: -1}
@@ -189,17 +189,21 @@ class PhotoViewer(QDockWidget):
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.table.currentCellChanged.connect(lambda row, *_: self.select(row))
+        self.table.setMinimumHeight(90)
         self.strip = QListWidget()
         self.strip.setViewMode(QListView.ViewMode.IconMode)
         self.strip.setFlow(QListView.Flow.LeftToRight)
         self.strip.setWrapping(False)
         self.strip.setIconSize(QSize(THUMB, THUMB * 3 // 4))
-        self.strip.setFixedHeight(THUMB * 3 // 4 + 40)
+        self.strip.setFixedHeight(THUMB * 3 // 4 + 44)
         self.strip.currentRowChanged.connect(self.select)
         self.view = PhotoView(self.hover, self.step)
         for w in (self.table, self.strip, self.view):
             split.addWidget(w)
-        split.setStretchFactor(2, 4)
+        self.view.setMinimumHeight(220)
+        split.setStretchFactor(0, 1)
+        split.setStretchFactor(2, 5)
+        split.setSizes([120, THUMB * 3 // 4 + 44, 600])
         layout.addWidget(split, 1)
         self.status = QLabel()
         self.status.setWordWrap(True)
@@ -250,7 +254,7 @@ class PhotoViewer(QDockWidget):
             if dsm_layer is not None:
                 dsm = DSM(geotiff_source(dsm_layer, tr("DSM")), crs=crs_string(dsm_layer.crs()))
             self.finder = PhotoFinder(recon, dsm=dsm,
-                                      ground_height=None if dsm else self.ground.value())
+                                      ground=None if dsm else self.ground.value())
             self.finder_key = key
         return self.finder
 

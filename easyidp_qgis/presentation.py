@@ -16,7 +16,7 @@ API (every tool uses it the same way; new tools too):
 - :func:`present` (alg, context, dest, output, style, name, group, rank, in_map): when ``dest``
   will be loaded, give it a descriptive name (unless a model named it), a style and a place; a
   layer in photo pixels (``in_map=False``) goes into the project for the photo viewer, never into
-  the map (:func:`photo_pixel_layers`).
+  the map (:func:`load_off_map`, :func:`photo_pixel_layers`).
 - :func:`load_files` (alg, context, feedback, project, files, names, hint, group): queue many
   files (rasters, point clouds) with their layer type, into one collapsed :class:`MapGroup`;
   nothing above :data:`MAX_LAYERS_TO_LOAD`.
@@ -40,6 +40,7 @@ from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile,
                        QgsRuleBasedRenderer, QgsSingleSymbolRenderer, QgsStyle,
                        QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
                        QgsVectorLayerSimpleLabeling, QgsWkbTypes)
+from qgis.PyQt.QtCore import QCoreApplication, QThread
 from qgis.PyQt.QtGui import QColor
 
 from .compat import INTEGER_TYPES, GeometryType, LabelPlacement, LayerHint
@@ -121,31 +122,17 @@ def photo_pixel_layers(project=None) -> list:
 
 
 class _Presenter(QgsProcessingLayerPostProcessorInterface):
-    """Applies a style and a place to a layer QGIS has just added to the project; a layer in
-    photo pixels (``in_map`` False) is taken out of the layer tree: the photo viewer shows it."""
+    """Applies a style and a place to a layer QGIS has just added to the project."""
 
     def __init__(self, style=None, group: MapGroup = None, rank: float = 0, project=None,
-                 visible: bool = True, in_map: bool = True):
+                 visible: bool = True):
         super().__init__()
         self.style, self.group, self.rank = style, group, rank
-        self.project, self.visible, self.in_map = project, visible, in_map
+        self.project, self.visible = project, visible
 
     def postProcessLayer(self, layer, context, feedback):  # noqa: N802 (QGIS API)
         if self.style is not None:
             self.style(layer)
-        if not self.in_map:
-            # QGIS has put it in the tree (every version adds, then post-processes): out of
-            # the map before the canvas draws it, or it reports "No transform available"
-            layer.setCustomProperty(PHOTO_PIXELS, True)
-            # and no CRS (a GeoPackage gives it the undefined Cartesian SRS): nothing QGIS
-            # does later with the project's layers (a redraw, the snapping index) tries a
-            # transformation to the map's CRS
-            layer.setCrs(QgsCoordinateReferenceSystem())
-            root = (self.project or context.project() or QgsProject.instance()).layerTreeRoot()
-            node = root.findLayer(layer.id())
-            if node is not None:
-                node.parent().removeChildNode(node)
-            return
         if self.group is not None:
             self.group.add(layer, self.rank, self.project or context.project(), self.visible)
         layer.triggerRepaint()
@@ -170,9 +157,58 @@ def present(alg, context, dest, output: str, style=None, name: str = None,
     named_by_model = definition is not None and details.name not in ("", definition.description())
     if name and not named_by_model:
         details.name = name
+    if not in_map:
+        _hold_off_map(alg, context, dest, details, style)
+        return True
     details.setPostProcessor(_presenter(style=style, group=group, rank=rank,
-                                        project=details.project, in_map=in_map))
+                                        project=details.project))
     return True
+
+
+def _hold_off_map(alg, context, dest, details, style) -> None:
+    """Take ``dest`` off QGIS's list of layers to load (QGIS would add it to the layer tree, and
+    one in photo pixels makes the map report "No transform available"); :func:`load_off_map`
+    adds it to the project, off the map, when the run has ended."""
+    pending = getattr(alg, "_easyidp_off_map", [])
+    pending.append((dest, details.name, style, details.project))   # before ``details`` goes
+    alg._easyidp_off_map = pending
+    layers = context.layersToLoadOnCompletion()
+    layers.pop(dest, None)
+    context.setLayersToLoadOnCompletion(layers)
+
+
+def load_off_map(alg, context, feedback) -> list:
+    """The layers :func:`present` held off the map (``in_map=False``), added to their project
+    without a place in the layer tree, without a CRS, marked :data:`PHOTO_PIXELS`: the photo
+    viewer shows them. Run in the main thread when the run has ended (``postProcessAlgorithm``);
+    in a model's worker thread nothing is loaded (the log says where the file is). Returns the
+    layers added."""
+    pending = getattr(alg, "_easyidp_off_map", [])
+    alg._easyidp_off_map = []
+    app = QCoreApplication.instance()
+    if not pending or app is None or QThread.currentThread() != app.thread():
+        for dest, _, _, _ in pending:
+            feedback.pushInfo(alg.tr("In photo pixels, not loaded into the map: {path}").format(
+                path=dest))
+        return []
+    added = []
+    for dest, name, style, project in pending:
+        store = context.temporaryLayerStore()
+        layer = store.mapLayer(dest)
+        if layer is not None:
+            store.takeMapLayer(layer)
+        else:
+            layer = QgsVectorLayer(dest, name, "ogr")
+        if not layer.isValid():
+            continue
+        layer.setName(name)
+        layer.setCrs(QgsCoordinateReferenceSystem())    # pixels: no place on any map
+        layer.setCustomProperty(PHOTO_PIXELS, True)
+        if style is not None:
+            style(layer)
+        (project or context.project() or QgsProject.instance()).addMapLayer(layer, False)
+        added.append(layer)
+    return added
 
 
 def load_files(alg, context, feedback, project, files, names, hint, group: MapGroup,

@@ -313,7 +313,10 @@ class Session:
         dock = plugins["easyidp_toolbox"].viewer
         _pump(0.5)
         found["dock_visible"] = dock is not None and dock.isVisible()
-        window.resizeDocks([dock], [560], Qt.Orientation.Horizontal)
+        layers_dock = window.findChild(QDockWidget, "Layers")
+        if layers_dock is not None:
+            layers_dock.hide()                  # room for the map and the viewer side by side
+        window.resizeDocks([dock], [720], Qt.Orientation.Horizontal)
         dock.project_widget.setFilePath(project_file)
         dock.dsm_combo.setLayer(dsm)
         pixel_layers = presentation.photo_pixel_layers()
@@ -396,6 +399,8 @@ class Session:
             self.shot("desktop_raw_photo.png")
         plots.removeSelection()
         dock.close()                             # the map for the next steps; its marker gone
+        if layers_dock is not None:
+            layers_dock.show()
         _pump(0.3)
 
     def toolbox_open(self):

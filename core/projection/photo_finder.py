@@ -37,28 +37,28 @@ class PhotoFinder:
     dsm : DSM, GeoTiff or str, optional
         The surface: vertex heights and the occlusion test of every query, and where a pixel's
         ray lands (:meth:`map_point`). Its tiles stay cached between queries.
-    ground_height : float, optional
+    ground : float, optional
         Without a DSM: one ground height, in the project's vertical reference (no occlusion
         test).
-    distortion, occlusion, min_visible, max_images
+    distortion, occlusion, min_visible, max_views
         As *Back-project ROIs* (defaults: its defaults).
     """
 
-    def __init__(self, recon, *, dsm=None, ground_height: Optional[float] = None,
+    def __init__(self, recon, *, dsm=None, ground: Optional[float] = None,
                  distortion: bool = True, occlusion: bool = True, min_visible: float = 0.5,
-                 max_images: int = 0):
-        if dsm is None and ground_height is None:
+                 max_views: int = 0):
+        if dsm is None and ground is None:
             raise EasyIDPError("The photo finder needs a DSM or a ground height.")
         self.recon = recon
         self.dsm = as_dsm(dsm) if dsm is not None else None
-        self.ground_height = None if ground_height is None else float(ground_height)
+        self.ground = None if ground is None else float(ground)
         self.distortion, self.occlusion = bool(distortion), bool(occlusion)
-        self.min_visible, self.max_images = float(min_visible), int(max_images)
+        self.min_visible, self.max_views = float(min_visible), int(max_views)
 
     @property
     def heights(self):
         """The height source of the queries: the DSM, else the ground height."""
-        return self.dsm if self.dsm is not None else self.ground_height
+        return self.dsm if self.dsm is not None else self.ground
 
     def rois(self, rois: ROISet, *, occlusion_samples: int = 256, progress=None,
              is_cancelled=None) -> BackProjection:
@@ -66,7 +66,7 @@ class PhotoFinder:
         (``occlusion_samples`` per ROI, as there)."""
         return back_project(rois, self.recon, heights=self.heights, distortion=self.distortion,
                             clip=True, occlusion_dsm=self.dsm if self.occlusion else None,
-                            min_visible=self.min_visible, max_images=self.max_images,
+                            min_visible=self.min_visible, max_images=self.max_views,
                             occlusion_samples=occlusion_samples, progress=progress,
                             is_cancelled=is_cancelled)
 
@@ -115,9 +115,9 @@ class PhotoFinder:
         return tuple(float(v) for v in xyz) if np.isfinite(xyz).all() else None
 
     def _on_level(self, origin: np.ndarray, d: np.ndarray) -> np.ndarray:
-        """Rays (model frame) to the level surface z = ground height of the project's CRS: the
+        """Rays (model frame) to the level surface z = ground of the project's CRS: the
         height along a ray is nearly linear over a flight's distances; two secant steps."""
-        h = self.ground_height
+        h = self.ground
         t0, t1 = np.zeros(len(origin)), np.ones(len(origin))
         for _ in range(3):
             z0 = self.recon.from_model(origin + t0[:, None] * d)[:, 2]

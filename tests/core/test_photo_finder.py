@@ -82,7 +82,7 @@ def test_a_ground_height_without_a_dsm(demo, plots):
     x0, y0, x1, y1 = plots[20].bounds
     x, y = (x0 + x1) / 2, (y0 + y1) / 2
     h = float(vertex_heights(dsm, np.array([x]), np.array([y]))[0])
-    flat = PhotoFinder(recon, ground_height=h)
+    flat = PhotoFinder(recon, ground=h)
     found = flat.point(x, y, demo.crs)
     assert len(found) >= 3 and np.isnan(found.occluded_fraction).all()    # no occlusion test
     photo = str(found.photo[0])
