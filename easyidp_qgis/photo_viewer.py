@@ -99,10 +99,7 @@ class PhotoView(QGraphicsView):
         self.scale(factor, factor)
 
     def keyPressEvent(self, event):  # noqa: N802 (Qt API)
-        step = STEP_KEYS.get(event.key())
-        if step:
-            self.on_step(step)
-        else:
+        if not _step_key(event, self.on_step):
             super().keyPressEvent(event)
 
     def mouseMoveEvent(self, event):  # noqa: N802 (Qt API)
@@ -111,6 +108,14 @@ class PhotoView(QGraphicsView):
         rect = self.scene().sceneRect()
         if rect.contains(p):
             self.on_hover(p.x(), p.y())
+
+
+def _step_key(event, step) -> bool:
+    """Next/previous photo on a key of :data:`STEP_KEYS`: whether the key was one."""
+    by = STEP_KEYS.get(event.key())
+    if by:
+        step(by)
+    return bool(by)
 
 
 def _alive(task) -> bool:
@@ -189,7 +194,7 @@ class PhotoViewer(QDockWidget):
         self.table.setSelectionBehavior(QAbstractItemView.SelectionBehavior.SelectRows)
         self.table.setEditTriggers(QAbstractItemView.EditTrigger.NoEditTriggers)
         self.table.currentCellChanged.connect(lambda row, *_: self.select(row))
-        self.table.setMinimumHeight(90)
+        self.table.setMinimumHeight(70)
         self.strip = QListWidget()
         self.strip.setViewMode(QListView.ViewMode.IconMode)
         self.strip.setFlow(QListView.Flow.LeftToRight)
@@ -200,7 +205,7 @@ class PhotoViewer(QDockWidget):
         self.view = PhotoView(self.hover, self.step)
         for w in (self.table, self.strip, self.view):
             split.addWidget(w)
-        self.view.setMinimumHeight(220)
+        self.view.setMinimumHeight(150)
         split.setStretchFactor(0, 1)
         split.setStretchFactor(2, 5)
         split.setSizes([120, THUMB * 3 // 4 + 44, 600])
@@ -491,10 +496,7 @@ class PhotoViewer(QDockWidget):
         self.status.setText(text)
 
     def keyPressEvent(self, event):  # noqa: N802 (Qt API)
-        step = STEP_KEYS.get(event.key())
-        if step:
-            self.step(step)
-        else:
+        if not _step_key(event, self.step):
             super().keyPressEvent(event)
 
     def closeEvent(self, event):  # noqa: N802 (Qt API)

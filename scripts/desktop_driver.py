@@ -6,8 +6,8 @@ message bar, optional), ``steps`` (optional list of ``{"action": "install" | "ca
 "env": {name: value or null}}``: the environment pip sees during that step; *Install* is clicked,
 and for "cancel" *Cancel* once pip runs), ``session`` (optional: a user's session with the tools,
 see ``desktop_session.py``; its findings go to ``session``). QGIS quits when done; errors go to
-``driver_error``; ``probe`` plants a dialog, a hang, a message-bar error or a crash at exit (the
-driver's own test).
+``driver_error``; ``probe`` plants a dialog, a hang, a photo-pixel layer in the map (its red
+"No transform available") or a crash at exit (the driver's own test).
 
 QGIS ends as a user ends it, by Project ▸ Exit QGIS (``iface.actionExit()``; the project marked
 saved first, so no question is asked); the exit status is the caller's to check (QGIS's crash
@@ -122,7 +122,7 @@ def _bar_item(widget) -> None:
     """A message-bar item as it is pushed: an error (level Critical, or QGIS's "Python error") is
     kept in ``bar_errors``."""
     item = sip.cast(widget, QgsMessageBarItem)      # the signal hands a QWidget to Python
-    if item.level() == Qgis.Critical or item.title().startswith("Python error"):
+    if item.level() == Qgis.MessageLevel.Critical or item.title().startswith("Python error"):
         python = "".join(traceback.format_stack(limit=6)[:-1])   # what Python code ran then
         FOUND["bar_errors"].append(f"{item.title()}: {item.text()} (while {FOUND['doing']})\n"
                                    f"{python}")
@@ -153,8 +153,6 @@ def _probe(kind: str) -> None:
     elif kind == "hang":
         while True:
             time.sleep(0.1)
-    elif kind == "bar_error":
-        iface.messageBar().pushMessage("Planted", "a planted error", level=Qgis.Critical)
     elif kind == "pixels_on_map":
         _pixels_on_map()
 
