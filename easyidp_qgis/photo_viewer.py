@@ -500,6 +500,9 @@ class PhotoViewer(QDockWidget):
             super().keyPressEvent(event)
 
     def closeEvent(self, event):  # noqa: N802 (Qt API)
+        for task in self.tasks + [self.full_task]:
+            if task is not None:
+                _cancel(task)
         self.pick_button.setChecked(False)
         if self.marker is not None:
             self.canvas.scene().removeItem(self.marker)

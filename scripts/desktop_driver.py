@@ -34,7 +34,7 @@ from qgis.core import Qgis, QgsApplication, QgsProject
 from qgis.gui import (QgsMessageBarItem, QgsModelDesignerDialog,
                       QgsProcessingAlgorithmDialogBase)
 from qgis.PyQt import sip
-from qgis.PyQt.QtCore import QPoint, QRect, QTimer
+from qgis.PyQt.QtCore import QMetaObject, QPoint, QRect, Qt, QTimer
 from qgis.PyQt.QtWidgets import (QApplication, QDialog, QLabel, QMessageBox, QPushButton,
                                  QTextEdit)
 from qgis.utils import iface, plugins
@@ -345,12 +345,15 @@ def _exit() -> None:
     """Project ▸ Exit QGIS, as a user quits (QGIS asks nothing: the project is marked saved); a
     planted crash (probe ``crash``) signals 11 on the way out. QGIS not gone 20 s later: a
     ``driver_error`` and exit status 4."""
+    _wait(lambda: QgsApplication.taskManager().countActiveTasks() == 0, 60)   # as a user waits
     QgsProject.instance().setDirty(False)
     if "crash" in PROBES:
         import signal
         QgsApplication.instance().aboutToQuit.connect(lambda: os.kill(os.getpid(), signal.SIGSEGV))
-    iface.actionExit().trigger()
     QTimer.singleShot(20000, _not_gone)
+    # from the event loop, no Python on the stack: QGIS may wait there for a Python task thread,
+    # which needs the interpreter lock a Python caller would hold
+    QMetaObject.invokeMethod(iface.actionExit(), "trigger", Qt.ConnectionType.QueuedConnection)
 
 
 def _not_gone() -> None:
