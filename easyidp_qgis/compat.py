@@ -9,7 +9,8 @@ Each name here is the scoped enum where the running QGIS has it, else the old en
 """
 from types import SimpleNamespace
 
-from qgis.core import (Qgis, QgsCoordinateReferenceSystem, QgsFeatureSink, QgsPalLayerSettings,
+from qgis.core import (Qgis, QgsCoordinateReferenceSystem, QgsFeatureSink, QgsMapLayerProxyModel,
+                       QgsPalLayerSettings,
                        QgsProcessing, QgsProcessingParameterDefinition, QgsProcessingParameterField,
                        QgsProcessingParameterFile, QgsProcessingParameterNumber,
                        QgsProcessingUtils, QgsTask, QgsWkbTypes)
@@ -51,6 +52,7 @@ LabelPlacement = _scoped("LabelPlacement", QgsPalLayerSettings, "Placement")
 CrsWktVariant = _scoped("CrsWktVariant", QgsCoordinateReferenceSystem, "WktVariant",
                         Preferred="WKT_PREFERRED")
 MessageLevel = Qgis.MessageLevel
+LayerFilter = _scoped("LayerFilter", QgsMapLayerProxyModel, "Filter")      # Qgis since 3.34
 TaskFlag = QgsTask.Flag
 
 # ---- field types: QMetaType since QGIS 3.38 (QgsField(name, QVariant.X) is deprecated there)

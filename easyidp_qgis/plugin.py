@@ -22,6 +22,7 @@ class EasyIDPPlugin:
         self.provider = None  # keep a reference: a collected provider loses its algorithms
         self.load_error = ""  # why the provider could not load (a package every tool needs)
         self.dependency_bar = None
+        self.viewer, self.viewer_action, self.toolbar = None, None, None
         self.translator = None
         self._install_translator()
 
@@ -59,8 +60,50 @@ class EasyIDPPlugin:
         from .installer import DependencyBar
         self.dependency_bar = DependencyBar(self.iface, on_installed=self.initProcessing)
         self.dependency_bar.show_if_missing()
+        self._add_viewer_action()
+
+    def tr(self, text: str) -> str:
+        return QCoreApplication.translate("EasyIDP", text)
+
+    def _add_viewer_action(self) -> None:
+        """The EasyIDP toolbar and the Plugins ▸ EasyIDP menu entry: the photo viewer."""
+        try:
+            from qgis.PyQt.QtGui import QAction                     # Qt6
+        except ImportError:
+            from qgis.PyQt.QtWidgets import QAction                 # Qt5
+        from qgis.PyQt.QtGui import QIcon
+        from .resources import ICON
+        self.viewer_action = QAction(QIcon(ICON), self.tr("Photo viewer: which photos see this?"),
+                                     self.iface.mainWindow())
+        self.viewer_action.setObjectName("mActionEasyIDPPhotoViewer")
+        self.viewer_action.triggered.connect(self.show_viewer)
+        self.toolbar = self.iface.addToolBar("EasyIDP")
+        self.toolbar.setObjectName("EasyIDPToolbar")
+        self.toolbar.addAction(self.viewer_action)
+        self.iface.addPluginToMenu("&EasyIDP", self.viewer_action)
+
+    def show_viewer(self):
+        """Open (once) and show the photo viewer dock; returns it."""
+        if self.viewer is None:
+            from qgis.PyQt.QtCore import Qt
+            from .photo_viewer import PhotoViewer
+            self.viewer = PhotoViewer(self.iface, self.iface.mainWindow())
+            self.iface.addDockWidget(Qt.DockWidgetArea.RightDockWidgetArea, self.viewer)
+        self.viewer.show()
+        self.viewer.raise_()
+        return self.viewer
 
     def unload(self):
+        if self.viewer_action is not None:
+            self.iface.removePluginMenu("&EasyIDP", self.viewer_action)
+            self.toolbar.removeAction(self.viewer_action)
+            self.toolbar.deleteLater()
+            self.viewer_action = self.toolbar = None
+        if self.viewer is not None:
+            self.viewer.close()
+            self.iface.removeDockWidget(self.viewer)
+            self.viewer.deleteLater()
+            self.viewer = None
         if self.dependency_bar is not None:
             self.dependency_bar.unload()
             self.dependency_bar = None

@@ -13,8 +13,10 @@ API (every tool uses it the same way; new tools too):
 
 - :func:`load_project` (parameters, name): the project a layer destination is to be loaded into,
   or None.
-- :func:`present` (alg, context, dest, output, style, name, group, rank): when ``dest`` will be
-  loaded, give it a descriptive name (unless a model named it), a style and a place.
+- :func:`present` (alg, context, dest, output, style, name, group, rank, in_map): when ``dest``
+  will be loaded, give it a descriptive name (unless a model named it), a style and a place; a
+  layer in photo pixels (``in_map=False``) goes into the project for the photo viewer, never into
+  the map (:func:`load_off_map`, :func:`photo_pixel_layers`).
 - :func:`load_files` (alg, context, feedback, project, files, names, hint, group): queue many
   files (rasters, point clouds) with their layer type, into one collapsed :class:`MapGroup`;
   nothing above :data:`MAX_LAYERS_TO_LOAD`. Tools that write many files ask first:
@@ -30,7 +32,8 @@ adding the layer to the project; ``processAlgorithm`` (a worker thread) only rec
 import collections
 import os
 
-from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, QgsFillSymbol,
+from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile,
+                       QgsCoordinateReferenceSystem, QgsFillSymbol,
                        QgsGraduatedSymbolRenderer, QgsLayerTreeLayer, QgsMarkerSymbol,
                        QgsPalLayerSettings, QgsProcessingContext,
                        QgsProcessingLayerPostProcessorInterface, QgsProcessingParameterBoolean,
@@ -38,7 +41,7 @@ from qgis.core import (QgsCategorizedSymbolRenderer, QgsClassificationQuantile, 
                        QgsRuleBasedRenderer, QgsSingleSymbolRenderer, QgsStyle,
                        QgsTextBufferSettings, QgsTextFormat, QgsVectorLayer,
                        QgsVectorLayerSimpleLabeling, QgsWkbTypes)
-from qgis.PyQt.QtCore import QCoreApplication
+from qgis.PyQt.QtCore import QCoreApplication, QThread
 from qgis.PyQt.QtGui import QColor
 
 from .compat import INTEGER_TYPES, GeometryType, LabelPlacement, LayerHint
@@ -117,6 +120,17 @@ class MapGroup:
         node.parent().removeChildNode(node)
 
 
+PHOTO_PIXELS = "easyidp/photo_pixels"
+"""Custom property of a layer in photo pixels (x = column, y = −row) that a tool loaded: it is
+in the project, for the photo viewer, but not in the layer tree (not drawn in the map)."""
+
+
+def photo_pixel_layers(project=None) -> list:
+    """The layers in photo pixels the tools loaded into ``project`` (see :data:`PHOTO_PIXELS`)."""
+    project = project or QgsProject.instance()
+    return [v for v in project.mapLayers().values() if v.customProperty(PHOTO_PIXELS)]
+
+
 class _Presenter(QgsProcessingLayerPostProcessorInterface):
     """Applies a style and a place to a layer QGIS has just added to the project."""
 
@@ -161,10 +175,11 @@ def files_project(alg, parameters, context, index_output: str = "OUTPUT_INDEX"):
 
 
 def present(alg, context, dest, output: str, style=None, name: str = None,
-            group: MapGroup = None, rank: float = 0) -> bool:
+            group: MapGroup = None, rank: float = 0, in_map: bool = True) -> bool:
     """When the output ``dest`` (the id ``parameterAsSink`` returned for the parameter
     ``output``) will be loaded: name it ``name`` unless a model gave it a name, and style and
-    place it after loading. Returns whether it will be loaded."""
+    place it after loading; ``in_map`` False (a layer in photo pixels): into the project for the
+    photo viewer, not into the layer tree. Returns whether it will be loaded."""
     if not dest or not context.willLoadLayerOnCompletion(dest):
         return False
     details = context.layerToLoadOnCompletionDetails(dest)
@@ -172,9 +187,58 @@ def present(alg, context, dest, output: str, style=None, name: str = None,
     named_by_model = definition is not None and details.name not in ("", definition.description())
     if name and not named_by_model:
         details.name = name
+    if not in_map:
+        _hold_off_map(alg, context, dest, details, style)
+        return True
     details.setPostProcessor(_presenter(style=style, group=group, rank=rank,
                                         project=details.project))
     return True
+
+
+def _hold_off_map(alg, context, dest, details, style) -> None:
+    """Take ``dest`` off QGIS's list of layers to load (QGIS would add it to the layer tree, and
+    one in photo pixels makes the map report "No transform available"); :func:`load_off_map`
+    adds it to the project, off the map, when the run has ended."""
+    pending = getattr(alg, "_easyidp_off_map", [])
+    pending.append((dest, details.name, style, details.project))   # before ``details`` goes
+    alg._easyidp_off_map = pending
+    layers = context.layersToLoadOnCompletion()
+    layers.pop(dest, None)
+    context.setLayersToLoadOnCompletion(layers)
+
+
+def load_off_map(alg, context, feedback) -> list:
+    """The layers :func:`present` held off the map (``in_map=False``), added to their project
+    without a place in the layer tree, without a CRS, marked :data:`PHOTO_PIXELS`: the photo
+    viewer shows them. Run in the main thread when the run has ended (``postProcessAlgorithm``);
+    in a model's worker thread nothing is loaded (the log says where the file is). Returns the
+    layers added."""
+    pending = getattr(alg, "_easyidp_off_map", [])
+    alg._easyidp_off_map = []
+    app = QCoreApplication.instance()
+    if not pending or app is None or QThread.currentThread() != app.thread():
+        for dest, _, _, _ in pending:
+            feedback.pushInfo(alg.tr("In photo pixels, not loaded into the map: {path}").format(
+                path=dest))
+        return []
+    added = []
+    for dest, name, style, project in pending:
+        store = context.temporaryLayerStore()
+        layer = store.mapLayer(dest)
+        if layer is not None:
+            store.takeMapLayer(layer)
+        else:
+            layer = QgsVectorLayer(dest, name, "ogr")
+        if not layer.isValid():
+            continue
+        layer.setName(name)
+        layer.setCrs(QgsCoordinateReferenceSystem())    # pixels: no place on any map
+        layer.setCustomProperty(PHOTO_PIXELS, True)
+        if style is not None:
+            style(layer)
+        (project or context.project() or QgsProject.instance()).addMapLayer(layer, False)
+        added.append(layer)
+    return added
 
 
 def load_files(alg, context, feedback, project, files, names, hint, group: MapGroup,

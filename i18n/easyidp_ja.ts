@@ -96,6 +96,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>写真から ROI を切り出しています…</translation>
     </message>
     <message>
+      <source>The ROIs in photo pixels open in the EasyIDP photo viewer (toolbar), over their photos, not in the map.</source>
+      <translation>写真ピクセルの ROI は地図ではなく、EasyIDP 写真ビューア（ツールバー）で写真の上に開きます。</translation>
+    </message>
+    <message>
       <source>Clip them to the photo frame</source>
       <translation>写真の枠で切り取る</translation>
     </message>
@@ -2020,6 +2024,142 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>パーセンタイル：「{token}」は 0 から 100 の数ではありません。カンマ区切りで指定してください（例 5,50,95）。</translation>
     </message>
     <message>
+      <source>EasyIDP photo viewer</source>
+      <translation>EasyIDP 写真ビューア</translation>
+    </message>
+    <message>
+      <source>Photogrammetry projects (*.psx *.psz *.xml *.p4d *.opf *.json);;All files (*)</source>
+      <translation>写真測量プロジェクト (*.psx *.psz *.xml *.p4d *.opf *.json);;すべてのファイル (*)</translation>
+    </message>
+    <message>
+      <source>Project</source>
+      <translation>プロジェクト</translation>
+    </message>
+    <message>
+      <source>Used when no DSM is chosen: one ground height, in the project's vertical reference</source>
+      <translation>DSM を選ばないときに使用：プロジェクトの高さ基準での地面の高さ 1 つ</translation>
+    </message>
+    <message>
+      <source>Ground height without a DSM</source>
+      <translation>DSM なしの地面の高さ</translation>
+    </message>
+    <message>
+      <source>Layer in photo pixels</source>
+      <translation>写真ピクセルのレイヤ</translation>
+    </message>
+    <message>
+      <source>Click a point</source>
+      <translation>点をクリック</translation>
+    </message>
+    <message>
+      <source>Selected plots</source>
+      <translation>選択した区画</translation>
+    </message>
+    <message>
+      <source>Show layer</source>
+      <translation>レイヤを表示</translation>
+    </message>
+    <message>
+      <source>EasyIDP viewer: decoding photos</source>
+      <translation>EasyIDP ビューア：写真をデコード中</translation>
+    </message>
+    <message>
+      <source>Images (*.png *.jpg *.tif)</source>
+      <translation>画像 (*.png *.jpg *.tif)</translation>
+    </message>
+    <message>
+      <source>LabelMe (*.json)</source>
+      <translation>LabelMe (*.json)</translation>
+    </message>
+    <message>
+      <source>Save</source>
+      <translation>保存</translation>
+    </message>
+    <message>
+      <source>Photo</source>
+      <translation>写真</translation>
+    </message>
+    <message>
+      <source>ROI</source>
+      <translation>ROI</translation>
+    </message>
+    <message>
+      <source>Rank</source>
+      <translation>順位</translation>
+    </message>
+    <message>
+      <source>Score</source>
+      <translation>スコア</translation>
+    </message>
+    <message>
+      <source>View angle (°)</source>
+      <translation>視角 (°)</translation>
+    </message>
+    <message>
+      <source>GSD</source>
+      <translation>GSD</translation>
+    </message>
+    <message>
+      <source>Visible</source>
+      <translation>可視</translation>
+    </message>
+    <message>
+      <source>Occluded</source>
+      <translation>遮蔽</translation>
+    </message>
+    <message>
+      <source>Save the shown crop…</source>
+      <translation>表示中の切り抜きを保存…</translation>
+    </message>
+    <message>
+      <source>Save the outline as LabelMe…</source>
+      <translation>輪郭を LabelMe で保存…</translation>
+    </message>
+    <message>
+      <source>Choose the photogrammetry project first.</source>
+      <translation>先に写真測量プロジェクトを選んでください。</translation>
+    </message>
+    <message>
+      <source>No layer in photo pixels: run Back-project ROIs first.</source>
+      <translation>写真ピクセルのレイヤがありません：先に「ROI を元画像へ逆投影」を実行してください。</translation>
+    </message>
+    <message>
+      <source>A clicked point has no outline: select plots.</source>
+      <translation>クリックした点には輪郭がありません：区画を選んでください。</translation>
+    </message>
+    <message>
+      <source>Select plots in a polygon layer first.</source>
+      <translation>先にポリゴンレイヤで区画を選んでください。</translation>
+    </message>
+    <message>
+      <source>{n} ROI × photo pairs of {layer}.</source>
+      <translation>{layer} の ROI × 写真の組 {n} 件。</translation>
+    </message>
+    <message>
+      <source>{photo}: {roi}, rank {rank}, score {score:.2f}</source>
+      <translation>{photo}：{roi}、順位 {rank}、スコア {score:.2f}</translation>
+    </message>
+    <message>
+      <source>{n} photos see it.</source>
+      <translation>{n} 枚の写真に写っています。</translation>
+    </message>
+    <message>
+      <source>No photo sees it: {why}</source>
+      <translation>写っている写真はありません：{why}</translation>
+    </message>
+    <message>
+      <source>Could not write {path}.</source>
+      <translation>{path} を書き込めませんでした。</translation>
+    </message>
+    <message>
+      <source>Written: {path}</source>
+      <translation>書き込みました：{path}</translation>
+    </message>
+    <message>
+      <source>Photo viewer: which photos see this?</source>
+      <translation>写真ビューア：どの写真に写っている？</translation>
+    </message>
+    <message>
       <source>Point cloud (.las, .laz or .ply)</source>
       <translation>点群（.las、.laz または .ply）</translation>
     </message>
@@ -2054,6 +2194,10 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
       <translation>{n} 個のファイルは、地図に読み込む上限の {limit} 個を超えています。出力フォルダから開いてください。</translation>
+    </message>
+    <message>
+      <source>In photo pixels, not loaded into the map: {path}</source>
+      <translation>写真ピクセルのため地図には読み込みません：{path}</translation>
     </message>
     <message>
       <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use; for a folder of photos, default: their UTM zone</source>

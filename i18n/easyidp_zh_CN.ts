@@ -96,6 +96,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
       <translation>正在从照片中裁出感兴趣区…</translation>
     </message>
     <message>
+      <source>The ROIs in photo pixels open in the EasyIDP photo viewer (toolbar), over their photos, not in the map.</source>
+      <translation>照片像素中的 ROI 在 EasyIDP 照片查看器（工具栏）中叠加在其照片上打开，而不是在地图中。</translation>
+    </message>
+    <message>
       <source>Clip them to the photo frame</source>
       <translation>裁剪到照片画幅内</translation>
     </message>
@@ -2020,6 +2024,142 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
       <translation>百分位数：“{token}”不是 0 到 100 之间的数。请给出以逗号分隔的百分位数，例如 5,50,95。</translation>
     </message>
     <message>
+      <source>EasyIDP photo viewer</source>
+      <translation>EasyIDP 照片查看器</translation>
+    </message>
+    <message>
+      <source>Photogrammetry projects (*.psx *.psz *.xml *.p4d *.opf *.json);;All files (*)</source>
+      <translation>摄影测量项目 (*.psx *.psz *.xml *.p4d *.opf *.json);;所有文件 (*)</translation>
+    </message>
+    <message>
+      <source>Project</source>
+      <translation>项目</translation>
+    </message>
+    <message>
+      <source>Used when no DSM is chosen: one ground height, in the project's vertical reference</source>
+      <translation>未选择 DSM 时使用：一个地面高度，采用项目的高程基准</translation>
+    </message>
+    <message>
+      <source>Ground height without a DSM</source>
+      <translation>无 DSM 时的地面高度</translation>
+    </message>
+    <message>
+      <source>Layer in photo pixels</source>
+      <translation>照片像素图层</translation>
+    </message>
+    <message>
+      <source>Click a point</source>
+      <translation>点击一个点</translation>
+    </message>
+    <message>
+      <source>Selected plots</source>
+      <translation>所选小区</translation>
+    </message>
+    <message>
+      <source>Show layer</source>
+      <translation>显示图层</translation>
+    </message>
+    <message>
+      <source>EasyIDP viewer: decoding photos</source>
+      <translation>EasyIDP 查看器：正在解码照片</translation>
+    </message>
+    <message>
+      <source>Images (*.png *.jpg *.tif)</source>
+      <translation>图像 (*.png *.jpg *.tif)</translation>
+    </message>
+    <message>
+      <source>LabelMe (*.json)</source>
+      <translation>LabelMe (*.json)</translation>
+    </message>
+    <message>
+      <source>Save</source>
+      <translation>保存</translation>
+    </message>
+    <message>
+      <source>Photo</source>
+      <translation>照片</translation>
+    </message>
+    <message>
+      <source>ROI</source>
+      <translation>ROI</translation>
+    </message>
+    <message>
+      <source>Rank</source>
+      <translation>排名</translation>
+    </message>
+    <message>
+      <source>Score</source>
+      <translation>得分</translation>
+    </message>
+    <message>
+      <source>View angle (°)</source>
+      <translation>视角 (°)</translation>
+    </message>
+    <message>
+      <source>GSD</source>
+      <translation>GSD</translation>
+    </message>
+    <message>
+      <source>Visible</source>
+      <translation>可见</translation>
+    </message>
+    <message>
+      <source>Occluded</source>
+      <translation>遮挡</translation>
+    </message>
+    <message>
+      <source>Save the shown crop…</source>
+      <translation>保存显示的裁剪…</translation>
+    </message>
+    <message>
+      <source>Save the outline as LabelMe…</source>
+      <translation>将轮廓保存为 LabelMe…</translation>
+    </message>
+    <message>
+      <source>Choose the photogrammetry project first.</source>
+      <translation>请先选择摄影测量项目。</translation>
+    </message>
+    <message>
+      <source>No layer in photo pixels: run Back-project ROIs first.</source>
+      <translation>没有照片像素图层：请先运行“将 ROI 反投影到原始照片”。</translation>
+    </message>
+    <message>
+      <source>A clicked point has no outline: select plots.</source>
+      <translation>点击的点没有轮廓：请选择小区。</translation>
+    </message>
+    <message>
+      <source>Select plots in a polygon layer first.</source>
+      <translation>请先在多边形图层中选择小区。</translation>
+    </message>
+    <message>
+      <source>{n} ROI × photo pairs of {layer}.</source>
+      <translation>{layer} 的 {n} 个 ROI × 照片对。</translation>
+    </message>
+    <message>
+      <source>{photo}: {roi}, rank {rank}, score {score:.2f}</source>
+      <translation>{photo}：{roi}，排名 {rank}，得分 {score:.2f}</translation>
+    </message>
+    <message>
+      <source>{n} photos see it.</source>
+      <translation>{n} 张照片能看到它。</translation>
+    </message>
+    <message>
+      <source>No photo sees it: {why}</source>
+      <translation>没有照片能看到它：{why}</translation>
+    </message>
+    <message>
+      <source>Could not write {path}.</source>
+      <translation>无法写入 {path}。</translation>
+    </message>
+    <message>
+      <source>Written: {path}</source>
+      <translation>已写入：{path}</translation>
+    </message>
+    <message>
+      <source>Photo viewer: which photos see this?</source>
+      <translation>照片查看器：哪些照片能看到这里？</translation>
+    </message>
+    <message>
       <source>Point cloud (.las, .laz or .ply)</source>
       <translation>点云（.las、.laz 或 .ply）</translation>
     </message>
@@ -2054,6 +2194,10 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>{n} files are more than the {limit} loaded into the map: open them from the output folder.</source>
       <translation>{n} 个文件超过了加载到地图中的上限 {limit}：请从输出文件夹中打开它们。</translation>
+    </message>
+    <message>
+      <source>In photo pixels, not loaded into the map: {path}</source>
+      <translation>照片像素，未加载到地图：{path}</translation>
     </message>
     <message>
       <source>For Pix4D without a *_wkt.prj file, OpenSfM without OpenDroneMap, or a Metashape chunk CRS that PROJ cannot use; for a folder of photos, default: their UTM zone</source>

@@ -6,7 +6,14 @@ message bar, optional), ``steps`` (optional list of ``{"action": "install" | "ca
 "env": {name: value or null}}``: the environment pip sees during that step; *Install* is clicked,
 and for "cancel" *Cancel* once pip runs), ``session`` (optional: a user's session with the tools,
 see ``desktop_session.py``; its findings go to ``session``). QGIS quits when done; errors go to
-``driver_error``; ``probe`` plants a dialog or a hang (the driver's own test).
+``driver_error``; ``probe`` plants a dialog, a hang, a photo-pixel layer in the map (its red
+"No transform available") or a crash at exit (the driver's own test).
+
+QGIS ends as a user ends it, by Project ▸ Exit QGIS (``iface.actionExit()``; the project marked
+saved first, so no question is asked); the exit status is the caller's to check (QGIS's crash
+handler aborts a crash with code 134). Every message-bar error the main window shows (level
+Critical, or QGIS's "Python error") is kept in ``bar_errors`` (title, text), from start-up to the
+exit. ``probe``: one name or a list.
 
 Nothing waits for a click that never comes: every modal dialog (a question, QGIS's Python error
 dialog; not the tool dialogs a session opens) is closed as soon as it shows, its title and text kept in ``modal``; every message-log
@@ -23,18 +30,20 @@ import threading
 import time
 import traceback
 
-from qgis.core import QgsApplication
+from qgis.core import Qgis, QgsApplication, QgsProject
 from qgis.gui import (QgsMessageBarItem, QgsModelDesignerDialog,
                       QgsProcessingAlgorithmDialogBase)
-from qgis.PyQt.QtCore import QPoint, QRect, QTimer
+from qgis.PyQt import sip
+from qgis.PyQt.QtCore import QMetaObject, QPoint, QRect, Qt, QTimer
 from qgis.PyQt.QtWidgets import (QApplication, QDialog, QLabel, QMessageBox, QPushButton,
                                  QTextEdit)
 from qgis.utils import iface, plugins
 
 SPEC = json.loads(os.environ["EASYIDP_DRIVER"])
+PROBES = [SPEC["probe"]] if isinstance(SPEC.get("probe"), str) else SPEC.get("probe", [])
 STARTED = time.time()
 faulthandler.enable(all_threads=True)   # a crash of QGIS shows the Python stacks on stderr
-FOUND = {"steps": [], "modal": [], "python_errors": [], "doing": "starting"}
+FOUND = {"steps": [], "modal": [], "python_errors": [], "bar_errors": [], "doing": "starting"}
 # the dialogs a session opens itself
 OWN_DIALOGS = (QgsProcessingAlgorithmDialogBase, QgsModelDesignerDialog)
 
@@ -76,6 +85,9 @@ def _close_modal() -> None:
     w = QApplication.activeModalWidget()
     if w is None or (_own(w) and not isinstance(w, QMessageBox)):    # a question is never own
         return
+    if FOUND["doing"].startswith("exiting") and isinstance(w, QMessageBox):
+        _answer_exit_question(w)
+        return
     FOUND["modal"].append(f"{type(w).__name__} while {FOUND['doing']}: {_dialog_text(w)}")
     _write(SPEC["out"] + ".partial")
     if isinstance(w, QMessageBox) and w.escapeButton() is not None:
@@ -86,9 +98,34 @@ def _close_modal() -> None:
         w.close()
 
 
+def _answer_exit_question(box) -> None:
+    """While QGIS quits, its questions (e.g. "temporary layers … will be lost") are answered as a
+    user quitting answers them: yes, discard."""
+    FOUND.setdefault("exit_questions", []).append(_dialog_text(box))
+    _write(SPEC["out"] + ".partial")
+    role = QMessageBox.ButtonRole        # scoped: Qt5 and Qt6
+    roles = (role.YesRole, role.AcceptRole, role.DestructiveRole)
+    for button in box.buttons():
+        if box.buttonRole(button) in roles:
+            button.click()
+            return
+    box.reject()
+
+
 def _log(message, tag, level) -> None:
     if tag == "Python error":
         FOUND["python_errors"].append(message)
+        _write(SPEC["out"] + ".partial")
+
+
+def _bar_item(widget) -> None:
+    """A message-bar item as it is pushed: an error (level Critical, or QGIS's "Python error") is
+    kept in ``bar_errors``."""
+    item = sip.cast(widget, QgsMessageBarItem)      # the signal hands a QWidget to Python
+    if item.level() == Qgis.MessageLevel.Critical or item.title().startswith("Python error"):
+        python = "".join(traceback.format_stack(limit=6)[:-1])   # what Python code ran then
+        FOUND["bar_errors"].append(f"{item.title()}: {item.text()} (while {FOUND['doing']})\n"
+                                   f"{python}")
         _write(SPEC["out"] + ".partial")
 
 
@@ -116,12 +153,40 @@ def _probe(kind: str) -> None:
     elif kind == "hang":
         while True:
             time.sleep(0.1)
+    elif kind == "pixels_on_map":
+        _pixels_on_map()
+
+
+def _pixels_on_map() -> None:
+    """The error users met (issue 37): a layer in photo pixels (GeoPackage, undefined Cartesian
+    CRS) drawn in a map canvas in a projected CRS; QGIS shows "No transform available" in red."""
+    from qgis.core import (QgsCoordinateReferenceSystem, QgsFeature, QgsGeometry,
+                           QgsVectorFileWriter, QgsVectorLayer)
+    memory = QgsVectorLayer("Polygon", "pixels", "memory")
+    feature = QgsFeature()
+    feature.setGeometry(QgsGeometry.fromWkt("POLYGON((10 -10, 90 -10, 90 -60, 10 -60, 10 -10))"))
+    memory.dataProvider().addFeatures([feature])
+    path = SPEC["out"] + ".pixels.gpkg"
+    options = QgsVectorFileWriter.SaveVectorOptions()
+    options.driverName = "GPKG"
+    QgsVectorFileWriter.writeAsVectorFormatV2(
+        memory, path, QgsProject.instance().transformContext(), options)
+    from easyidp_toolbox.core.projection import PIXEL_CRS_WKT
+    layer = QgsVectorLayer(path, "ROIs in photo pixels", "ogr")
+    layer.setCrs(QgsCoordinateReferenceSystem.fromWkt(PIXEL_CRS_WKT))
+    QgsProject.instance().setCrs(QgsCoordinateReferenceSystem("EPSG:32654"))
+    QgsProject.instance().addMapLayer(layer)
+    canvas = iface.mapCanvas()
+    canvas.setExtent(canvas.mapSettings().layerExtentToOutputExtent(layer, layer.extent()))
+    canvas.refresh()
+    _wait(lambda: bool(FOUND["bar_errors"]), 10)
 
 
 WATCHDOG = QTimer()
 WATCHDOG.timeout.connect(_close_modal)
 WATCHDOG.start(300)
 QgsApplication.messageLog().messageReceived.connect(_log)
+iface.messageBar().widgetAdded.connect(_bar_item)
 if SPEC.get("deadline"):
     DEADLINE = threading.Timer(SPEC["deadline"], _deadline)
     DEADLINE.daemon = True               # QGIS's exit does not wait for it
@@ -251,9 +316,9 @@ def run() -> None:
             current=_current(),
             provider=QgsApplication.processingRegistry().providerById("easyidp") is not None,
             folder=_listing(dependencies.packages_dir()))
-        if SPEC.get("probe"):
-            doing(f"the planted {SPEC['probe']}")
-            _probe(SPEC["probe"])
+        for probe in PROBES:
+            doing(f"the planted {probe}")
+            _probe(probe)
         if SPEC.get("screenshot"):
             doing("taking the screenshot")
             _screenshot(SPEC["screenshot"])
@@ -271,9 +336,31 @@ def run() -> None:
             found["numpy"] = [numpy.__version__, numpy.__file__]
     except Exception:
         found["driver_error"] = traceback.format_exc()
-    doing("done")
+    doing("exiting through Project ▸ Exit QGIS")
     _write(SPEC["out"])
-    QgsApplication.exit(0)
+    _exit()
+
+
+def _exit() -> None:
+    """Project ▸ Exit QGIS, as a user quits (QGIS asks nothing: the project is marked saved); a
+    planted crash (probe ``crash``) signals 11 on the way out. QGIS not gone 20 s later: a
+    ``driver_error`` and exit status 4."""
+    _wait(lambda: QgsApplication.taskManager().countActiveTasks() == 0, 60)   # as a user waits
+    QgsProject.instance().setDirty(False)
+    if "crash" in PROBES:
+        import signal
+        QgsApplication.instance().aboutToQuit.connect(lambda: os.kill(os.getpid(), signal.SIGSEGV))
+    QTimer.singleShot(20000, _not_gone)
+    # from the event loop, no Python on the stack: QGIS may wait there for a Python task thread,
+    # which needs the interpreter lock a Python caller would hold
+    QMetaObject.invokeMethod(iface.actionExit(), "trigger", Qt.ConnectionType.QueuedConnection)
+
+
+def _not_gone() -> None:
+    FOUND["driver_error"] = ("QGIS did not exit within 20 s of Project ▸ Exit QGIS; seen:\n"
+                             + "\n".join(FOUND["modal"] + FOUND["python_errors"]))
+    _write(SPEC["out"])
+    os._exit(4)
 
 
 QTimer.singleShot(500, run)

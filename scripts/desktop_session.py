@@ -17,8 +17,8 @@ import traceback
 from qgis.core import (QgsApplication, QgsLayerTreeGroup, QgsMapLayerType,
                        QgsProcessingModelAlgorithm, QgsProject, QgsRenderContext, QgsVectorLayer,
                        QgsWkbTypes)
-from qgis.PyQt.QtCore import Qt
-from qgis.PyQt.QtWidgets import QAction, QCheckBox, QDockWidget, QTextEdit
+from qgis.PyQt.QtCore import QPoint, Qt
+from qgis.PyQt.QtWidgets import QAction, QCheckBox, QDockWidget, QMenu, QTextEdit, QToolBar
 from qgis.utils import iface
 
 WIDTH, HEIGHT = 1280, 800
@@ -120,7 +120,7 @@ class Session:
         _pump(1.0)
 
     def shot(self, name: str, widget=None) -> None:
-        iface.messageBar().clearWidgets()
+        """A PNG of the window (or ``widget``) as the user sees it: the message bar as it is."""
         if not self.shots:
             return
         os.makedirs(self.shots, exist_ok=True)
@@ -263,10 +263,12 @@ class Session:
         self.found["tree_map"] = tree()
         self.shot("desktop_map.png")
 
-        self.run_dialog("backward", "easyidp:backprojectrois", {
+        self.run_dialog("backward", "easyidp:backprojectrois", {    # GeoPackages, as users save
             "ROIS": plots.id(), "NAME_FIELD": "plot_id", "PROJECT": r["METASHAPE_PROJECT"],
-            "DSM": dsm.id()})
-        self.raw_photo_view()
+            "DSM": dsm.id(), "OUTPUT": os.path.join(self.work, "rois_in_photos.gpkg"),
+            "OUTPUT_SUMMARY": os.path.join(self.work, "photos_per_roi.gpkg")},
+            open_outputs={"OUTPUT": True, "OUTPUT_SUMMARY": True})
+        self.viewer(r["METASHAPE_PROJECT"], plots, dsm)
         labelme = os.path.join(self.survey, "labelme")
         self.run_dialog("forward", "easyidp:forwardprojectpolygons", {
             "INPUT_FOLDER": labelme, "PROJECT": r["METASHAPE_PROJECT"], "DSM": dsm.id(),
@@ -290,46 +292,118 @@ class Session:
         self.found["help"] = {a.id(): a.helpUrl() for a in
                               QgsApplication.processingRegistry().providerById("easyidp").algorithms()}
 
-    def raw_photo_view(self):
-        """The back-projected plots on the raw photo that sees most of them: the photo opened as
-        it is (no georeference: QGIS puts pixel (column, row) at x = column, y = −row), the
-        pixel layer filtered to it; the map layers hidden meanwhile."""
-        from qgis.core import QgsRasterLayer
-        project = QgsProject.instance()
-        pixels = [v for v in project.mapLayers().values() if v.name().endswith("(photo pixels)")]
-        if not pixels:
-            return
-        pixels = pixels[0]
-        counts = Counter(f["photo_path"] for f in pixels.getFeatures())
-        path, n = counts.most_common(1)[0]
-        root = project.layerTreeRoot()
-        shown = [n.layerId() for n in root.findLayers() if n.itemVisibilityChecked()]
-        for node in root.findLayers():
-            node.setItemVisibilityChecked(node.layerId() == pixels.id())
-        photo = QgsRasterLayer(path, os.path.basename(path))
-        project.addMapLayer(photo, False)
-        root.addLayer(photo).setExpanded(False)  # under the ROIs, its bands folded
-        label = os.path.basename(path)
-        pixels.setSubsetString(f"\"photo_path\" = '{path}'")
-        canvas = iface.mapCanvas()
-        extent = photo.extent()
-        extent.scale(1.02)
-        canvas.setExtent(extent)
-        canvas.refreshAllLayers()
-        _wait(lambda: not canvas.isDrawing(), 30)
+    def viewer(self, project_file, plots, dsm):
+        """The photo viewer as a user meets it: the EasyIDP toolbar button; the project and the
+        DSM chosen; a plot selected and *Selected plots* clicked (the photos listed, recorded
+        against Back-project ROIs' layer in photo pixels); the mouse over the plot on the photo
+        (the map marker); a point clicked on the map; the layer in photo pixels shown over the
+        photo that sees most plots. Screenshots: ``desktop_viewer.png``,
+        ``desktop_raw_photo.png``."""
+        from qgis.PyQt.QtCore import QPointF
+        from qgis.PyQt.QtTest import QTest
+        from qgis.utils import plugins
+        from easyidp_toolbox.easyidp_qgis import presentation
+        self.doing("opening the photo viewer from the EasyIDP toolbar")
+        window = iface.mainWindow()
+        toolbar = window.findChild(QToolBar, "EasyIDPToolbar")
+        action = window.findChild(QAction, "mActionEasyIDPPhotoViewer")
+        found = self.found["viewer"] = {
+            "toolbar": toolbar is not None and action in toolbar.actions(),
+            "menu": any(action in m.actions() for m in window.findChildren(QMenu)
+                        if m.title().replace("&", "") == "EasyIDP")}
+        action.trigger()
+        dock = plugins["easyidp_toolbox"].viewer
         _pump(0.5)
-        self.found["raw_photo"] = {"photo": label, "rois": n, "photo_crs": photo.crs().authid(),
-                                   "extent": [extent.xMinimum(), extent.yMinimum(),
-                                              extent.xMaximum(), extent.yMaximum()],
-                                   "pixels_extent": [pixels.extent().xMinimum(),
-                                                     pixels.extent().yMinimum(),
-                                                     pixels.extent().xMaximum(),
-                                                     pixels.extent().yMaximum()]}
-        self.shot("desktop_raw_photo.png")
-        project.removeMapLayer(photo.id())
-        pixels.setSubsetString("")
-        for node in root.findLayers():
-            node.setItemVisibilityChecked(node.layerId() in shown)
+        found["dock_visible"] = dock is not None and dock.isVisible()
+        layers_dock = window.findChild(QDockWidget, "Layers")
+        if layers_dock is not None:
+            layers_dock.hide()                  # room for the map and the viewer side by side
+        window.resizeDocks([dock], [720], Qt.Orientation.Horizontal)
+        dock.project_widget.setFilePath(project_file)
+        dock.dsm_combo.setLayer(dsm)
+        pixel_layers = presentation.photo_pixel_layers()
+        found["pixel_layers"] = [v.name() for v in pixel_layers]
+        found["pixel_layers_in_tree"] = [v.name() for v in pixel_layers if
+                                         QgsProject.instance().layerTreeRoot().findLayer(v.id())]
+        found["pixel_layer_crs"] = [v.crs().authid() for v in pixel_layers]
+        pixels = pixel_layers[0] if pixel_layers else None
+
+        self.doing("listing the photos of plot C2 in the viewer")
+        plot = "C2"
+        plots.selectByExpression(f"\"plot_id\" = '{plot}'")
+        iface.setActiveLayer(plots)
+        started = time.time()
+        dock.plots_button.click()
+        found["plot_seconds"] = round(time.time() - started, 3)
+        found["plot_rows"] = [[r["photo"], r["roi"], r["rank"], round(r["score"], 6)]
+                              for r in dock.rows]
+        found["status"] = dock.status.text()
+        if not dock.rows:
+            raise RuntimeError(f"the viewer listed no photo for {plot}: {dock.status.text()}")
+        if pixels is not None:
+            found["tool_rows"] = sorted(
+                [f["photo"], f["roi"], f["rank"], round(f["score"], 6)]
+                for f in pixels.getFeatures() if f["roi"] == plot)
+        _wait(lambda: all(not dock.strip.item(k).icon().isNull()
+                          for k in range(dock.strip.count())), 60)
+        found["thumbnails"] = sum(not dock.strip.item(k).icon().isNull()
+                                  for k in range(dock.strip.count()))
+        _wait(lambda: getattr(dock, "full_loaded", None) == dock.current, 30)
+        found["full_resolution"] = dock.view.pixmap_item is not None and \
+            dock.view.pixmap_item.pixmap().width() == dock.rows[dock.current]["size"][0]
+        dock.step(1)
+        dock.step(-1)
+        found["after_next_previous"] = dock.current
+
+        self.doing("hovering over the plot on the photo")
+        ring = dock.rows[dock.current]["polygons"][0][0]
+        cx, cy = ring.mean(axis=0)
+        view = dock.view
+        QTest.mouseMove(view.viewport(), view.mapFromScene(QPointF(cx, cy)))
+        _wait(lambda: dock.marker is not None and dock.marker.isVisible(), 5)
+        if dock.marker is not None:
+            centre = dock.marker.center()
+            found["marker"] = [centre.x(), centre.y()]
+            found["marker_in_plot"] = any(
+                f.geometry().contains(centre) for f in plots.getFeatures()
+                if f["plot_id"] == plot)
+        self.zoom_to("Demo plots", 1.15)
+        self.shot("desktop_viewer.png")
+
+        self.doing("clicking a point on the map with the viewer's tool")
+        dock.pick_button.click()
+        canvas = iface.mapCanvas()
+        found["map_tool"] = canvas.mapTool() is dock.tool
+        target = next(f for f in plots.getFeatures() if f["plot_id"] == "B5")
+        point = target.geometry().centroid().asPoint()
+        pixel = canvas.getCoordinateTransform().transform(point)
+        started = time.time()
+        QTest.mouseClick(canvas.viewport(), Qt.MouseButton.LeftButton,
+                         Qt.KeyboardModifier.NoModifier,
+                         QPoint(int(pixel.x()), int(pixel.y())))
+        found["point_seconds"] = round(time.time() - started, 3)
+        found["point_rows"] = len(dock.rows)
+        dock.pick_button.click()
+
+        if pixels is not None:
+            self.doing("showing the layer in photo pixels in the viewer")
+            dock.refresh_pixel_layers()
+            dock.pixel_layers.setCurrentIndex(dock.pixel_layers.findData(pixels.id()))
+            dock.layer_button.click()
+            counts = Counter(r["photo"] for r in dock.rows)
+            photo, n = counts.most_common(1)[0]
+            best = next(k for k, r in enumerate(dock.rows) if r["photo"] == photo)
+            dock.select(best)
+            dock.view.fitInView(dock.view.scene().sceneRect(), Qt.AspectRatioMode.KeepAspectRatio)
+            _wait(lambda: getattr(dock, "full_loaded", None) == dock.current, 30)
+            found["layer_rows"] = len(dock.rows)
+            found["raw_photo"] = {"photo": photo, "rois": n}
+            self.shot("desktop_raw_photo.png")
+        plots.removeSelection()
+        dock.close()                             # the map for the next steps; its marker gone
+        if layers_dock is not None:
+            layers_dock.show()
+        _pump(0.3)
 
     def toolbox_open(self):
         """The Processing toolbox with the EasyIDP tools unfolded."""

@@ -108,7 +108,10 @@ def run_desktop(root: str, spec: dict, timeout: float = 600,
     desktop_driver.py) and its findings are returned. ``extra_env``: added to a user's
     environment (e.g. :func:`checkout_env`). Within ``timeout`` seconds, or RuntimeError saying
     what the desktop was doing and quoting the dialogs it closed and the Python errors logged
-    (the driver stops itself 30 s before; QGIS is killed at ``timeout``)."""
+    (the driver stops itself 30 s before; QGIS is killed at ``timeout``). :class:`DesktopFailed`
+    (a RuntimeError) when QGIS, quit by Project ▸ Exit QGIS, ends with a non-zero status (a crash:
+    134) or showed an error in its message bar (but those containing one of the texts in
+    ``spec["expected_bar_errors"]``)."""
     xvfb = shutil.which("xvfb-run")
     if not xvfb:
         raise RuntimeError("xvfb-run is missing: apt-get install xvfb xauth (make env does)")
@@ -138,7 +141,27 @@ def run_desktop(root: str, spec: dict, timeout: float = 600,
                            f"{quoted or 'none'}\n{output}")
     if found.get("driver_error"):
         raise RuntimeError("the desktop driver failed:\n" + found["driver_error"])
+    problems = []
+    if proc.returncode != 0:
+        crash = " (a crash: QGIS's crash handler aborted)" if proc.returncode in (134, -6) else ""
+        problems.append(f"QGIS ended with exit status {proc.returncode}{crash} after Project ▸ "
+                        f"Exit QGIS\n{output}")
+    expected = spec.get("expected_bar_errors", [])
+    bar_errors = [e for e in found.get("bar_errors", []) if not any(x in e for x in expected)]
+    if bar_errors:
+        problems.append("errors in the message bar:\n" + "\n".join(bar_errors))
+    if problems:
+        raise DesktopFailed("\n\n".join(problems), found)
     return found
+
+
+class DesktopFailed(RuntimeError):
+    """The desktop did what was asked but crashed or failed at its exit, or showed an error in
+    its message bar: the message says which; ``found``: what it saw."""
+
+    def __init__(self, message: str, found: dict):
+        super().__init__(message)
+        self.found = found
 
 
 def _read_json(path: str) -> Optional[dict]:

@@ -36,6 +36,7 @@ from .photo_stats import PhotoStatistics, photo_statistics
 from .roi_photo_stats import roi_photo_statistics
 from .photos import DecodedPhotos, read_photo, resolve_photos
 from .forward_photos import PhotosToMap, forward_project_photos
+from .photo_finder import POINT_SIDE, PhotoFinder
 from ..geometry import FlatPolygons
 from .result import PIXEL_CONVENTION, PIXEL_CRS_WKT, BackProjection, read_easyidp_json
 
@@ -44,7 +45,7 @@ __all__ = ["camera_footprints", "Footprint", "FootprintStatus",
            "read_easyidp_json", "GeometryZ", "PerROIHeights", "ConstantHeight",
            "height_source", "crop_photos", "draw_previews", "PhotoCropResult", "read_photo",
            "resolve_photos", "DecodedPhotos", "photo_statistics", "PhotoStatistics",
-           "roi_photo_statistics",
+           "roi_photo_statistics", "PhotoFinder", "POINT_SIDE",
            "ForwardShape", "forward_project", "MapPolygon",
            "merge_views", "MERGE_MODES", "fuse_views", "FusedObject", "export_training_set",
            "TrainingSet", "point_discs", "orthorectify_rois", "OrthoResult", "PhotosToMap",

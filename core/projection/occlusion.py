@@ -116,6 +116,12 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
 
     order = np.argsort(rec_cam, kind="stable")
     groups = np.split(order, np.flatnonzero(np.diff(rec_cam[order])) + 1) if len(order) else []
+    one = None
+    if len(need) == 1 and groups:     # one ROI (a clicked point): its samples in every photo at once
+        a, b = starts[int(need[0])]
+        one = recon.project_model_points(
+            model[np.arange(a, b)[valid[a:b]]],
+            cameras=[cams[int(rec_cam[grp[0]])] for grp in groups]).status == INSIDE
     for g_i, grp in enumerate(groups):
         prog.check()
         cam_i = int(rec_cam[grp[0]])
@@ -127,7 +133,8 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
             owner.append(np.full(len(sel), i))
         idx, owner = np.concatenate(idx), np.concatenate(owner)
         if len(idx):
-            seen = recon.project_points(xyz[idx], dcrs, cameras=[cams[cam_i]]).status[0] == INSIDE
+            seen = one[g_i] if one is not None else recon.project_model_points(
+                model[idx], cameras=[cams[cam_i]]).status[0] == INSIDE
             np.add.at(n_in, owner[seen], 1)
             pending.append((owner[seen], idx[seen], np.full(int(seen.sum()), cam_i)))
             queued[0] += int(seen.sum())

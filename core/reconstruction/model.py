@@ -279,10 +279,20 @@ class Reconstruction:
         both modes: each point takes the pose of the sensor row it was exposed on (see
         :mod:`.rolling_shutter`).
         """
+        return self.project_model_points(self.to_model(xyz, crs), cameras=cameras,
+                                         distortion=distortion, inside_only=inside_only,
+                                         progress=progress, is_cancelled=is_cancelled)
+
+    def project_model_points(self, xyz_model, *, cameras: Optional[Sequence] = None,
+                             distortion: bool = True, inside_only: bool = False,
+                             progress=None, is_cancelled=None) -> Union[Projection, VisiblePoints]:
+        """:meth:`project_points` of points already in the model frame (:meth:`to_model`): for
+        a caller that projects the same points into photos one by one (the CRS transformation
+        done once)."""
         prog = as_progress(progress, is_cancelled)
         cams = self.select_cameras(cameras)
         labels = [c.label for c in cams]
-        xyz_model = self.to_model(xyz, crs)
+        xyz_model = np.asarray(xyz_model, np.float64).reshape(-1, 3)
         n = len(xyz_model)
         if inside_only:
             parts_c, parts_p, parts_uv = [], [], []

@@ -198,9 +198,11 @@ class BackProjectROIs(EasyIDPAlgorithm):
             if previews:
                 outputs[self.PREVIEW_FOLDER] = previews
         project = os.path.basename(self.parameterAsFile(parameters, self.PROJECT, context).rstrip("/\\"))
-        presentation.present(self, context, out, self.OUTPUT, pixel_style(),
-                             self.tr("{rois} in the photos of {project} (photo pixels)").format(
-                                 rois=source.sourceName(), project=project))
+        if presentation.present(self, context, out, self.OUTPUT, pixel_style(),
+                                self.tr("{rois} in the photos of {project} (photo pixels)").format(
+                                    rois=source.sourceName(), project=project), in_map=False):
+            feedback.pushInfo(self.tr("The ROIs in photo pixels open in the EasyIDP photo "
+                                      "viewer (toolbar), over their photos, not in the map."))
         presentation.present(self, context, summary, self.OUTPUT_SUMMARY, summary_style(),
                              self.tr("{rois}: photos of {project} that see them").format(
                                  rois=source.sourceName(), project=project))

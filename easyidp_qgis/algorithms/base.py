@@ -154,6 +154,13 @@ class EasyIDPAlgorithm(QgsProcessingAlgorithm):
         finally:
             keep_proj_context()
 
+    def postProcessAlgorithm(self, context, feedback):  # noqa: N802 (QGIS API: main thread)
+        """The layers in photo pixels a run held off the map go into the project, for the photo
+        viewer (``presentation.load_off_map``)."""
+        from ..presentation import load_off_map
+        load_off_map(self, context, feedback)
+        return {}
+
     OVERWRITE = "OVERWRITE"
 
     def add_overwrite_parameter(self) -> None:

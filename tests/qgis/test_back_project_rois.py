@@ -8,7 +8,9 @@ import os
 
 import numpy as np
 import pytest
-from qgis.core import (QgsCoordinateReferenceSystem, QgsMapSettings, QgsPointXY, QgsProcessingContext, QgsProcessingException,
+from qgis.core import (QgsApplication, QgsCoordinateReferenceSystem, QgsMapSettings, QgsPointXY,
+                       QgsProcessingContext, QgsProcessingException,
+                       QgsProcessingOutputLayerDefinition,
                        QgsProcessingFeedback, QgsProject, QgsRaster, QgsRasterLayer,
                        QgsRectangle, QgsVectorLayer)
 
@@ -169,3 +171,35 @@ def test_photo_pixel_layer_is_the_core_result_record_by_record(provider, survey,
                 line = part.exteriorRing() if r == 0 else part.interiorRing(r - 1)
                 xy = np.array([[p.x(), p.y()] for p in line.points()])
                 assert np.array_equal(xy, np.vstack([ring, ring[:1]]) * [1.0, -1.0])
+
+
+def test_photo_pixels_go_to_the_viewer_not_to_the_map(provider, survey, load_results, tmp_path):
+    """Back-project ROIs with both outputs saved to GeoPackages and set to open, loaded by
+    QGIS's own loader: the summary lands in the layer tree; the layer in photo pixels goes
+    into the project without a place in the tree and without a CRS, marked for the photo
+    viewer, so no map ever draws it (a GeoPackage gives it the undefined Cartesian SRS, which a
+    map in EPSG:32654 reports as "No transform available")."""
+    from easyidp_toolbox.easyidp_qgis import presentation
+    proj = QgsProject()
+    plots = QgsVectorLayer(survey.plots_gpkg, "plots", "ogr")
+    proj.addMapLayer(plots)
+    context = QgsProcessingContext()
+    context.setProject(proj)
+    feedback = QgsProcessingFeedback()
+    params = {"ROIS": plots.id(), "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+              "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.0, "MAX_IMAGES": 2,
+              "OUTPUT": QgsProcessingOutputLayerDefinition(str(tmp_path / "pixels.gpkg"), proj),
+              "OUTPUT_SUMMARY": QgsProcessingOutputLayerDefinition(str(tmp_path / "summary.gpkg"),
+                                                                    proj)}
+    alg = QgsApplication.processingRegistry().createAlgorithmById(ALG)
+    _, ok = alg.run(params, context, feedback)
+    assert ok, feedback.textLog()
+    assert load_results(alg, context, feedback, params)
+    in_tree = [n.layer().name() for n in proj.layerTreeRoot().findLayers()]
+    assert "plots: photos of demo_survey.psx that see them" in in_tree
+    pixels = presentation.photo_pixel_layers(proj)
+    assert [v.name() for v in pixels] == ["plots in the photos of demo_survey.psx (photo pixels)"]
+    layer = pixels[0]
+    assert layer.name() not in in_tree and not layer.crs().isValid()
+    assert layer.source().startswith(str(tmp_path / "pixels.gpkg")) and layer.featureCount() > 40
+    assert layer.renderer().type() == "RuleRenderer"

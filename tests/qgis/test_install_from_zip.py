@@ -73,7 +73,9 @@ def first_start(profile, silent_index, tmp_path_factory):
         {"action": "install", "env": {"PIP_NO_INDEX": "1", "PIP_FIND_LINKS": str(empty)}},
         {"action": "install"},
     ]
-    return run_desktop(str(root), {"steps": steps})
+    # the second step's failure is shown in red, as it should be
+    return run_desktop(str(root), {"steps": steps,
+                                   "expected_bar_errors": ["Installing the Python packages failed"]})
 
 
 def test_headless_with_packages_missing_installs_nothing(profile, realdata, tmp_path):
