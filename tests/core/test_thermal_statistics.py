@@ -1,4 +1,4 @@
-"""Plot statistics from raw photos in °C: FLIR photos of a known temperature field measured by
+"""Plot statistics from photos in °C: FLIR photos of a known temperature field measured by
 photo_statistics(values="temperature"), each view's time, sun and phase angle."""
 import math
 import sys

@@ -157,7 +157,9 @@ def test_photo_pixel_layer_is_the_core_result_record_by_record(provider, survey,
                 int(result.rank[i]), float(result.score[i]), float(result.view_angle[i]),
                 float(result.gsd[i]), float(result.visible_fraction[i]), None,
                 float(result.centre_distance[i]), bool(result.clipped[i]),
-                int(result.image_sizes[j][0]), int(result.image_sizes[j][1])]
+                int(result.image_sizes[j][0]), int(result.image_sizes[j][1]),
+                None]                     # uncertainty_px: NULL for a solved project
+        assert result.uncertainty_px.get(str(result.photo[i])) is None
         got = [None if v is None or (hasattr(v, "isNull") and v.isNull()) else v
                for v in f.attributes()[1:]]
         assert got == want, i

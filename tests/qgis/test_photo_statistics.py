@@ -130,7 +130,7 @@ def test_loaded_plots_are_named_and_coloured_by_cover(provider, survey, load_res
 
 def test_headless_plot_temperatures_from_flir_photos(qp_env, survey, tmp_path):
     """[independent] The demo survey's thermal camera (FLIR JPEGs of a known field, first 10
-    photos): qgis_process runs Back-project ROIs, then Plot statistics from raw photos with
+    photos): qgis_process runs Back-project ROIs, then Plot statistics from photos with
     VALUES = temperature on its photo-pixel layer. A plot's temp_c_mean and median in each view
     equal numpy's over the pixels shapely finds inside that layer's polygon, decoded by flyr (an
     independent FLIR reader) and converted by the test's own Planck formula, to 0.01 °C; the
