@@ -51,17 +51,52 @@ def back_project(rois: ROISet, recon, *, heights, cameras: Optional[Sequence] = 
                  progress=None, is_cancelled=None) -> BackProjection:
     """Project ROIs into the raw photos of a photogrammetry project.
 
-    ``rois``: a :class:`ROISet` in any CRS the project can be related to (a local project
-    takes ROIs without a CRS as local coordinates). ``heights``: the vertex heights, see
-    :mod:`.height_sources` (``"geometry"``, a number, a :class:`~core.raster.DSM`,
-    :class:`PerROIHeights`).
-    ``cameras``: labels (default: every aligned, enabled camera). ``distortion``: False for
-    photos undistorted by the photogrammetry software. ``clip``: clip ROIs to the frame (True)
-    or keep only photos that hold the whole ROI (False). ``occlusion_dsm``: a DSM (a
-    :class:`~core.raster.DSM`, a path or a ``GeoTiff``) to test lines of sight against (see
-    :mod:`.occlusion`).
-    ``min_visible``: photos whose visible, unoccluded share of the ROI is below this are
-    dropped (and counted); ``max_views``: keep the best k photos per ROI (0 = all).
+    Pixels follow the [Conventions](../background/conventions.md); each ROI × photo record is
+    ranked by its score (view angle, ground resolution, distance from the photo centre,
+    visible share).
+
+    Parameters
+    ----------
+    rois : ROISet
+        The ROIs, in any CRS the project can be related to (a local project takes ROIs without
+        a CRS as local coordinates).
+    recon : Reconstruction
+        The opened project (:func:`open_reconstruction`).
+    heights : str, float, DSM or PerROIHeights
+        The vertex heights (:mod:`.height_sources`): ``"geometry"`` (the ROIs' Z), one number
+        (the project's vertical reference), a :class:`~core.raster.DSM` sampled at every
+        vertex, or :class:`PerROIHeights`.
+    cameras : sequence of str, optional
+        Camera labels to use (default: every aligned, enabled camera).
+    distortion : bool
+        False for photos the photogrammetry software has undistorted.
+    clip : bool
+        True: clip each ROI to the photo frame; False: keep only photos that hold the whole ROI.
+    occlusion_dsm : DSM, GeoTiff or path, optional
+        A DSM to test lines of sight against (:mod:`.occlusion`); None: no occlusion test.
+    min_visible : float
+        Photos whose visible, unoccluded share of the ROI (0–1) is below this are dropped (and
+        counted).
+    max_views : int
+        Keep the best k photos per ROI (0: all).
+    densify_tolerance : float
+        Edges are densified until the projected curve is within this many pixels of the
+        straight edge.
+    occlusion_samples : int
+        About this many sample points per ROI for the occlusion test.
+    occlusion_tolerance : float, optional
+        A surface closer than this to a sample does not hide it (model units; default one DSM
+        pixel).
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    BackProjection
+        One record per ROI × photo (rings in photo pixels, rank, score, view angle, GSD,
+        visible and occluded share), with counts of the photos dropped and the run's notes.
     """
     if not 0.0 <= float(min_visible) <= 1.0:
         raise EasyIDPError(f"min_visible must be between 0 and 1, not {min_visible}.")

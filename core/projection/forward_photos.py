@@ -21,11 +21,36 @@ class PhotosToMap:
 
 def forward_project_photos(items, recon, dsm: DSM, merge: str = "none", densify=True, *,
                            progress=None, is_cancelled=None) -> PhotosToMap:
-    """The polygons of ``items`` ``[(PhotoAnnotations, camera)]`` (as ``read_annotations``
-    gives them) forward-projected photo by photo onto ``dsm`` and merged by ``merge`` (see
-    :func:`merge_views`; 'fuse' uses the project and the DSM). Lines and points are
-    counted in ``skipped``. ``densify``: as :func:`forward_project` (0 or False: off). A
-    cancellation stops after the current photo; what was projected is merged."""
+    """Forward-project the polygons of annotated photos onto the DSM, photo by photo, and merge
+    the views of each object.
+
+    Lines and points are counted in ``skipped``. A cancellation stops after the current photo;
+    what was projected is merged.
+
+    Parameters
+    ----------
+    items : list of (PhotoAnnotations, camera)
+        The annotations of each photo with its camera, as :func:`read_annotations` gives them.
+    recon : Reconstruction
+        The opened project.
+    dsm : DSM
+        The DSM the rays meet.
+    merge : {"none", "union", "best", "fuse"}
+        How the views of one object are merged (:func:`merge_views`; ``"fuse"`` uses the project
+        and the DSM, :func:`fuse_views`).
+    densify : bool or float
+        As :func:`forward_project`: True a vertex every few pixels along edges, a number that
+        spacing in pixels, 0 or False off.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    PhotosToMap
+        The polygons on the map, the photos used and what was skipped.
+    """
     prog = as_progress(progress, is_cancelled)
     shapes, skipped = [], 0
     for k, (ann, cam) in enumerate(items):

@@ -611,11 +611,48 @@ def fuse_views(shapes: List[ForwardShape], recon, dsm, *, cameras: Optional[Sequ
                max_distance: Optional[float] = None,
                min_visible: float = 0.5, occlusion: bool = True, visibility: bool = True,
                source_crs=None, progress=None) -> List[FusedObject]:
-    """Fuse forward-projected detections (see the module docstring). ``dsm``: the DSM the
-    shapes were projected on (a :class:`~core.raster.DSM`, a GeoTIFF path or an opened
-    ``GeoTiff``; heights and the expected-views test; its CRS must be that of the shapes,
-    ``source_crs`` overriding its GeoKeys); ``cameras``: labels of every photo
-    searched, also those without a detection (default: the photos of ``shapes``)."""
+    """Fuse forward-projected detections into one map object per real object (the steps: the
+    module docstring).
+
+    Parameters
+    ----------
+    shapes : list of ForwardShape
+        The detections, forward-projected photo by photo (:func:`forward_project`), with their
+        labels and scores.
+    recon : Reconstruction
+        The opened project the shapes were projected with.
+    dsm : DSM, GeoTiff or path
+        The DSM the shapes were projected on: heights and the expected-views test; its CRS must
+        be that of the shapes.
+    cameras : sequence of str, optional
+        Labels of every photo searched, also those without a detection (default: the photos of
+        ``shapes``).
+    nms_iou : float
+        Within a photo, a detection whose map IoU with a kept one exceeds this is suppressed.
+    group_iou : float
+        Detections of different photos are grouped from this map IoU.
+    group_overlap : float
+        …or when this share of the smaller one lies in the other.
+    max_distance : float, optional
+        The largest distance between grouped centroids, map units (default: half the mean
+        equivalent diameter of the pair).
+    min_visible : float
+        A photo is expected to see an object when this share (0–1) of it is in its frame and
+        visible.
+    occlusion : bool
+        Test lines of sight on the DSM for the expected views.
+    visibility : bool
+        A photo votes only on the cells it can see; False: every photo votes on every cell.
+    source_crs : CRS, optional
+        The CRS to assume for the DSM, instead of the one its GeoKeys give.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+
+    Returns
+    -------
+    list of FusedObject
+        One per object: the outline, position, views, scores and confidence.
+    """
     import shapely
     for name, v in (("nms_iou", nms_iou), ("group_iou", group_iou),
                     ("group_overlap", group_overlap)):

@@ -104,28 +104,72 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
     """Measure every ROI × photo of ``result`` in the raw photos, and summarise each ROI across
     its views (see the module docstring).
 
-    ``photos_folder``: folder of the photos when they moved (matched by file name). ``bands``: the
-    photos' band names (default red, green, blue for 3 bands, else b1…; name multispectral bands
-    ``blue, green, red, rededge, nir`` for NDVI/NDRE; a band named ``alpha`` masks).
-    ``statistics``: of :data:`STATISTICS`; ``percentiles``: numbers 0–100; ``indices``: of
-    :data:`core.indices.INDICES` (default all that the bands allow). ``cover_threshold``: None
-    for Otsu's. ``min_visible``/``max_views``: which views are used across views;
-    ``weighted``: score-weighted medians. ``occlusion_dsm`` (with ``recon``, the project, and
-    ``rois``, the ROI set the back-projection was made from): leave out the pixels whose line of
-    sight meets the DSM outside the ROI (:mod:`.pixel_occlusion`; ``occlusion_samples`` coarse
-    rays per view). ``previews_folder``: one PNG per ROI with its used views (at most
-    ``preview_views``) side by side, each with its values. ``workers``: decoding threads (the
-    measuring runs on the calling thread).
+    Invalid pixels (saturated, unreadable) are left out. Each view also gets its photo's
+    acquisition time (``acquired``, EXIF) and, with ``recon`` and ``rois``, the sun's zenith
+    and azimuth at its ROI and the phase angle sun–ROI–camera (:mod:`.view_sun`).
 
-    ``values``: ``"stored"`` (the photos as stored; columns ``red_mean``, …), ``"temperature"``
-    (°C by :func:`..radiometry.read_photo_values`; columns ``temp_c_mean``, …) or
-    ``"reflectance"`` (columns ``nir_refl_median``, …; indices on reflectance);
-    ``value_options``: its options (object parameters, temperature scale; see
-    :func:`..radiometry.read_photo_values`). Invalid pixels (saturated) are left out. Each view
-    also gets its photo's acquisition time (``acquired``, EXIF) and, with ``recon`` and
-    ``rois`` in a geographic CRS, the sun's zenith and azimuth at its ROI and the phase angle
-    sun–ROI–camera (:mod:`.view_sun`); ``utc_offset`` (hours) for photos whose time states no
-    offset.
+    Parameters
+    ----------
+    result : BackProjection
+        The ROIs in the photos (:func:`back_project`).
+    photos_folder : str or path, optional
+        Where the photos are when they moved (matched by file name).
+    bands : sequence of str, optional
+        The photos' band names (default red, green, blue for 3 bands, else b1…; name
+        multispectral bands ``blue, green, red, rededge, nir`` for NDVI/NDRE; a band named
+        ``alpha`` masks).
+    statistics : sequence of str
+        Of :data:`STATISTICS`.
+    percentiles : sequence of float
+        Percentiles, 0–100.
+    indices : sequence of str, optional
+        Of :data:`core.indices.INDICES` (default: all that the bands allow).
+    cover_threshold : float, optional
+        The vegetation-index threshold of cover (None: Otsu's per view).
+    min_visible : float
+        Views with a smaller visible share (0–1) are not used across views.
+    max_views : int
+        Use the best k views per ROI across views (0: all).
+    weighted : bool
+        Score-weighted medians across views.
+    recon : Reconstruction, optional
+        The project: with ``rois``, for the occlusion test and the sun angles.
+    rois : ROISet, optional
+        The ROI set the back-projection was made from.
+    occlusion_dsm : DSM, GeoTiff or path, optional
+        Leave out the pixels whose line of sight meets this DSM outside the ROI
+        (:mod:`.pixel_occlusion`).
+    distortion : bool, optional
+        As the back-projection (default: its setting).
+    occlusion_samples : int
+        Coarse rays per view for the occlusion test.
+    previews_folder : str or path, optional
+        One PNG per ROI with its used views side by side, each with its values.
+    preview_views : int
+        At most this many views per preview.
+    overwrite : bool
+        Replace this run's earlier previews.
+    workers : int, optional
+        Decoding threads (the measuring runs on the calling thread).
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+    values : {"stored", "temperature", "reflectance"}
+        ``"stored"``: the photos as stored (columns ``red_mean``, …); ``"temperature"``: °C
+        (:func:`..radiometry.read_photo_values`; columns ``temp_c_mean``, …);
+        ``"reflectance"``: reflectance 0–1 (columns ``nir_refl_median``, …; indices on
+        reflectance).
+    value_options : dict, optional
+        The options of ``values`` (object parameters, temperature scale:
+        :func:`..radiometry.read_photo_values`).
+    utc_offset : float, optional
+        Hours, for photos whose time states no offset (the sun's angles need UTC).
+
+    Returns
+    -------
+    PhotoStatistics
+        The table of every ROI × photo and the table across views, with the notes.
     """
     if values not in VALUES:
         raise EasyIDPError(f"Unknown values {values!r}: choose from {', '.join(VALUES)}.")

@@ -211,11 +211,53 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
     """Write a COCO, YOLO (detect and segment) and LabelMe training set of ``rois`` on the raw
     photos of ``recon`` (layout and rules: the module docstring).
 
-    ``rois``: the labelled objects (ROI names = instance names, unique); ``classes``: the class
-    of each ROI; ``dsm``: GeoTIFF path of the DSM (vertex heights and occlusion; ``source_crs``
-    overrides its GeoKeys); ``photos_folder``: where the photos are when they moved;
-    ``cameras``: photo labels to use (default all aligned). ``tile_size``/``tile_overlap``:
-    pixels (0: whole photos); ``region_size``: map units of the ROIs' CRS.
+    Parameters
+    ----------
+    rois : ROISet
+        The labelled objects (ROI names are the instance names, unique).
+    classes : sequence of str
+        The class of each ROI, in the order of ``rois``.
+    recon : Reconstruction
+        The opened project (:func:`open_reconstruction`).
+    dsm : str or path
+        GeoTIFF of the DSM: vertex heights and the occlusion test.
+    output_folder : str or path
+        The folder the training set is written into.
+    source_crs : CRS, optional
+        The CRS to assume for the DSM, instead of the one its GeoKeys give.
+    photos_folder : str or path, optional
+        Where the photos are when they moved (matched by file name).
+    cameras : sequence of str, optional
+        Photo labels to use (default: every aligned photo).
+    max_views : int
+        Label each object in its best k photos only (0: every photo that sees it).
+    min_visible : float
+        An object is labelled in a photo when at least this share (0–1) of it is in the frame
+        and not hidden by anything outside itself.
+    tile_size : int
+        Tiles of this many pixels (0: whole photos).
+    tile_overlap : int
+        Overlap of neighbouring tiles, pixels.
+    split : {"region", "photo"}
+        How whole images go to train and validation: by map regions, or photo by photo.
+    val_fraction : float
+        The share of objects asked for in validation (0–1).
+    region_size : float
+        The side of a split region, in map units of the ROIs' CRS.
+    seed : int
+        The seed of the split's random draw.
+    overwrite : bool
+        Replace this run's earlier outputs; without it existing files stop the run before any
+        work. The input is never replaced.
+    progress : callable or Progress, optional
+        Called with the percent done (0–100).
+    is_cancelled : callable, optional
+        Returns True to stop (:class:`Cancelled` is raised).
+
+    Returns
+    -------
+    TrainingSet
+        The files written, images and labels per split, the objects left out and the warnings.
     """
     prog = as_progress(progress, is_cancelled)
     if not isinstance(rois, ROISet):
