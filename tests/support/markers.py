@@ -28,8 +28,10 @@ REFERENCE_NAMES = {"REF_PYTHON", "require_reference", "reference_env"}
 GENERATED_NAMES = {"make_demo_survey", "make_demo_season"}
 DESKTOP_MODULES = {"test_desktop.py", "test_install_from_zip.py"}
 # tests/core modules that are not unit tests, with the reason
-NOT_UNIT = {"test_wheel.py": "builds the wheel and installs it into fresh venvs from the registry",
-            "test_thermal_exiftool.py": "runs Debian's exiftool (libimage-exiftool-perl, make apt)"}
+NOT_UNIT = {
+    "test_wheel.py": "builds the wheel and installs it into fresh venvs from the registry",
+    "test_thermal_exiftool.py": "runs Debian's exiftool (libimage-exiftool-perl, make apt)",
+}
 
 
 def register(config) -> None:
