@@ -75,7 +75,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
         p = QgsProcessingParameterEnum(
             self.FIELD_MESS, self.tr("Field"),
             options=[self.tr("messy (weeds, margin grass, tall rows, gaps, …)"),
-                     self.tr("tidy (narrow rows on bare soil)")], defaultValue=0)
+                     self.tr("tidy (narrow rows on bare soil)")], defaultValue=0, optional=True)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
         p = QgsProcessingParameterNumber(

@@ -126,7 +126,8 @@ def test_crop_counts_equal_an_independent_count(provider, realdata, autzen, tmp_
     res = _run(CROP, {"INPUT": str(realdata / AUTZEN), "ROIS": _rois(PLOTS + [("far", OUTSIDE)]),
                       "NAME_FIELD": "name", "OUTPUT_FOLDER": str(tmp_path / "o"),
                       "OUTPUT_INDEX": QgsProcessingOutputLayerDefinition("TEMPORARY_OUTPUT",
-                                                                         QgsProject.instance())},
+                                                                         QgsProject.instance()),
+                      "OPEN_FILES": True},
                log, context)
     assert (res["CROPPED"], res["EMPTY"], res["MISSED"]) == (3, 0, 1)
     index = {f["name"]: (f["points"], f["crop_status"]) for f in res["OUTPUT_INDEX"].getFeatures()}
@@ -160,6 +161,11 @@ def test_crop_queues_las_outputs_where_qgis_has_a_point_cloud_provider(provider,
     assert not context.layersToLoadOnCompletion()          # loading not asked for
     params.update(OUTPUT_FOLDER=str(tmp_path / "o2"), OUTPUT_INDEX=QgsProcessingOutputLayerDefinition(
         "TEMPORARY_OUTPUT", QgsProject.instance()))
+    _run(CROP, params, context=context)                   # the index opens; the crops not asked
+    assert [d.outputName for d in context.layersToLoadOnCompletion().values()] == ["OUTPUT_INDEX"]
+    context = QgsProcessingContext()
+    context.setProject(QgsProject.instance())
+    params.update(OUTPUT_FOLDER=str(tmp_path / "o3"), OPEN_FILES=True)
     _run(CROP, params, context=context)
     queued = context.layersToLoadOnCompletion()
     clouds = {d.name: d.layerTypeHint for d in queued.values() if d.outputName == "OUTPUT_FILES"}
