@@ -66,7 +66,7 @@ class PhotoFinder:
         (``occlusion_samples`` per ROI, as there)."""
         return back_project(rois, self.recon, heights=self.heights, distortion=self.distortion,
                             clip=True, occlusion_dsm=self.dsm if self.occlusion else None,
-                            min_visible=self.min_visible, max_images=self.max_views,
+                            min_visible=self.min_visible, max_views=self.max_views,
                             occlusion_samples=occlusion_samples, progress=progress,
                             is_cancelled=is_cancelled)
 

@@ -33,7 +33,7 @@ def test_plots_are_ranked_as_back_project_rois_ranks_them(demo, plots):
     ours = finder.rois(plots)
     dsm = DSM(demo.dsm)
     tool = back_project(plots, recon, heights=dsm, occlusion_dsm=dsm, min_visible=0.5,
-                        max_images=0, clip=True)
+                        max_views=0, clip=True)
     assert len(ours) == len(tool) > len(plots)
     assert ours.photo.tolist() == tool.photo.tolist()
     assert np.array_equal(ours.rank, tool.rank) and np.array_equal(ours.score, tool.score)

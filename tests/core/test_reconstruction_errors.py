@@ -137,4 +137,4 @@ def test_pix4d_rig_without_calibrated_camera_parameters(tmp_path, params):
     text = cam.read_text()
     cam.write_text(text + "\n" + text.replace("camera_calibration_file 0", "camera_calibration_file 1"))
     with pytest.raises(InputError, match=r"\.cam: 2 camera models \(a multi-camera rig.*calibrated camera parameters"):
-        open_reconstruction(folder, crs="EPSG:32654")
+        open_reconstruction(folder, source_crs="EPSG:32654")
