@@ -5,27 +5,13 @@ per-band, per-capture exposure and gain, and DLS 2 tags); every band file is rea
 through the same back-projected plot mask in every band of a capture, against the truth of the
 spectral model under the same mask, and against NDVI from the stored digital numbers.
 
-The Plot-statistics tool's reflectance choice (``VALUES``) is another session's part of issue 34
-and is not merged yet, so this step computes the per-plot values itself, through the core's
-back-projection (``back_project``), in this script: not a tool run."""
+The per-plot values are computed here through the core's back-projection (``back_project``) and
+the record masks Plot statistics uses (``window_mask``), not through the tool's reflectance
+choice (``VALUES``): not a tool run."""
 import os
 import time
 
 import numpy as np
-
-
-def _mask(result, i):
-    """(r0, c0, mask) of back-projection record ``i``: pixel centres inside its polygon."""
-    from ..core.geometry import rasterize
-    w, h = (int(v) for v in result.image_sizes[int(result.photo_index[i])])
-    rings = result.rings_of(i)
-    allxy = np.concatenate(rings)
-    c0 = min(max(int(np.floor(allxy[:, 0].min())), 0), w)
-    r0 = min(max(int(np.floor(allxy[:, 1].min())), 0), h)
-    c1 = max(min(int(np.ceil(allxy[:, 0].max())), w), c0)
-    r1 = max(min(int(np.ceil(allxy[:, 1].max())), h), r0)
-    off = np.array([c0, r0], float)
-    return r0, c0, rasterize([r - off for r in rings], (r1 - r0, c1 - c0))
 
 
 def run_multispectral_demo(s, out, *, views: int = 3) -> list:
@@ -34,6 +20,7 @@ def run_multispectral_demo(s, out, *, views: int = 3) -> list:
     import tifffile
 
     from ..core import open_reconstruction
+    from ..core.projection.photo_stats import window_mask
     from ..core.demo.multispectral import BANDS, true_reflectance, write_multispectral_flight
     from ..core.projection import back_project
     from ..core.projection.photos import read_photo
@@ -72,7 +59,7 @@ def run_multispectral_demo(s, out, *, views: int = 3) -> list:
             cache.clear()
             cache[label] = {b: (reflectance_values(bands[b]), tifffile.imread(bands[b]), truth[b])
                             for b in BANDS}
-        r0, c0, mask = _mask(bp, i)
+        r0, c0, mask = window_mask(bp, i)
         rows, cols = slice(r0, r0 + mask.shape[0]), slice(c0, c0 + mask.shape[1])
         plot = bp.roi_names[int(bp.roi[i])]
         acc = sums.setdefault(plot, {"refl": {}, "truth": {}, "dn": {}})

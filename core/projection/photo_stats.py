@@ -228,7 +228,7 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
                 img = np.ascontiguousarray(img)      # pixels are gathered by flat index
                 state.photos_decoded += 1
                 recs = by_photo[j]
-                windows = [_window_mask(result, i) for i in recs]
+                windows = [window_mask(result, i) for i in recs]
                 occluded = [None] * len(recs)
                 if occ is not None:
                     occluded = occ.photo(j, recs, windows, prog)
@@ -266,7 +266,7 @@ def unit_columns(columns: List[str], bands: Sequence[str], values: str) -> List[
     return out
 
 
-def _window_mask(result: BackProjection, i: int):
+def window_mask(result: BackProjection, i: int):
     """(r0, c0, mask) of record ``i``: the pixels whose centre is inside its polygon, over
     the polygon's bounding box inside the frame."""
     j = int(result.photo_index[i])
@@ -418,4 +418,4 @@ class _Pass:
 
 
 
-__all__ = ["photo_statistics"]
+__all__ = ["photo_statistics", "window_mask"]
