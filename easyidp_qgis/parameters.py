@@ -1,10 +1,17 @@
-"""Parameters several tools share: optional numbers and outputs, a Z range, percentiles."""
+"""Parameters several tools share: optional numbers and outputs, a Z range, percentiles; the
+marker of labels kept in tables (:func:`translatable`)."""
 import math
 import re
 
 from qgis.core import QgsProcessingException, QgsProcessingParameterNumber
 
 from .compat import ProcessingNumberParameterType, ProcessingParameterFlag
+
+
+def translatable(text: str) -> str:
+    """Mark a string kept in a table (a choice label) for the translation catalogues; it is
+    translated where it is shown, with ``tr``."""
+    return text
 
 
 def with_help(p, text: str):

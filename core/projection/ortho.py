@@ -10,6 +10,12 @@ on DSM nodata, outside the photo's frame, or whose line of sight to the camera t
 point) get alpha 0. GeoTIFF (the photo's bands and data type, plus an alpha band), written
 atomically with the DSM's georeferencing keys.
 
+``values`` temperature or reflectance (:func:`..radiometry.read_photo_values`, the one place
+where pixels become physical values): float32 GeoTIFF of those values plus the alpha band, the
+unit and what was applied in GDAL's metadata (:mod:`..radiometry.output_tags`); NaN (the
+nodata, alpha 0) where no value is shown, and where the bilinear sample touches a pixel that
+is not valid (saturated, unreadable: masked, never averaged in).
+
 Photos: ``best`` (the backward projection's best-scored photo per ROI,
 :func:`.backward.back_project`), ``all`` (every photo that sees the ROI) or ``photo`` (one
 named photo).
@@ -26,6 +32,7 @@ from ..files import OutputFolder
 from ..geometry import rasterize
 from ..naming import unique_names
 from ..progress import as_progress
+from ..radiometry import NODATA_TEXT, PhotoValues, gdal_metadata, photo_decoder
 from ..raster import (HIT, MISS, TAG_GDAL_METADATA, RaySurface, as_dsm, first_hits,
                       rois_in_raster_crs, write_geotiff)
 from ..roi import ROISet
@@ -81,7 +88,8 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
                       photo=None, photos_folder=None, gsd: Optional[float] = None,
                       occlusion: bool = True, occlusion_tolerance: Optional[float] = None,
                       source_crs=None, overwrite: bool = False, progress=None,
-                      is_cancelled=None) -> OrthoResult:
+                      is_cancelled=None, values: str = "stored",
+                      value_options: Optional[dict] = None) -> OrthoResult:
     """Orthorectify every ROI from raw photos (see the module docstring).
 
     Files are named ``<roi>.tif`` (``best``, ``photo``) or ``<roi>_<photo>.tif`` (``all``); the
@@ -118,6 +126,13 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         Called with the percent done (0–100).
     is_cancelled : callable, optional
         Returns True to stop (:class:`Cancelled` is raised).
+    values : {"stored", "temperature", "reflectance"}
+        The photo's values as stored (its bands and data type), or in physical units: float32
+        in °C or reflectance (see the module docstring; a photo that holds no such values is
+        skipped, with why).
+    value_options : dict, optional
+        The options of ``values`` (object parameters, temperature TIFF scale:
+        :func:`..radiometry.read_photo_values`).
 
     Returns
     -------
@@ -130,6 +145,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
         raise InputError("Orthorectify from a named photo: give the photo's label.")
     if gsd is not None and not gsd > 0:
         raise InputError(f"The output pixel size (GSD) must be positive, not {gsd}.")
+    decoding = (values, photo_decoder(values, value_options))
     prog = as_progress(progress, is_cancelled)
     dsm = as_dsm(dsm, source_crs)
     surface = dsm.ray_surface()
@@ -164,7 +180,7 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
     with OutputFolder(output_folder, overwrite=overwrite, inputs=[tif.path]) as out:
         paths = [str(p) for p in out.claim(s + ".tif" for s in stems)]
         _render_all(by_photo, found, missing, pairs, cams, paths, local, names, recon, surface,
-                    gsd, occlusion, tol, result, prog)
+                    gsd, occlusion, tol, result, prog, decoding)
     if not result.files and result.skipped:
         what, why = next(iter(result.skipped.items()))
         raise InputError(f"No ROI image was written: {what}: {why}"
@@ -174,23 +190,28 @@ def orthorectify_rois(rois: ROISet, recon, dsm, output_folder, *, selection: str
 
 
 def _render_all(by_photo, found, missing, pairs, cams, paths, local, names, recon, surface, gsd,
-                occlusion, tol, result, prog) -> None:
+                occlusion, tol, result, prog, decoding=("stored", None)) -> None:
     """Decode each photo once (:class:`.photos.DecodedPhotos`, the pass every consumer of
-    pixels shares) and write the images of the ROIs it was chosen for."""
+    pixels shares; ``decoding``: (values, decoder of :func:`..radiometry.photo_decoder`)) and
+    write the images of the ROIs it was chosen for."""
     done = 0
     labels = list(by_photo)
     sensors = [recon.sensors[cams[label].sensor_id] for label in labels]
     with DecodedPhotos([found.get(label) for label in labels],
                        [(s.width, s.height) for s in sensors],
-                       missing=[missing.get(label, "") for label in labels]) as decoded:
+                       missing=[missing.get(label, "") for label in labels],
+                       decode=decoding[1]) as decoded:
         for i, image, why in decoded:
             prog.check()
+            physical = None
+            if isinstance(image, PhotoValues):          # physical values: NaN where invalid
+                physical, image = (decoding[0], image), image.masked()
             label = labels[i]
             ks = by_photo[label]
             whys = [why] * len(ks) if why else _render(
                 [(local[pairs[k][0]], paths[k]) for k in ks], recon, cams[label],
                 image[..., None] if image.ndim == 2 else image, surface, gsd, occlusion, tol,
-                result)
+                result, physical)
             for k, why_k in zip(ks, whys):
                 r = pairs[k][0]
                 if why_k:
@@ -250,9 +271,12 @@ def line_of_sight_coarse_first(recon, cam, surface, p, tol, job, row, col, step)
     return seen
 
 
-def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, result):
+def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, result,
+            physical=None):
     """Write the images of ``jobs`` [(ROI in the DSM CRS, output path)] from one photo (all
-    their pixels projected and ray-tested at once); returns why not, per job (None: written)."""
+    their pixels projected and ray-tested at once); returns why not, per job (None: written).
+    ``physical``: (values, :class:`..radiometry.PhotoValues`) when ``image`` holds them (NaN
+    where not valid)."""
     from scipy.ndimage import map_coordinates
     tif, crs = surface.tif, surface.crs
     whys: List[Optional[str]] = [None] * len(jobs)
@@ -324,6 +348,9 @@ def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, r
     top = np.iinfo(image.dtype).max if image.dtype.kind in "ui" else 1.0
     rgb = bands == 3 and image.dtype == np.uint8
     geokeys = {k: v for k, v in tif.geo_tags.items() if k != TAG_GDAL_METADATA}
+    nodata = None
+    if physical is not None:         # float32 in units: NaN (nodata, alpha 0) where no value
+        geokeys[TAG_GDAL_METADATA], nodata = gdal_metadata(*physical, ("alpha",)), NODATA_TEXT
     order = np.argsort(owner[keep], kind="stable")
     bounds = np.searchsorted(owner[keep][order], np.arange(len(jobs) + 1))
     for j, (roi, out) in enumerate(jobs):
@@ -335,11 +362,14 @@ def _render(jobs, recon, cam, image, surface: RaySurface, gsd, occlusion, tol, r
             continue
         ox, oy, g, ncol, nrow, n_roi = grids[j]
         data = np.zeros((nrow * ncol, bands + 1), dtype=image.dtype)
+        if nodata is not None:
+            data[:, :bands] = np.nan
         at = cell[keep[sel]]
         data[at, :bands] = values[sel]
-        data[at, bands] = top
+        data[at, bands] = top if nodata is None else np.where(
+            np.isnan(values[sel]).any(axis=1), 0.0, top)
         write_geotiff(out, data.reshape(nrow, ncol, bands + 1), (ox, g, 0.0, oy, 0.0, -g),
-                      geokeys, rgb=rgb, extrasamples=(EXTRASAMPLE_ALPHA,) if rgb
+                      geokeys, nodata, rgb=rgb, extrasamples=(EXTRASAMPLE_ALPHA,) if rgb
                       else (0,) * (bands - 1) + (EXTRASAMPLE_ALPHA,))
         result.files.append(out)
         result.visible.append(sel.size / n_roi)

@@ -13,6 +13,11 @@ with the polygon as alpha (a pixel is inside when its centre is, as for raster c
 * 16-bit, floating-point or multiband photos (e.g. multispectral TIFFs): TIFF, the photo's
   bands plus an alpha band (ExtraSamples = unassociated alpha; 0 / the type's maximum, 1.0
   for floats).
+* ``values`` temperature or reflectance (:func:`..radiometry.read_photo_values`, the one place
+  where pixels become physical values): float32 TIFF of those values plus the alpha band, the
+  unit and what was applied in GDAL's metadata (:mod:`..radiometry.output_tags`), NaN (the
+  nodata) where a pixel is not valid (saturated, unreadable); the sidecar's ``values`` says the
+  same.
 
 Files are ``<roi>/<photo>.png|tif`` with a sidecar ``<roi>/<photo>.json``: the crop's offset
 in the photo, the polygons in crop and photo pixels, score and fractions, the camera and the
@@ -36,6 +41,7 @@ from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import densify, rasterize
 from ..naming import unique_names
 from ..progress import as_progress
+from ..radiometry import PhotoValues, photo_decoder, tiff_extratags
 from .photos import DecodedPhotos, photo_stems, resolve_photos
 from .result import PIXEL_CONVENTION, BackProjection
 
@@ -71,7 +77,8 @@ class PhotoCropResult:
 @renamed_parameters(out_folder="output_folder", photos="photos_folder")
 def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, margin: int = 0,
                 previews_folder=None, preview_views: int = 4, workers: Optional[int] = None,
-                overwrite: bool = False, progress=None, is_cancelled=None) -> PhotoCropResult:
+                overwrite: bool = False, progress=None, is_cancelled=None,
+                values: str = "stored", value_options: Optional[dict] = None) -> PhotoCropResult:
     """Cut every ROI × photo of ``result`` out of the raw photos.
 
     Each photo is decoded once. Missing or undecodable photos are reported in
@@ -101,12 +108,20 @@ def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, ma
         Called with the percent done (0–100).
     is_cancelled : callable, optional
         Returns True to stop (:class:`Cancelled` is raised).
+    values : {"stored", "temperature", "reflectance"}
+        The pixels as stored (the photo's data type), or in physical units: float32 TIFFs in
+        °C or reflectance, NaN where a pixel is not valid (:func:`..radiometry.read_photo_values`;
+        a photo that holds no such values is skipped, with why).
+    value_options : dict, optional
+        The options of ``values`` (object parameters, temperature TIFF scale:
+        :func:`..radiometry.read_photo_values`).
 
     Returns
     -------
     PhotoCropResult
         The crops, their sidecars and the previews written, sorted, and the photos skipped.
     """
+    decode = photo_decoder(values, value_options)
     if output_folder is None and previews_folder is None:
         raise InputError.of("nothing_to_write")
     if margin < 0:
@@ -132,7 +147,7 @@ def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, ma
             stack.enter_context(OutputFolder(previews_folder, overwrite=overwrite,
                                              what="Previews folder")).claim(d + ".png" for d in roi_dirs)
         _crop_all(result, out, used, found, roi_dirs, output_folder, previews_folder, preview_views,
-                  margin, workers, prog)
+                  margin, workers, prog, (values, decode))
     out.files.sort()
     out.sidecars.sort()
     out.previews.sort()
@@ -140,9 +155,10 @@ def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, ma
 
 
 def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, preview_views,
-              margin, workers, prog) -> None:
+              margin, workers, prog, decoding=("stored", None)) -> None:
     """One pass over the photos (:class:`.photos.DecodedPhotos`: each decoded once, threads
-    ahead of the cutting) writing each photo's crops and previews."""
+    ahead of the cutting) writing each photo's crops and previews; ``decoding``: (values,
+    decoder of :func:`..radiometry.photo_decoder`)."""
     stems = dict(zip(result.photo_labels, photo_stems(result.photo_labels)))
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
@@ -167,7 +183,7 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
             out.previews.append(path)
 
     paths = [found[result.photo_labels[j]] for j in todo]
-    with DecodedPhotos(paths, result.image_sizes[todo], workers) as photos, \
+    with DecodedPhotos(paths, result.image_sizes[todo], workers, decode=decoding[1]) as photos, \
             ThreadPoolExecutor(workers, thread_name_prefix="easyidp-write") as writers:
         try:
             pending += [("preview", writers.submit(*sheet)) for sheet in early]
@@ -180,10 +196,13 @@ def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, p
                         pending += [("preview", writers.submit(*sheet))
                                     for sheet in sheets.photo_unavailable(by_photo[j])]
                     continue
+                physical = None
+                if isinstance(img, PhotoValues):        # physical values: NaN where invalid
+                    physical, img = (decoding[0], img), img.masked()
                 for i in by_photo[j]:
                     if out_folder is not None:
                         job = _crop_job(result, i, img, margin, out_folder, roi_dirs, stems,
-                                        paths[k])
+                                        paths[k], physical)
                         if job is None:
                             out.empty += 1
                         else:
@@ -260,8 +279,9 @@ def _window(rings, w: int, h: int, margin: int):
     return r0, r1, c0, c1
 
 
-def _crop_job(result, i, img, margin, out_folder, roi_dirs, stems, photo_path):
-    """(function, args...) writing record ``i``'s crop and sidecar, or None when empty."""
+def _crop_job(result, i, img, margin, out_folder, roi_dirs, stems, photo_path, physical=None):
+    """(function, args...) writing record ``i``'s crop and sidecar, or None when empty;
+    ``physical``: (values, :class:`..radiometry.PhotoValues`) when ``img`` holds them."""
     j = int(result.photo_index[i])
     w, h = (int(v) for v in result.image_sizes[j])
     polys = result.polygons_of(i)
@@ -277,12 +297,19 @@ def _crop_job(result, i, img, margin, out_folder, roi_dirs, stems, photo_path):
     folder = os.path.join(out_folder, roi_dirs[int(result.roi[i])])
     stem = stems[str(result.photo[i])]
     meta = _sidecar(result, i, polys, off, (c1 - c0, r1 - r0), margin, photo_path)
-    return (_write_crop, folder, stem, crop, mask, meta)
+    tags = None
+    if physical is not None:
+        kind, pv = physical
+        meta["values"] = {"values": kind, "unit": pv.unit, "bands": list(pv.bands),
+                          "note": pv.note, "nodata": "NaN where a pixel is not valid "
+                                                    "(saturated, unreadable)"}
+        tags = tiff_extratags(kind, pv, ("alpha",))
+    return (_write_crop, folder, stem, crop, mask, meta, tags)
 
 
-def _write_crop(folder, stem, crop, mask, meta):
+def _write_crop(folder, stem, crop, mask, meta, tags=None):
     os.makedirs(folder, exist_ok=True)
-    if crop.dtype == np.uint8 and (crop.ndim == 2 or crop.shape[2] in (3, 4)):
+    if tags is None and crop.dtype == np.uint8 and (crop.ndim == 2 or crop.shape[2] in (3, 4)):
         import imagecodecs
         if crop.ndim == 2:
             arr = np.dstack([crop, mask.astype(np.uint8) * 255])
@@ -305,7 +332,8 @@ def _write_crop(folder, stem, crop, mask, meta):
         with atomic_output(path) as tmp:
             tifffile.imwrite(tmp, arr, photometric="rgb" if rgb else "minisblack",
                              planarconfig="contig", extrasamples=extras, compression="zlib",
-                             compressionargs={"level": TIFF_LEVEL}, metadata=None)
+                             compressionargs={"level": TIFF_LEVEL}, metadata=None,
+                             **({"extratags": tags} if tags else {}))
     meta["file"] = os.path.basename(path)
     side = os.path.join(folder, stem + ".json")
     write_json(side, meta, separators=(",", ":"))
@@ -427,7 +455,8 @@ def _display(a: np.ndarray) -> np.ndarray:
         return np.ascontiguousarray(a)
     f = a.astype(np.float32)
     lo, hi = np.nanpercentile(f, 2), np.nanpercentile(f, 98)
-    return np.clip((f - lo) * (255.0 / max(hi - lo, 1e-12)), 0, 255).astype(np.uint8)
+    f = (f - lo) * (255.0 / max(hi - lo, 1e-12))
+    return np.clip(np.nan_to_num(f, nan=0.0), 0, 255).astype(np.uint8)   # NaN: not valid
 
 
 def _resize(a: np.ndarray, rows: int, cols: int) -> np.ndarray:

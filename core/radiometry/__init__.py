@@ -5,10 +5,13 @@ units (:class:`PhotoValues`), with a note of what was applied.
 them), ``"temperature"`` (°C: FLIR radiometric JPEGs by the Planck curve, temperature TIFFs by a
 stated scale and offset; DJI R-JPEGs are refused with what to do) or ``"reflectance"``
 (MicaSense and DJI multispectral band files, :func:`reflectance_values`, from the irradiance
-sensor or a calibration panel; band files of one capture grouped by :func:`group_captures`). :func:`read_photo` decodes a photo as stored
-(the one decoder of raw photos).
+sensor or a calibration panel; band files of one capture grouped by :func:`group_captures`).
+:func:`read_photo` decodes a photo as stored (the one decoder of raw photos);
+:func:`photo_decoder` is what every tool reading photo pixels decodes with, and
+:func:`tiff_extratags` how the float32 files they write state the unit.
 """
 import dataclasses
+import functools
 import os
 from typing import Optional
 
@@ -22,6 +25,7 @@ from .planck import KELVIN, OBJECT_PARAMETERS, ThermalParameters, celsius_to_raw
 from .thermal import DJI_RJPEG, TEMPERATURE_PRESETS, scale_offset, temperature_values
 from .values import PhotoValues
 
+from .output_tags import NODATA_TEXT, gdal_metadata, tiff_extratags
 from .multispectral import (SUPPORTED_CAMERAS, Capture, ReflectanceOptions, band_key,
                             group_captures, reflectance_values)
 
@@ -71,6 +75,23 @@ def read_photo_values(path, *, values: str = "stored", options: Optional[dict] =
     raise EasyIDPError(f"Unknown values {values!r}: choose from {', '.join(VALUES)}.")
 
 
+def photo_decoder(values: str = "stored", options: Optional[dict] = None):
+    """The decoder of the tools that read photo pixels: None for ``values="stored"`` (they
+    decode with :func:`read_photo`, the pixels and data type as stored), else path →
+    :class:`PhotoValues` (:func:`read_photo_values` with ``options``).
+
+    Raises
+    ------
+    EasyIDPError
+        ``values`` is not one of :data:`VALUES`.
+    """
+    if values not in VALUES:
+        raise EasyIDPError(f"Unknown values {values!r}: choose from {', '.join(VALUES)}.")
+    if values == "stored":
+        return None
+    return functools.partial(read_photo_values, values=values, options=options)
+
+
 def _reflectance_options(options) -> Optional[ReflectanceOptions]:
     """``options`` as :class:`ReflectanceOptions`: one already, or a dict of its fields (the
     temperature keys of a shared dict are left out), or None."""
@@ -84,4 +105,5 @@ __all__ = ["PhotoValues", "read_photo_values", "read_photo", "VALUES", "UNITS",
            "ThermalParameters", "OBJECT_PARAMETERS", "KELVIN", "raw_to_celsius", "celsius_to_raw",
            "FlirPhoto", "read_flir", "temperature_values", "TEMPERATURE_PRESETS",
            "scale_offset", "DJI_RJPEG", "acquisition_time", "reflectance_values",
-           "ReflectanceOptions", "Capture", "group_captures", "band_key", "SUPPORTED_CAMERAS"]
+           "ReflectanceOptions", "Capture", "group_captures", "band_key", "SUPPORTED_CAMERAS",
+           "photo_decoder", "gdal_metadata", "tiff_extratags", "NODATA_TEXT"]

@@ -43,3 +43,11 @@ class PhotoValues:
         n = 1 if self.values.ndim == 2 else self.values.shape[2]
         if len(self.bands) != n:
             raise ValueError(f"{len(self.bands)} band names for {n} band(s)")
+
+    def masked(self) -> np.ndarray:
+        """``values`` with NaN where a pixel is not valid (a copy only when some are not)."""
+        if self.valid.all():
+            return self.values
+        out = self.values.copy()
+        out[~self.valid] = np.nan
+        return out

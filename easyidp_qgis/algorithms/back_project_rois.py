@@ -16,7 +16,8 @@ from ..compat import (FieldType, ProcessingFileParameterBehavior,
                       ProcessingSourceType, WkbType)
 from ..crs import pixel_crs
 from ..geometries import pixel_geometries
-from ..parameters import optional_destination
+from ..parameters import optional_destination, translatable
+from ..physical_values import add_value_parameters, value_parameters
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
 from ..rasters import dsm_parameter
@@ -78,7 +79,14 @@ class BackProjectROIs(EasyIDPAlgorithm):
         "their photo count and best photo; optionally EasyIDP's JSON "
         "{roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, "
         "TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG "
-        "per ROI showing its best photos.")
+        "per ROI showing its best photos.\n\n"
+        "Values of the crops: as stored (the photos' own pixels, the default), temperature in "
+        "°C (FLIR radiometric JPEGs by the Planck curve, with the photo's object parameters "
+        "unless given; temperature TIFFs by their preset or scale and offset) or reflectance "
+        "(MicaSense and DJI multispectral band files), as in Plot statistics from photos. "
+        "Temperature and reflectance crops are float32 TIFFs with the unit and what was "
+        "applied in their GDAL metadata; saturated or unreadable pixels are NaN (nodata). A "
+        "photo that holds no such values is skipped with why.")
 
     def initAlgorithm(self, config=None):  # noqa: N802 (QGIS API)
         add_roi_parameters(self)
@@ -128,6 +136,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
             self.PREVIEW_FOLDER, self.tr("Preview per ROI (its best photos)"), optional=True,
             createByDefault=False))
         self.add_overwrite_parameter()
+        add_value_parameters(self, translatable("Values of the crops"))
 
     # --- running ----------------------------------------------------------------------------
     def core_step(self, parameters, context, feedback):
@@ -188,7 +197,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 margin=self.parameterAsInt(parameters, self.MARGIN, context),
                 overwrite=self.overwrite(parameters, context),
                 progress=feedback_progress(feedback, 5 + span, 100),
-                is_cancelled=feedback.isCanceled)
+                is_cancelled=feedback.isCanceled, **value_parameters(self, parameters, context))
             for label, why in written.skipped_photos.items():
                 feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
             feedback.pushInfo(self.tr("{n} crops and {p} previews written.").format(

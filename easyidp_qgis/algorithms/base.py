@@ -13,13 +13,8 @@ from ..compat import ProcessingParameterFlag
 from ..layer_files import unreadable_inputs_message
 from ..messages import error_message
 from ..outputs import check_values, claim_outputs
+from ..parameters import translatable  # noqa: F401 (the tools import it from here)
 from ..resources import ICON, help_url
-
-
-def translatable(text: str) -> str:
-    """Mark a string kept in a table (a choice label) for the translation catalogues; it is
-    translated where it is shown, with ``tr``."""
-    return text
 
 
 def __getattr__(name):

@@ -9,6 +9,8 @@ from .. import presentation
 from ..compat import (FieldType, ProcessingFileParameterBehavior, ProcessingNumberParameterType,
                       ProcessingParameterFlag)
 from ..crs import crs_string
+from ..parameters import translatable
+from ..physical_values import add_value_parameters, value_parameters
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
 from ..rasters import geotiff_source
@@ -60,7 +62,14 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
         "One GeoTIFF per ROI (and "
         "photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus "
         "alpha. The photos are read from the paths stored in the project, or from the photos "
-        "folder when given (matched by file name).")
+        "folder when given (matched by file name).\n\n"
+        "Values: as stored (the photo's bands and data type, the default), temperature in °C "
+        "(FLIR radiometric JPEGs by the Planck curve, with the photo's object parameters unless "
+        "given; temperature TIFFs by their preset or scale and offset) or reflectance "
+        "(MicaSense and DJI multispectral band files), as in Plot statistics from photos. "
+        "Temperature and reflectance images are float32 GeoTIFFs with the unit and what was "
+        "applied in their GDAL metadata; pixels without a value, and those whose bilinear "
+        "sample touches a saturated or unreadable photo pixel, are NaN (nodata, alpha 0).")
 
     def shortHelpString(self):  # noqa: N802 (QGIS API)
         return super().shortHelpString() + "\n\n" + self.tr(
@@ -97,6 +106,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             options=[self.tr("Occlusion mask (hide the ground the DSM hides from the camera)"),
                      self.tr("None (every pixel the photo frames, as Orthority)")],
             defaultValue=0, optional=True))
+        add_value_parameters(self, translatable("Values"))
         self.addOutput(QgsProcessingOutputMultipleLayers(self.OUTPUT_FILES,
                                                          self.tr("Orthorectified ROI images")))
         self.addOutput(QgsProcessingOutputNumber(self.WRITTEN, self.tr("Number of images written")))
@@ -116,7 +126,8 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
             gsd=self.parameterAsDouble(parameters, self.GSD, context) or None,
             occlusion=self.parameterAsEnum(parameters, self.MASK, context) == 0,
             source_crs=crs_string(layer.crs()), overwrite=self.overwrite(parameters, context),
-            progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled),
+            progress=feedback_progress(feedback), is_cancelled=feedback.isCanceled,
+            **value_parameters(self, parameters, context)),
             dict(source=source, features=features))
 
     def write_outputs(self, parameters, context, feedback, step, result):

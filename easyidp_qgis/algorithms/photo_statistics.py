@@ -13,6 +13,7 @@ from ..compat import (FieldType, ProcessingFileParameterBehavior,
                       ProcessingSourceType, WkbType)
 from ..parameters import optional_destination, optional_number, parse_percentiles
 from ..photo_layers import backprojection_from_layer
+from ..physical_values import add_value_parameters, value_parameters
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
 from ..rasters import dsm_parameter
@@ -22,22 +23,6 @@ from ..vertex_heights import add_height_parameters, height_source_parameter
 from .base import CoreStep, EasyIDPAlgorithm, translatable
 
 STATISTIC_CHOICES = ("mean", "median", "std")
-VALUE_CHOICES = ("stored", "temperature", "reflectance")
-PRESET_CHOICES = ("degC", "K", "ddegC", "mdegC", "cK")
-# (parameter, core option, label): the object parameters of FLIR photos (empty: the photo's)
-OBJECT_PARAMETERS = (
-    ("EMISSIVITY", "emissivity", translatable("Emissivity (empty: the photo's)")),
-    ("OBJECT_DISTANCE", "object_distance", translatable("Object distance, m (empty: the photo's)")),
-    ("REFLECTED_TEMPERATURE", "reflected_temperature",
-     translatable("Reflected apparent temperature, °C (empty: the photo's)")),
-    ("ATMOSPHERIC_TEMPERATURE", "atmospheric_temperature",
-     translatable("Atmospheric temperature, °C (empty: the photo's)")),
-    ("RELATIVE_HUMIDITY", "relative_humidity", translatable("Relative humidity, % (empty: the photo's)")),
-    ("IR_WINDOW_TEMPERATURE", "ir_window_temperature",
-     translatable("IR window temperature, °C (empty: the photo's)")),
-    ("IR_WINDOW_TRANSMISSION", "ir_window_transmission",
-     translatable("IR window transmission, 0–1 (empty: the photo's)")),
-)
 INDEX_CHOICES = ("exg", "exgr", "vari", "gli", "ndvi", "ndre")
 
 
@@ -156,36 +141,14 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             self.DISTORTION, self.tr("Apply the lens distortion (off for undistorted photos)"), True)
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
-        self.addParameter(QgsProcessingParameterEnum(
-            self.VALUES, self.tr("Values measured"),
-            [self.tr("As stored"), self.tr("Temperature (°C)"), self.tr("Reflectance")],
-            defaultValue=0, optional=True))
-        for name, _option, label in OBJECT_PARAMETERS:
-            p = QgsProcessingParameterNumber(name, self.tr(label),
-                                             ProcessingNumberParameterType.Double, optional=True)
-            p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
-            self.addParameter(p)
-        p = QgsProcessingParameterEnum(
-            self.TEMPERATURE_PRESET, self.tr("Temperature TIFFs store"),
-            [self.tr("°C"), self.tr("Kelvin"), self.tr("°C × 10"), self.tr("°C × 1000"),
-             self.tr("Centi-kelvin (K × 100)")], defaultValue=0, optional=True)
+        add_value_parameters(self, translatable("Values measured"))
+        p = QgsProcessingParameterNumber(
+            self.UTC_OFFSET, self.tr("UTC offset of the photos' clock (hours)"),
+            ProcessingNumberParameterType.Double, optional=True)
+        p.setHelp(self.tr("For photos that do not state it (the sun's angles need UTC); "
+                          "empty: none"))
         p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
         self.addParameter(p)
-        for name, label, help_text in (
-                (self.TEMPERATURE_SCALE,
-                 translatable("Temperature TIFF scale (°C = stored × scale + offset)"),
-                 translatable("Empty: the preset's")),
-                (self.TEMPERATURE_OFFSET,
-                 translatable("Temperature TIFF offset, °C (empty: the preset)"), ""),
-                (self.UTC_OFFSET, translatable("UTC offset of the photos' clock (hours)"),
-                 translatable("For photos that do not state it (the sun's angles need UTC); "
-                              "empty: none"))):
-            p = QgsProcessingParameterNumber(name, self.tr(label),
-                                             ProcessingNumberParameterType.Double, optional=True)
-            if help_text:
-                p.setHelp(self.tr(help_text))
-            p.setFlags(p.flags() | ProcessingParameterFlag.Advanced)
-            self.addParameter(p)
         self.addParameter(QgsProcessingParameterFeatureSink(
             self.OUTPUT_VIEWS, self.tr("Statistics of every ROI × photo"),
             ProcessingSourceType.Vector))
@@ -240,25 +203,9 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
             weighted=self.parameterAsBool(parameters, self.WEIGHTED, context),
             previews_folder=previews, overwrite=self.overwrite(parameters, context),
             progress=feedback_progress(feedback, 0, 100), is_cancelled=feedback.isCanceled,
-            values=VALUE_CHOICES[self.parameterAsEnum(parameters, self.VALUES, context)],
-            value_options=self._value_options(parameters, context),
+            **value_parameters(self, parameters, context),
             utc_offset=optional_number(self, parameters, self.UTC_OFFSET, context)),
             dict(source=source, features=features, previews=previews))
-
-    def _value_options(self, parameters, context):
-        """The options of the physical values: the object parameters given, the temperature
-        TIFFs' preset, scale and offset."""
-        opts = {option: optional_number(self, parameters, name, context)
-                for name, option, _label in OBJECT_PARAMETERS}
-        if opts["relative_humidity"] is not None:             # the tool takes percent
-            opts["relative_humidity"] /= 100.0
-        opts["temperature_preset"] = PRESET_CHOICES[
-            self.parameterAsEnum(parameters, self.TEMPERATURE_PRESET, context)]
-        opts["temperature_scale"] = optional_number(self, parameters, self.TEMPERATURE_SCALE,
-                                                    context)
-        opts["temperature_offset"] = optional_number(self, parameters, self.TEMPERATURE_OFFSET,
-                                                     context)
-        return opts
 
     def write_outputs(self, parameters, context, feedback, step, stats_result):
         source, features, previews = (step.inputs[k] for k in ("source", "features", "previews"))
