@@ -78,3 +78,60 @@ def test_mask_none_keeps_every_framed_pixel(provider, survey, tmp_path):
         assert np.array_equal(a[:3, masked], b[:3, masked])
         extra += int((none & ~masked).sum())
     assert extra > 0
+
+
+@pytest.fixture(scope="module")
+def thermal(survey):
+    """The demo survey's thermal camera: FLIR JPEGs of a known temperature field, the first 6
+    photos (same file names as the survey's, so its projects measure them)."""
+    from easyidp_toolbox.core.demo.thermal import write_thermal_photos
+    return write_thermal_photos(survey.folder, seed=0, limit=6)
+
+
+def test_headless_plot_temperatures(qp_env, survey, thermal, tmp_path):
+    """[independent] qgis_process with VALUES = temperature on the thermal photos: GDAL reads
+    float32 GeoTIFFs whose band says degC and temp_c, NaN nodata, alpha, the conversion note
+    in the metadata; the median of each plot's pixels is the temperature the field was made
+    with (thermal_truth, not read by the tool) within 0.1 °C (noise 0.05 °C per pixel)."""
+    from osgeo import gdal
+    from easyidp_toolbox.scripts.qgis_process import run_algorithm
+    res = run_algorithm(ALG, {"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+                              "PROJECT": survey.metashape_project, "DSM": survey.dsm,
+                              "PHOTOS": thermal["folder"], "SELECTION": 1, "GSD": 0.06,
+                              "VALUES": 1, "OUTPUT_FOLDER": tmp_path / "temp"}, qp_env)
+    assert res["WRITTEN"] >= 10
+    checked = 0
+    for path in res["OUTPUT_FILES"]:
+        ds = gdal.Open(path)
+        band = ds.GetRasterBand(1)
+        assert band.DataType == gdal.GDT_Float32 and band.GetUnitType() == "degC"
+        assert band.GetDescription() == "temp_c" and np.isnan(band.GetNoDataValue())
+        assert ds.GetRasterBand(2).GetColorInterpretation() == gdal.GCI_AlphaBand
+        assert ds.GetMetadataItem("EASYIDP_VALUES") == "temperature"
+        assert "Planck" in ds.GetMetadataItem("EASYIDP_VALUES_NOTE")
+        t = band.ReadAsArray()
+        plot = os.path.basename(path).split("_DJI_")[0]
+        if np.isfinite(t).sum() > 200:
+            assert abs(np.nanmedian(t) - thermal["plots"][plot]) < 0.1, path
+            checked += 1
+        del ds
+    assert checked >= 5
+
+
+def test_thermal_photo_whose_raw_data_cannot_be_read(provider, survey, thermal, tmp_path):
+    """[independent] A thermal photo whose FLIR records lost a segment (damaged here): the
+    tool stops with a message naming the photo when it is the only one asked for."""
+    import shutil
+    import struct
+    folder = tmp_path / "thermal"
+    shutil.copytree(thermal["folder"], folder)
+    data = (folder / "DJI_0003.JPG").read_bytes()
+    k = data.index(b"FLIR\x00\x01\x01")
+    (n,) = struct.unpack(">H", data[k - 2:k])
+    (folder / "DJI_0003.JPG").write_bytes(data[:k - 4] + data[k - 2 + n:])
+    with pytest.raises(QgsProcessingException,
+                       match=r"DJI_0003\.JPG.*FLIR raw data cannot be read"):
+        _run({"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+              "PROJECT": survey.metashape_project, "DSM": survey.dsm, "PHOTOS": str(folder),
+              "SELECTION": 2, "PHOTO": "DJI_0003", "GSD": 0.08, "VALUES": 1, "MASK": 1,
+              "OUTPUT_FOLDER": str(tmp_path / "out")})
