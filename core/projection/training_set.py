@@ -51,8 +51,14 @@ Rules (stated once, here):
 * **Tiles per photo.** A tile size that cuts a photo into more than :data:`MAX_TILES_PER_PHOTO`
   tiles is refused (the number is said). Only tiles that hold an object are cut and written.
 
-Whole photos are decoded once (the check) and copied byte for byte; tiled photos are decoded
-at the check and again to cut them. Every file is written atomically. The folder holds only the set: what
+* **Values.** ``values`` temperature or reflectance (:func:`..radiometry.read_photo_values`):
+  every image, whole photo or tile, is a float32 TIFF (``NAME.tif``: PNG and JPEG cannot hold
+  those values) with the unit and what was applied in GDAL's metadata and NaN where a pixel
+  is not valid (saturated, unreadable); a photo that holds no such values is left out with
+  its labels, as one that does not decode. Networks train on either.
+
+Whole photos are decoded once (the check) and copied byte for byte; tiled photos (and photos
+in physical values) are decoded at the check and again to cut them (:mod:`.training_images`). Every file is written atomically. The folder holds only the set: what
 it lists in ``training_set.json``; OVERWRITE removes exactly that, foreign files are refused, a
 killed run's leftovers are removed by the next (:mod:`.training_folder`).
 """
@@ -68,19 +74,20 @@ from ..annotations import (TILE_INDEX, LabelledImage, LabelledShape, tile_index_
                            write_coco, write_labelme, write_yolo_labels, yolo_data_yaml)
 from ..deprecation import renamed_parameters
 from ..errors import InputError
-from ..files import OutputFolder, atomic_output, write_bytes, write_json
+from ..files import OutputFolder, write_bytes, write_json
 from ..geometry import orient, polygons_area
 from ..naming import unique_names
 from ..photo_files import PHOTO_EXTENSIONS, file_name
 from ..progress import as_progress
+from ..radiometry import UNITS, photo_decoder
 from ..raster import as_dsm
 from ..roi import ROI, ROISet
 from .backward import back_project
 from .clip import clip_convex, rectangle
 from .object_occlusion import outside_hidden_fractions
-from .photo_crops import PNG_FAST
-from .photos import DecodedPhotos, resolve_photos
+from .photos import resolve_photos
 from .training_folder import MANIFEST, TrainingFolder
+from .training_images import decodable_photos, write_images
 from .training_split import SPLIT_MODES, SPLITS, assign_images, split_warnings
 
 HIDDEN_SAMPLES = 64
@@ -207,7 +214,8 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
                         min_visible: float = 0.5, tile_size: int = 0, tile_overlap: int = 0,
                         split: str = "region", val_fraction: float = 0.2,
                         region_size: float = 10.0, seed: int = 0, overwrite: bool = False,
-                        progress=None, is_cancelled=None) -> TrainingSet:
+                        progress=None, is_cancelled=None, values: str = "stored",
+                        value_options: Optional[dict] = None) -> TrainingSet:
     """Write a COCO, YOLO (detect and segment) and LabelMe training set of ``rois`` on the raw
     photos of ``recon`` (layout and rules: the module docstring).
 
@@ -253,12 +261,20 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
         Called with the percent done (0–100).
     is_cancelled : callable, optional
         Returns True to stop (:class:`Cancelled` is raised).
+    values : {"stored", "temperature", "reflectance"}
+        The images as the photos store them (default), or float32 TIFFs in °C or reflectance
+        (the module docstring's rule *Values*).
+    value_options : dict, optional
+        The options of ``values`` (object parameters, temperature TIFF scale:
+        :func:`..radiometry.read_photo_values`).
 
     Returns
     -------
     TrainingSet
         The files written, images and labels per split, the objects left out and the warnings.
     """
+    decoding = (values, photo_decoder(values, value_options))
+    image_ext = ".png" if values == "stored" else ".tif"       # tiles; every image in values
     prog = as_progress(progress, is_cancelled)
     if not isinstance(rois, ROISet):
         rois = ROISet(list(rois))
@@ -315,7 +331,8 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
         w, h = (int(v) for v in bp.image_sizes[j])
         recs = by_photo[j]
         polys = {i: orient(bp.polygons_of(i)) for i in recs}
-        ext = os.path.splitext(found[label])[1].lower() if not tile_size else ".png"
+        ext = os.path.splitext(found[label])[1].lower() \
+            if not tile_size and values == "stored" else image_ext
         if not tile_size:
             im = LabelledImage(stems[label] + ext, w, h,
                                attributes={"photo": label, "photo_window": [0, 0, w, h]})
@@ -326,7 +343,7 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
         for (r0, c0), parts in _tile_parts(polys, w, h, tile_size, tile_overlap, min_visible,
                                            result):
             tw, th = min(tile_size, w), min(tile_size, h)
-            im = LabelledImage(f"{stems[label]}_r{r0:05d}_c{c0:05d}.png", tw, th,
+            im = LabelledImage(f"{stems[label]}_r{r0:05d}_c{c0:05d}{image_ext}", tw, th,
                                attributes={"photo": label, "photo_window": [c0, r0, tw, th]})
             for i, p in parts:
                 im.shapes.append(_shape(bp, i, p, classes, roi_names))
@@ -362,14 +379,14 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
                         os.path.join("yolo_detect", "labels"), "labelme"):
                 os.makedirs(out.folder / sub / s, exist_ok=True)
         os.makedirs(out.folder / "coco", exist_ok=True)
-        good = _decodable(images, found, bp, result, prog)
+        good = decodable_photos(images, found, bp, result, prog, decoding[1])
         images = [x for x in images if x[2] in good]
         split_of, warn = assign_images([x[2] for x in images],
                                        [centres[x[4]] for x in images], split,
                                        float(val_fraction), float(region_size), int(seed))
         for x, k in zip(images, split_of):
             x[0] = SPLITS[int(k)]
-        _write_images(out.folder, images, found, good, result, prog)
+        write_images(out.folder, images, found, good, result, prog, decoding)
         _write_labels(out.folder, images, categories, result)
         for s in SPLITS:
             result.images[s] = sum(1 for x in images if x[0] == s)
@@ -405,6 +422,8 @@ def export_training_set(rois: ROISet, classes: Sequence[str], recon, dsm, output
             "dropped_in_tiles": result.dropped_in_tiles, "object_split": result.object_split,
             "unseen": result.unseen, "skipped_photos": result.skipped_photos,
             "warnings": result.warnings, "back_projection": bp.settings}
+        if values != "stored":
+            manifest["values"] = {"values": values, "unit": UNITS[values]}
         if tile_size:
             tiles = {os.path.splitext(im.file_name)[0]: (label, im.attributes["photo_window"])
                      for _, im, label, *_ in images}
@@ -462,101 +481,6 @@ def _tile_parts(polys, w: int, h: int, size: int, overlap: int, min_visible: flo
                     continue
                 tiles.setdefault((int(r0), int(c0)), []).append((i, q))
     return sorted(tiles.items())
-
-
-IMAGE_MAGIC = (b"\xff\xd8", b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+", b"\x89PNG",
-               b"\x00\x00\x00\x0cjP  ", b"\xff\x4f\xff\x51", b"RIFF", b"BM")
-"""How a photo file may start: JPEG, TIFF (and DNG), BigTIFF, PNG, JPEG 2000, WebP, BMP."""
-
-
-def _photo_problem(path: str) -> str:
-    """Why the file cannot be a complete photo ("" when it may be): it starts like no image
-    format (a text file named .JPG; never handed to a decoder that tries every codec), or it is
-    a JPEG without its end-of-image marker (truncated; zero padding allowed)."""
-    with open(path, "rb") as fh:
-        head = fh.read(12)
-        if not any(head.startswith(m) for m in IMAGE_MAGIC):
-            return (f"{path} is not an image (it starts with {head[:8]!r}): put the photo "
-                    "itself there")
-        if not head.startswith(b"\xff\xd8"):
-            return ""
-        fh.seek(0, os.SEEK_END)
-        fh.seek(max(0, fh.tell() - 65536))
-        if not fh.read().rstrip(b"\x00").endswith(b"\xff\xd9"):
-            return (f"the JPEG {path} is truncated (no end-of-image marker): copy it again from "
-                    "the card or the drone")
-    return ""
-
-
-def _decodable(images, found, bp, result, prog) -> Dict[str, tuple]:
-    """{photo label: (width, height)} of the photos that decode at the camera's size; the
-    others go to ``result.skipped_photos``. Tiled photos are decoded again when written."""
-    labels = sorted({x[2] for x in images})
-    size = {lab: tuple(int(v) for v in bp.image_sizes[bp.photo_labels.index(lab)]) for lab in labels}
-    paths, why = [], []
-    for lab in labels:
-        try:
-            problem = _photo_problem(found[lab])
-        except OSError as exc:
-            problem = f"{found[lab]} cannot be read ({exc.strerror})"
-        why.append(problem)
-        paths.append(None if problem else found[lab])
-    good = {}
-    with DecodedPhotos(paths, [size[lab] for lab in labels], missing=why) as decoded:
-        for k, img, reason in decoded:
-            if img is None:
-                result.skipped_photos[labels[k]] = f"left out with its labels: {reason}"
-            else:
-                good[labels[k]] = size[labels[k]]
-            prog.set(65 + 10 * (k + 1) / max(len(labels), 1))
-    return good
-
-
-def _write_images(folder, images, found, good, result, prog):
-    """Whole photos copied byte for byte (after their decode check); tiles cut from one decode
-    per photo."""
-    import imagecodecs
-    by_label = {}
-    for s, im, label, win, _ in images:
-        by_label.setdefault(label, []).append((s, im, win))
-
-    def place(s, im, data_writer):
-        main = folder / "images" / s / im.file_name
-        data_writer(main)
-        link = folder / "yolo_detect" / "images" / s / im.file_name
-        with atomic_output(link) as tmp:
-            try:
-                os.link(main, tmp)
-            except OSError:
-                shutil.copyfile(main, tmp)
-        result.files += [str(main), str(link)]
-
-    labels = sorted(by_label)
-    tiled = [lab for lab in labels if by_label[lab][0][2] is not None]
-    for lab in labels:
-        if lab in tiled:
-            continue
-        for s, im, _ in by_label[lab]:
-            def copy(dst, src=found[lab]):
-                with atomic_output(dst) as tmp:
-                    shutil.copyfile(src, tmp)
-            place(s, im, copy)
-        prog.check()
-    if not tiled:
-        return
-    with DecodedPhotos([found[lab] for lab in tiled], [good[lab] for lab in tiled]) as decoded:
-        for k, img, why in decoded:
-            lab = tiled[k]
-            if img is None:             # decoded at the check, not now: the file changed
-                raise InputError(f"The photo {found[lab]} changed while the training set was "
-                                 f"written: {why}. Run again with overwrite.")
-            if img.dtype != np.uint8:
-                raise InputError(f"Photo {lab}: tiles are written as 8-bit PNG, but the photo "
-                                 f"is {img.dtype}; export whole photos (tile size 0).")
-            for s, im, (r0, c0) in by_label[lab]:
-                tile = np.ascontiguousarray(img[r0:r0 + im.height, c0:c0 + im.width])
-                place(s, im, lambda dst: write_bytes(dst, imagecodecs.png_encode(tile, **PNG_FAST)))
-            prog.set(75 + 20 * (k + 1) / len(tiled))
 
 
 def _write_labels(folder, images, categories, result):

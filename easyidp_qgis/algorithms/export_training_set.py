@@ -9,6 +9,8 @@ from ..compat import (GeometryType, MessageLevel, ProcessingFileParameterBehavio
                       ProcessingNumberParameterType, ProcessingParameterFlag,
                       ProcessingSourceType)
 from ..crs import crs_string
+from ..parameters import translatable
+from ..physical_values import add_value_parameters, value_parameters
 from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
 from ..rasters import geotiff_source
@@ -73,6 +75,12 @@ class ExportTrainingSet(EasyIDPAlgorithm):
         "visible share of the object is dropped. Without, whole photos are copied.\n\n"
         "Photos that do not decode (truncated, or not images) are named in the log and left "
         "out with their labels.\n\n"
+        "Values of the images: as stored (the default: the photos copied, tiles as PNG), "
+        "temperature in °C or reflectance, as in Plot statistics from photos. PNG and JPEG "
+        "cannot hold these values, so every image, whole photo or tile, is then a float32 TIFF "
+        "(NAME.tif; the labels name it) with the unit in its GDAL metadata and NaN where a "
+        "pixel is saturated or unreadable; a photo that holds no such values is left out with "
+        "its labels. Networks train on either.\n\n"
         "Split: whole images go to train or validation, none is left out: by field region "
         "(square cells of the region size, in the DSM's map units; an image goes with the region "
         "of most of its objects) or by photo. The log gives the images and labels of each set "
@@ -131,6 +139,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
         self.addParameter(QgsProcessingParameterFolderDestination(
             self.OUTPUT_FOLDER, self.tr("Training set folder")))
         self.add_overwrite_parameter()
+        add_value_parameters(self, translatable("Values of the images"))
 
     def core_step(self, parameters, context, feedback):
         from ...core.projection import export_training_set
@@ -165,7 +174,8 @@ class ExportTrainingSet(EasyIDPAlgorithm):
             region_size=self.parameterAsDouble(parameters, self.REGION_SIZE, context),
             seed=self.parameterAsInt(parameters, self.SEED, context),
             overwrite=self.overwrite(parameters, context),
-            progress=feedback_progress(feedback, 5, 100), is_cancelled=feedback.isCanceled), {})
+            progress=feedback_progress(feedback, 5, 100), is_cancelled=feedback.isCanceled,
+            **value_parameters(self, parameters, context)), {})
 
     def write_outputs(self, parameters, context, feedback, step, result):
         for label, why in result.skipped_photos.items():

@@ -154,3 +154,32 @@ def test_a_photo_whose_raw_data_cannot_be_read(thermal, tmp_path):
                           occlusion=False, values="temperature")
     with pytest.raises(EasyIDPError, match="Unknown values 'kelvin'"):
         crop_photos(res, tmp_path / "crops2", folder, values="kelvin")
+
+
+def test_training_images_in_celsius(thermal, tmp_path):
+    """[independent] Export a training set with values = temperature, whole photos and tiles:
+    every image is a float32 TIFF (PNG and JPEG cannot hold °C) equal to the test's Planck
+    formula of the raw values the test wrote in its window of the photo, NaN on the saturated
+    block; COCO names the .tif files; the unit is in GDAL's metadata and the manifest."""
+    from easyidp_toolbox.core.projection import export_training_set
+    recon, rois, res, raws, folder = thermal
+    dsm = _flat_dsm(tmp_path / "dsm.tif")
+    for tile in (0, 256):
+        out = tmp_path / f"set{tile}"
+        export_training_set(rois, ["plot"], recon, dsm, out, photos_folder=folder,
+                            split="photo", tile_size=tile, values="temperature")
+        coco = [json.loads((out / "coco" / f"instances_{s}.json").read_text())
+                for s in ("train", "val")]
+        names = [(s, im) for s, doc in zip(("train", "val"), coco) for im in doc["images"]]
+        assert len(names) >= 2 and all(im["file_name"].endswith(".tif") for _, im in names)
+        for s, im in names:
+            path = out / "images" / s / im["file_name"]
+            arr = tifffile.imread(path)
+            assert arr.dtype == np.float32
+            x0, y0, w, h = im["photo_window"]
+            j = int(im["photo"][-1])
+            np.testing.assert_allclose(arr, _celsius(raws[j][y0:y0 + h, x0:x0 + w]), atol=1e-3)
+            assert _gdal_items(path)[0][("UNITTYPE", "0")] == "degC"
+            assert (out / "yolo_detect" / "images" / s / im["file_name"]).exists()
+        manifest = json.loads((out / "training_set.json").read_text())
+        assert manifest["values"] == {"values": "temperature", "unit": "degC"}
