@@ -205,3 +205,42 @@ def test_photo_pixels_go_to_the_viewer_not_to_the_map(provider, survey, load_res
     assert layer.name() not in in_tree and not layer.crs().isValid()
     assert layer.source().startswith(str(tmp_path / "pixels.gpkg")) and layer.featureCount() > 40
     assert layer.renderer().type() == "RuleRenderer"
+
+
+def test_crops_in_celsius(provider, survey, tmp_path):
+    """[independent] Crops with VALUES = temperature from the demo's thermal photos (FLIR
+    JPEGs of a known field): GDAL reads float32 TIFFs whose first band says degC, with NaN
+    nodata and the conversion note; each crop pixel equals the raw value flyr (an independent
+    FLIR reader) decodes at that photo pixel, converted by the test's own Planck formula, to
+    0.01 °C."""
+    import flyr
+    from osgeo import gdal
+    from easyidp_toolbox.core.demo.thermal import THERMAL_CAMERA, write_thermal_photos
+    from easyidp_toolbox.tests.support.planck_reference import planck_by_hand
+    th = write_thermal_photos(survey.folder, seed=0, limit=2)
+    res = _run({"ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id",
+                "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 1, "DSM": survey.dsm,
+                "OCCLUSION": False, "PHOTO": "DJI_0002", "PHOTOS": th["folder"],
+                "CROPS_FOLDER": str(tmp_path / "crops"), "VALUES": 1})
+    c = {k: float(v) for k, v in THERMAL_CAMERA.as_dict().items()}
+    raw = flyr.unpack(os.path.join(th["folder"], "DJI_0002.JPG"))._FlyrThermogram__thermal
+    sides = [os.path.join(d, f) for d, _, fs in os.walk(res["CROPS_FOLDER"]) for f in fs
+             if f.endswith(".json")]
+    assert len(sides) >= 3
+    for side in sides[:3]:
+        with open(side) as fh:
+            meta = json.load(fh)
+        ds = gdal.Open(os.path.join(os.path.dirname(side), meta["file"]))
+        band = ds.GetRasterBand(1)
+        assert band.DataType == gdal.GDT_Float32 and band.GetUnitType() == "degC"
+        assert np.isnan(band.GetNoDataValue()) and "Planck" in ds.GetMetadataItem("EASYIDP_VALUES_NOTE")
+        t = band.ReadAsArray()
+        (x0, y0), (w, h) = meta["offset"], meta["crop_size"]
+        window = raw[y0:y0 + h, x0:x0 + w]
+        table = {int(v): planck_by_hand(float(v), c["r1"], c["r2"], c["b"], c["f"], c["o"],
+                                        c["emissivity"], c["object_distance"],
+                                        c["reflected_temperature"], c["atmospheric_temperature"],
+                                        c["relative_humidity"]) for v in np.unique(window)}
+        want = np.vectorize(table.get, otypes=[np.float64])(window)
+        assert np.abs(t - want).max() < 0.01
+        del ds
