@@ -18,14 +18,18 @@ Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .
 
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
-Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
+Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.
+
+Values of the crops: as stored (the photos' own pixels, the default), temperature in °C (FLIR radiometric JPEGs by the Planck curve, with the photo's object parameters unless given; temperature TIFFs by their preset or scale and offset) or reflectance (MicaSense and DJI multispectral band files), as in Plot statistics from photos. Temperature and reflectance crops are float32 TIFFs with the unit and what was applied in their GDAL metadata; saturated or unreadable pixels are NaN (nodata). A photo that holds no such values is skipped with why.</source>
       <translation>Metashape または Pix4D プロジェクトの元画像（撮影写真）のうち、各 ROI（区画、樹木、植物のポリゴン）が写っているものを、プロジェクトで解かれたカメラを使ってすべて見つけます（EasyIDP の back2raw）。元画像はオルソモザイクより鮮明で、シームラインもありません。
 
 入力：ROI ポリゴン、プロジェクト（Metashape の .psx/.psz/カメラの .xml、Pix4D の .p4d またはその 1_initial/params フォルダ内の任意のファイル、またはドローン写真のフォルダ。写真の EXIF と XMP タグから概略のカメラを作り、各ピクセル地物はその予想誤差 uncertainty_px を持ちます）、ROI 頂点の高さ。高さは、ジオメトリの Z（例：「DSM から ROI の高さを取得」の出力）、各頂点でサンプリングした数値表層モデル（DSM）、数値属性、または一定の地面の高さから取得します（高さはプロジェクトの高さ基準で指定します。地理座標系の Metashape チャンクでは楕円体高）。写真フォルダ：写真を移動した場合の写真の場所（ファイル名で照合）。
 
 各 ROI は頂点を高密度化してレンズ歪みを含めて投影し、写真の枠で切り取ります（「ROI 全体のみ」の場合は、ROI 全体が写真に収まるときのみ残します）。DSM がある場合は、ROI 内の地表上の点への視線について遮蔽を判定します。遮蔽されずに見える割合が最小値未満の写真は除外し、残りの写真はスコア（視線角、地上解像度、写真中心からの距離、見える割合）で順位付けします。
 
-出力：写真ピクセル単位の ROI（x = 列、y = −行。QGIS でジオリファレンスなしに開いた元画像に重なります。'photo' で絞り込んでください）。ROI × 写真ごとに 1 地物で、スコア、順位、視線角、地上画素寸法（GSD）、各割合を持ちます。地図上の ROI の概要（写真の枚数と最良の写真）。オプションで、EasyIDP の JSON {roi: {photo: [[x, y], ...]}}、元画像の切り出し（ROI をアルファとした PNG、16 ビットまたはマルチバンドの写真では TIFF。それぞれ JSON のサイドカー付き）、ROI ごとに最良の写真を示すプレビュー PNG 1 枚。</translation>
+出力：写真ピクセル単位の ROI（x = 列、y = −行。QGIS でジオリファレンスなしに開いた元画像に重なります。'photo' で絞り込んでください）。ROI × 写真ごとに 1 地物で、スコア、順位、視線角、地上画素寸法（GSD）、各割合を持ちます。地図上の ROI の概要（写真の枚数と最良の写真）。オプションで、EasyIDP の JSON {roi: {photo: [[x, y], ...]}}、元画像の切り出し（ROI をアルファとした PNG、16 ビットまたはマルチバンドの写真では TIFF。それぞれ JSON のサイドカー付き）、ROI ごとに最良の写真を示すプレビュー PNG 1 枚。
+
+切り出し画像の値：保存された値のまま（写真そのものの画素、既定）、°C の温度（FLIR ラジオメトリック JPEG はプランク曲線で換算し、指定がなければ写真の対象パラメータを使用。温度 TIFF はプリセットまたはスケールとオフセットで換算）、または反射率（MicaSense と DJI のマルチスペクトルバンドファイル）。「元画像からの区画統計」と同じです。温度と反射率の切り出し画像は float32 TIFF で、単位と適用した換算を GDAL メタデータに記録し、飽和または読み取れない画素は NaN（nodata）になります。そのような値を持たない写真は理由とともにスキップされます。</translation>
     </message>
     <message>
       <source>Only this photo</source>
@@ -42,6 +46,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Margin around the crops (pixels)</source>
       <translation>切り出しの周囲の余白（ピクセル）</translation>
+    </message>
+    <message>
+      <source>Values of the crops</source>
+      <translation>切り出し画像の値</translation>
     </message>
     <message>
       <source>photos</source>
@@ -804,6 +812,8 @@ Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlap
 
 Photos that do not decode (truncated, or not images) are named in the log and left out with their labels.
 
+Values of the images: as stored (the default: the photos copied, tiles as PNG), temperature in °C or reflectance, as in Plot statistics from photos. PNG and JPEG cannot hold these values, so every image, whole photo or tile, is then a float32 TIFF (NAME.tif; the labels name it) with the unit in its GDAL metadata and NaN where a pixel is saturated or unreadable; a photo that holds no such values is left out with its labels. Networks train on either.
+
 Split: whole images go to train or validation, none is left out: by field region (square cells of the region size, in the DSM's map units; an image goes with the region of most of its objects) or by photo. The log gives the images and labels of each set and warns when validation is empty or under half the fraction asked. An object seen in images of both sets is counted.
 
 Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.
@@ -817,6 +827,8 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
 
 デコードできない写真（途中で切れたもの、画像でないもの）はログに名前を示し、そのラベルとともに除外します。
 
+画像の値：保存された値のまま（既定：写真をコピーし、タイルは PNG）、°C の温度、または反射率。「元画像からの区画統計」と同じです。PNG と JPEG はこれらの値を保持できないため、その場合は写真全体もタイルもすべての画像が float32 TIFF（NAME.tif、ラベルはこれを参照）になり、単位を GDAL メタデータに記録し、飽和または読み取れない画素は NaN になります。そのような値を持たない写真はラベルとともに除外されます。ネットワークはどちらの画像でも学習できます。
+
 分割：画像は丸ごと学習または検証に割り当てられ、除外される画像はありません。圃場の領域（領域サイズの正方形セル、DSM の地図単位。画像はそのオブジェクトの多くが属する領域に従います）ごと、または写真ごとに分けます。ログには各セットの画像数とラベル数を示し、検証セットが空のとき、または指定割合の半分に満たないときは警告します。両方のセットの画像に写るオブジェクトは数えて示します。
 
 タイル：1 枚の写真が 4096 個を超えるタイルに分かれるタイルサイズは拒否します。
@@ -826,6 +838,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Random seed of the split</source>
       <translation>分割の乱数シード</translation>
+    </message>
+    <message>
+      <source>Values of the images</source>
+      <translation>画像の値</translation>
     </message>
     <message>
       <source>Labelled objects (polygons or points)</source>
@@ -1178,7 +1194,9 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
 
 Mask: 'occlusion mask' (the default) casts a ray from every output pixel's ground point to the camera and makes the pixel transparent where the DSM blocks it (a tree or a wall between them), so no pixel shows what stands in front of it; 'none' skips the rays and keeps every pixel the photo frames, as Orthority does (faster; hidden ground then shows the object that hides it).
 
-One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
+One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).
+
+Values: as stored (the photo's bands and data type, the default), temperature in °C (FLIR radiometric JPEGs by the Planck curve, with the photo's object parameters unless given; temperature TIFFs by their preset or scale and offset) or reflectance (MicaSense and DJI multispectral band files), as in Plot statistics from photos. Temperature and reflectance images are float32 GeoTIFFs with the unit and what was applied in their GDAL metadata; pixels without a value, and those whose bilinear sample touches a saturated or unreadable photo pixel, are NaN (nodata, alpha 0).</source>
       <translation>各 ROI について、オルソモザイクではなく元画像（撮影写真）からジオリファレンス付きの画像を作成します：より鮮明で（ブレンド、ゴースト、シームラインがなく）、正しい幾何形状を持ちます。出力の各ピクセルの地上点（高さは DSM から取得）を、解かれたカメラ（レンズ歪みを含む）で写真に投影し、その位置で写真をサンプリングします（バイリニア）。
 
 写真：「各 ROI の最良の写真」は、各 ROI で最もスコアの高い写真を使用します（逆投影のスコア：見える割合、視線角、解像度、中心からの距離）。「ROI が写るすべての写真」は、ROI が写る写真ごとに 1 枚の画像を書き出します。「指定した写真」は、指定された写真を使用します。ピクセルサイズ：指定した地上画素寸法（GSD）（DSM の CRS の単位）、または ROI における写真本来の解像度を使う場合は 0。
@@ -1187,7 +1205,9 @@ ROI の外、DSM の NoData 値の上、写真の外、または DSM によっ�
 
 マスク：「遮蔽マスク」（既定）は、出力の各ピクセルの地上点からカメラへ光線を投げ、DSM がそれを遮る場所（間にある木や壁）のピクセルを透明にします。これにより、手前にあるものを写したピクセルは残りません。「なし」は光線を投げず、写真に写るすべてのピクセルを残します（Orthority と同じ動作）。より速くなりますが、隠れた地面にはそれを隠している物体が写ります。
 
-出力フォルダに ROI ごと（「ROI が写るすべての写真」では写真ごと）に 1 つの GeoTIFF を、DSM の CRS で、写真のバンドとアルファを付けて書き出します。写真はプロジェクトに保存されたパスから読み込みます。元画像のフォルダを指定した場合はそこから読み込みます（ファイル名で照合）。</translation>
+出力フォルダに ROI ごと（「ROI が写るすべての写真」では写真ごと）に 1 つの GeoTIFF を、DSM の CRS で、写真のバンドとアルファを付けて書き出します。写真はプロジェクトに保存されたパスから読み込みます。元画像のフォルダを指定した場合はそこから読み込みます（ファイル名で照合）。
+
+値：保存された値のまま（写真のバンドとデータ型、既定）、°C の温度（FLIR ラジオメトリック JPEG はプランク曲線で換算し、指定がなければ写真の対象パラメータを使用。温度 TIFF はプリセットまたはスケールとオフセットで換算）、または反射率（MicaSense と DJI のマルチスペクトルバンドファイル）。「元画像からの区画統計」と同じです。温度と反射率の画像は float32 GeoTIFF で、単位と適用した換算を GDAL メタデータに記録します。値のない画素と、双線形サンプリングが飽和または読み取れない写真画素に触れる画素は NaN（nodata、alpha 0）になります。</translation>
     </message>
     <message>
       <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. 'Open the images in the map too' (off by default) opens up to 100 images in one collapsed group below the ROI layer; a larger run opens the index only.</source>
@@ -1204,6 +1224,10 @@ ROI の外、DSM の NoData 値の上、写真の外、または DSM によっ�
     <message>
       <source>Open the images in the map too</source>
       <translation>画像も地図で開く</translation>
+    </message>
+    <message>
+      <source>Values</source>
+      <translation>値</translation>
     </message>
     <message>
       <source>Folder of the raw photos (default: the paths in the project)</source>
@@ -1290,34 +1314,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
 出力：ROI × 写真ごとの統計量の表；ビュー間の値を持つ ROI；任意で ROI ごとに 1 枚の PNG（使用したビューとその値を並べて表示）。</translation>
     </message>
     <message>
-      <source>Emissivity (empty: the photo's)</source>
-      <translation>放射率（空欄：写真の値）</translation>
-    </message>
-    <message>
-      <source>Object distance, m (empty: the photo's)</source>
-      <translation>対象までの距離、m（空欄：写真の値）</translation>
-    </message>
-    <message>
-      <source>Reflected apparent temperature, °C (empty: the photo's)</source>
-      <translation>反射見かけ温度、°C（空欄：写真の値）</translation>
-    </message>
-    <message>
-      <source>Atmospheric temperature, °C (empty: the photo's)</source>
-      <translation>気温、°C（空欄：写真の値）</translation>
-    </message>
-    <message>
-      <source>Relative humidity, % (empty: the photo's)</source>
-      <translation>相対湿度、%（空欄：写真の値）</translation>
-    </message>
-    <message>
-      <source>IR window temperature, °C (empty: the photo's)</source>
-      <translation>赤外線窓の温度、°C（空欄：写真の値）</translation>
-    </message>
-    <message>
-      <source>IR window transmission, 0–1 (empty: the photo's)</source>
-      <translation>赤外線窓の透過率、0–1（空欄：写真の値）</translation>
-    </message>
-    <message>
       <source>Band names of the photos (comma-separated)</source>
       <translation>写真のバンド名（カンマ区切り）</translation>
     </message>
@@ -1326,8 +1322,16 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>既定：3 バンドなら red,green,blue。例：blue,green,red,rededge,nir</translation>
     </message>
     <message>
-      <source>Temperature TIFFs store</source>
-      <translation>温度 TIFF の保存形式</translation>
+      <source>Values measured</source>
+      <translation>計測する値</translation>
+    </message>
+    <message>
+      <source>UTC offset of the photos' clock (hours)</source>
+      <translation>写真の時計の UTC オフセット（時間）</translation>
+    </message>
+    <message>
+      <source>For photos that do not state it (the sun's angles need UTC); empty: none</source>
+      <translation>記録のない写真用（太陽の角度には UTC が必要）。空欄：なし</translation>
     </message>
     <message>
       <source>Back-projection (photo-pixel layer; empty: run it here)</source>
@@ -1366,50 +1370,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
       <translation>ビューをスコアで重み付け（重み付き中央値）</translation>
     </message>
     <message>
-      <source>Values measured</source>
-      <translation>計測する値</translation>
-    </message>
-    <message>
-      <source>°C</source>
-      <translation>°C</translation>
-    </message>
-    <message>
-      <source>Kelvin</source>
-      <translation>ケルビン</translation>
-    </message>
-    <message>
-      <source>°C × 10</source>
-      <translation>°C × 10</translation>
-    </message>
-    <message>
-      <source>°C × 1000</source>
-      <translation>°C × 1000</translation>
-    </message>
-    <message>
-      <source>Centi-kelvin (K × 100)</source>
-      <translation>センチケルビン（K × 100）</translation>
-    </message>
-    <message>
-      <source>Temperature TIFF scale (°C = stored × scale + offset)</source>
-      <translation>温度 TIFF の係数（°C = 保存値 × 係数 + オフセット）</translation>
-    </message>
-    <message>
-      <source>Empty: the preset's</source>
-      <translation>空欄：プリセットの値</translation>
-    </message>
-    <message>
-      <source>Temperature TIFF offset, °C (empty: the preset)</source>
-      <translation>温度 TIFF のオフセット、°C（空欄：プリセット）</translation>
-    </message>
-    <message>
-      <source>UTC offset of the photos' clock (hours)</source>
-      <translation>写真の時計の UTC オフセット（時間）</translation>
-    </message>
-    <message>
-      <source>For photos that do not state it (the sun's angles need UTC); empty: none</source>
-      <translation>記録のない写真用（太陽の角度には UTC が必要）。空欄：なし</translation>
-    </message>
-    <message>
       <source>Statistics of every ROI × photo</source>
       <translation>ROI × 写真ごとの統計量</translation>
     </message>
@@ -1440,18 +1400,6 @@ ROI と写真の組ごとに、中心が ROI のポリゴン（画枠で切り�
     <message>
       <source>Standard deviation</source>
       <translation>標準偏差</translation>
-    </message>
-    <message>
-      <source>As stored</source>
-      <translation>保存された値のまま</translation>
-    </message>
-    <message>
-      <source>Temperature (°C)</source>
-      <translation>温度（°C）</translation>
-    </message>
-    <message>
-      <source>Reflectance</source>
-      <translation>反射率</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -2154,6 +2102,82 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Written: {path}</source>
       <translation>書き込みました：{path}</translation>
+    </message>
+    <message>
+      <source>Emissivity (empty: the photo's)</source>
+      <translation>放射率（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Object distance, m (empty: the photo's)</source>
+      <translation>対象までの距離、m（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Reflected apparent temperature, °C (empty: the photo's)</source>
+      <translation>反射見かけ温度、°C（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Atmospheric temperature, °C (empty: the photo's)</source>
+      <translation>気温、°C（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Relative humidity, % (empty: the photo's)</source>
+      <translation>相対湿度、%（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>IR window temperature, °C (empty: the photo's)</source>
+      <translation>赤外線窓の温度、°C（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>IR window transmission, 0–1 (empty: the photo's)</source>
+      <translation>赤外線窓の透過率、0–1（空欄：写真の値）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFFs store</source>
+      <translation>温度 TIFF の保存形式</translation>
+    </message>
+    <message>
+      <source>°C</source>
+      <translation>°C</translation>
+    </message>
+    <message>
+      <source>Kelvin</source>
+      <translation>ケルビン</translation>
+    </message>
+    <message>
+      <source>°C × 10</source>
+      <translation>°C × 10</translation>
+    </message>
+    <message>
+      <source>°C × 1000</source>
+      <translation>°C × 1000</translation>
+    </message>
+    <message>
+      <source>Centi-kelvin (K × 100)</source>
+      <translation>センチケルビン（K × 100）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF scale (°C = stored × scale + offset)</source>
+      <translation>温度 TIFF の係数（°C = 保存値 × 係数 + オフセット）</translation>
+    </message>
+    <message>
+      <source>Empty: the preset's</source>
+      <translation>空欄：プリセットの値</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF offset, °C (empty: the preset)</source>
+      <translation>温度 TIFF のオフセット、°C（空欄：プリセット）</translation>
+    </message>
+    <message>
+      <source>As stored</source>
+      <translation>保存された値のまま</translation>
+    </message>
+    <message>
+      <source>Temperature (°C)</source>
+      <translation>温度（°C）</translation>
+    </message>
+    <message>
+      <source>Reflectance</source>
+      <translation>反射率</translation>
     </message>
     <message>
       <source>Photo viewer: which photos see this?</source>

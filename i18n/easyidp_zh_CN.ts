@@ -18,14 +18,18 @@ Inputs: the ROI polygons; the project (Metashape .psx/.psz/cameras .xml, Pix4D .
 
 Each ROI is densified, projected with the lens distortion, and clipped to the photo frame (or, with 'whole ROIs only', kept only where the whole ROI is in the photo). With a DSM, lines of sight to points on the surface inside the ROI are tested for occlusion. Photos showing less than the minimum visible, unoccluded share are dropped; the others are ranked by a score (view angle, ground resolution, distance from the photo centre, visible share).
 
-Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.</source>
+Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw photo opened in QGIS without georeference; filter by 'photo'), one feature per ROI × photo with score, rank, view angle, GSD and fractions; a summary of the ROIs in the map with their photo count and best photo; optionally EasyIDP's JSON {roi: {photo: [[x, y], ...]}}, the crops of the raw photos (PNG with the ROI as alpha, TIFF for 16-bit or multiband photos, each with a JSON sidecar) and one preview PNG per ROI showing its best photos.
+
+Values of the crops: as stored (the photos' own pixels, the default), temperature in °C (FLIR radiometric JPEGs by the Planck curve, with the photo's object parameters unless given; temperature TIFFs by their preset or scale and offset) or reflectance (MicaSense and DJI multispectral band files), as in Plot statistics from photos. Temperature and reflectance crops are float32 TIFFs with the unit and what was applied in their GDAL metadata; saturated or unreadable pixels are NaN (nodata). A photo that holds no such values is skipped with why.</source>
       <translation>在 Metashape 或 Pix4D 工程中，利用工程解算出的相机，找出每个感兴趣区（小区、树木、植株多边形）在所有能看到它的原始照片中的位置（EasyIDP 的 back2raw）。原始照片比正射影像更清晰，且没有拼接线。
 
 输入：感兴趣区多边形；工程（Metashape .psx/.psz/相机 .xml，Pix4D .p4d 或其 1_initial/params 文件夹中的任一文件，或一个无人机照片文件夹：由照片的 EXIF 和 XMP 标签得到粗略的相机，此时每个像素要素带有其预期误差 uncertainty_px）；感兴趣区顶点的高度，可来自几何的 Z 值（如“从 DSM 获取感兴趣区高度”的输出）、在每个顶点采样的 DSM、数值属性或单一地面高度（高度采用工程的高程基准；对于地理坐标系中的 Metashape 块（chunk）：椭球高）。照片文件夹：照片被移动后所在的位置（按文件名匹配）。
 
 每个感兴趣区先加密顶点，再结合镜头畸变进行投影，并裁剪到照片画幅内（若选择“仅限完整感兴趣区”，则只在整个感兴趣区都位于照片内时保留）。提供 DSM 时，会检测从相机到感兴趣区内地表点的视线是否被遮挡。可见且未被遮挡的比例低于最小值的照片会被舍弃；其余照片按评分排序（视角、地面分辨率、到照片中心的距离、可见比例）。
 
-输出：照片像素坐标下的感兴趣区（x = 列，y = −行：可叠加在 QGIS 中未经地理配准打开的原始照片上；按 photo 字段筛选），每个感兴趣区 × 照片一个要素，含评分、排名、视角、地面采样距离（GSD）及各比例；地图中感兴趣区的汇总，含照片数量和最佳照片；可选输出 EasyIDP 的 JSON {roi: {photo: [[x, y], ...]}}、原始照片的裁剪图（PNG，以感兴趣区作为 alpha 通道；16 位或多波段照片为 TIFF，均附带 JSON 附属文件），以及每个感兴趣区一张展示其最佳照片的预览 PNG。</translation>
+输出：照片像素坐标下的感兴趣区（x = 列，y = −行：可叠加在 QGIS 中未经地理配准打开的原始照片上；按 photo 字段筛选），每个感兴趣区 × 照片一个要素，含评分、排名、视角、地面采样距离（GSD）及各比例；地图中感兴趣区的汇总，含照片数量和最佳照片；可选输出 EasyIDP 的 JSON {roi: {photo: [[x, y], ...]}}、原始照片的裁剪图（PNG，以感兴趣区作为 alpha 通道；16 位或多波段照片为 TIFF，均附带 JSON 附属文件），以及每个感兴趣区一张展示其最佳照片的预览 PNG。
+
+裁剪图的数值：按存储的值（照片自身的像素，默认）、以 °C 表示的温度（FLIR 辐射测量 JPEG 按普朗克曲线换算，未给出时使用照片自带的目标参数；温度 TIFF 按其预设或比例与偏移换算）或反射率（MicaSense 与大疆多光谱波段文件），与“原始照片的小区统计”相同。温度和反射率的裁剪图为 float32 TIFF，其 GDAL 元数据中注明单位及所做的换算；饱和或无法读取的像素为 NaN（无数据）。不含此类数值的照片会被跳过并说明原因。</translation>
     </message>
     <message>
       <source>Only this photo</source>
@@ -42,6 +46,10 @@ Outputs: the ROIs in photo pixels (x = column, y = −row: they lie on a raw pho
     <message>
       <source>Margin around the crops (pixels)</source>
       <translation>裁剪图四周的边距（像素）</translation>
+    </message>
+    <message>
+      <source>Values of the crops</source>
+      <translation>裁剪图的数值</translation>
     </message>
     <message>
       <source>photos</source>
@@ -804,6 +812,8 @@ Tiles: with a tile size, photos are cut into tiles of that size (pixels) overlap
 
 Photos that do not decode (truncated, or not images) are named in the log and left out with their labels.
 
+Values of the images: as stored (the default: the photos copied, tiles as PNG), temperature in °C or reflectance, as in Plot statistics from photos. PNG and JPEG cannot hold these values, so every image, whole photo or tile, is then a float32 TIFF (NAME.tif; the labels name it) with the unit in its GDAL metadata and NaN where a pixel is saturated or unreadable; a photo that holds no such values is left out with its labels. Networks train on either.
+
 Split: whole images go to train or validation, none is left out: by field region (square cells of the region size, in the DSM's map units; an image goes with the region of most of its objects) or by photo. The log gives the images and labels of each set and warns when validation is empty or under half the fraction asked. An object seen in images of both sets is counted.
 
 Tiles: a tile size that cuts a photo into more than 4096 tiles is refused.
@@ -817,6 +827,8 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
 
 无法解码的照片（被截断，或不是图像）会在日志中列出，并连同其标签一起排除。
 
+影像的数值：按存储的值（默认：复制照片，瓦片为 PNG）、以 °C 表示的温度或反射率，与“原始照片的小区统计”相同。PNG 和 JPEG 无法保存这些数值，因此此时每幅影像（整张照片或瓦片）都是 float32 TIFF（NAME.tif，标注指向它），其 GDAL 元数据中注明单位，饱和或无法读取的像素为 NaN；不含此类数值的照片连同其标注一起被排除。网络可以在任一种影像上训练。
+
 划分：整张图像分到训练集或验证集，不排除任何图像：按田间区域（区域大小的正方形格网，DSM 的地图单位；图像归入其多数对象所在的区域）或按照片。日志给出每个集合的图像数和标签数，当验证集为空或少于所要求比例的一半时发出警告。出现在两个集合图像中的对象会被计数。
 
 瓦片：若瓦片大小使一张照片被切成超过 4096 个瓦片，则拒绝执行。
@@ -826,6 +838,10 @@ Output folder: images/{train,val}, labels/{train,val} and data.yaml (YOLO segmen
     <message>
       <source>Random seed of the split</source>
       <translation>划分的随机种子</translation>
+    </message>
+    <message>
+      <source>Values of the images</source>
+      <translation>影像的数值</translation>
     </message>
     <message>
       <source>Labelled objects (polygons or points)</source>
@@ -1178,7 +1194,9 @@ Output pixels outside the ROI, on DSM nodata, outside the photo, or hidden from 
 
 Mask: 'occlusion mask' (the default) casts a ray from every output pixel's ground point to the camera and makes the pixel transparent where the DSM blocks it (a tree or a wall between them), so no pixel shows what stands in front of it; 'none' skips the rays and keeps every pixel the photo frames, as Orthority does (faster; hidden ground then shows the object that hides it).
 
-One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).</source>
+One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CRS, with the photo's bands plus alpha. The photos are read from the paths stored in the project, or from the photos folder when given (matched by file name).
+
+Values: as stored (the photo's bands and data type, the default), temperature in °C (FLIR radiometric JPEGs by the Planck curve, with the photo's object parameters unless given; temperature TIFFs by their preset or scale and offset) or reflectance (MicaSense and DJI multispectral band files), as in Plot statistics from photos. Temperature and reflectance images are float32 GeoTIFFs with the unit and what was applied in their GDAL metadata; pixels without a value, and those whose bilinear sample touches a saturated or unreadable photo pixel, are NaN (nodata, alpha 0).</source>
       <translation>为每个感兴趣区基于原始照片（而非正射影像）生成一幅地理配准图像：更清晰（无融合、重影或拼接线），且几何真实。每个输出像元的地面点（高度取自 DSM）通过解算相机（含镜头畸变）投影到照片中，并在该处对照片采样（双线性）。
 
 照片：“每个感兴趣区的最佳照片”取各感兴趣区评分最高的照片（反投影的评分：可见比例、视角、分辨率、到中心的距离）；“能看到该感兴趣区的所有照片”为每张能看到该感兴趣区的照片各写出一幅图像；“指定的照片”使用给定的照片。像元大小：给定的 GSD（DSM 坐标系单位），或 0 表示照片在该感兴趣区处的原始分辨率。
@@ -1187,7 +1205,9 @@ One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CR
 
 掩膜：“遮挡掩膜”（默认）从每个输出像元的地面点向相机投射一条射线，在 DSM 挡住射线的地方（两者之间有树或墙）将该像元设为透明，因此不会有像元显示挡在它前面的物体；“无”不投射射线，保留照片拍到的每个像元，与 Orthority 的行为相同（更快；被遮挡的地面会显示遮挡它的物体）。
 
-在输出文件夹中为每个感兴趣区（选择“所有照片”时为每个感兴趣区和照片）生成一个 GeoTIFF，采用 DSM 的坐标系，包含照片的波段及 alpha 波段。照片从工程中存储的路径读取；若给出了照片文件夹，则从该文件夹读取（按文件名匹配）。</translation>
+在输出文件夹中为每个感兴趣区（选择“所有照片”时为每个感兴趣区和照片）生成一个 GeoTIFF，采用 DSM 的坐标系，包含照片的波段及 alpha 波段。照片从工程中存储的路径读取；若给出了照片文件夹，则从该文件夹读取（按文件名匹配）。
+
+数值：按存储的值（照片的波段和数据类型，默认）、以 °C 表示的温度（FLIR 辐射测量 JPEG 按普朗克曲线换算，未给出时使用照片自带的目标参数；温度 TIFF 按其预设或比例与偏移换算）或反射率（MicaSense 与大疆多光谱波段文件），与“原始照片的小区统计”相同。温度和反射率影像为 float32 GeoTIFF，其 GDAL 元数据中注明单位及所做的换算；没有数值的像素，以及双线性采样触及饱和或无法读取的照片像素的像素，为 NaN（无数据，alpha 为 0）。</translation>
     </message>
     <message>
       <source>Index of the images (optional): one feature per image, the ROI with its file ('image_file'), photo, visible share and pixel size. 'Open the images in the map too' (off by default) opens up to 100 images in one collapsed group below the ROI layer; a larger run opens the index only.</source>
@@ -1204,6 +1224,10 @@ One GeoTIFF per ROI (and photo, for 'all') in the output folder, in the DSM's CR
     <message>
       <source>Open the images in the map too</source>
       <translation>同时在地图中打开影像</translation>
+    </message>
+    <message>
+      <source>Values</source>
+      <translation>数值</translation>
     </message>
     <message>
       <source>Folder of the raw photos (default: the paths in the project)</source>
@@ -1290,34 +1314,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
 输出：每个 ROI × 照片及其统计量的表；带跨视图值的 ROI；可选地，每个 ROI 一张 PNG，并排显示所用视图及其数值。</translation>
     </message>
     <message>
-      <source>Emissivity (empty: the photo's)</source>
-      <translation>发射率（留空：照片的值）</translation>
-    </message>
-    <message>
-      <source>Object distance, m (empty: the photo's)</source>
-      <translation>目标距离，米（留空：照片的值）</translation>
-    </message>
-    <message>
-      <source>Reflected apparent temperature, °C (empty: the photo's)</source>
-      <translation>反射表观温度，°C（留空：照片的值）</translation>
-    </message>
-    <message>
-      <source>Atmospheric temperature, °C (empty: the photo's)</source>
-      <translation>大气温度，°C（留空：照片的值）</translation>
-    </message>
-    <message>
-      <source>Relative humidity, % (empty: the photo's)</source>
-      <translation>相对湿度，%（留空：照片的值）</translation>
-    </message>
-    <message>
-      <source>IR window temperature, °C (empty: the photo's)</source>
-      <translation>红外窗口温度，°C（留空：照片的值）</translation>
-    </message>
-    <message>
-      <source>IR window transmission, 0–1 (empty: the photo's)</source>
-      <translation>红外窗口透过率，0–1（留空：照片的值）</translation>
-    </message>
-    <message>
       <source>Band names of the photos (comma-separated)</source>
       <translation>照片的波段名称（逗号分隔）</translation>
     </message>
@@ -1326,8 +1322,16 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
       <translation>默认：3 个波段时为 red,green,blue；例如 blue,green,red,rededge,nir</translation>
     </message>
     <message>
-      <source>Temperature TIFFs store</source>
-      <translation>温度 TIFF 的存储方式</translation>
+      <source>Values measured</source>
+      <translation>测量的值</translation>
+    </message>
+    <message>
+      <source>UTC offset of the photos' clock (hours)</source>
+      <translation>照片时钟的 UTC 偏移（小时）</translation>
+    </message>
+    <message>
+      <source>For photos that do not state it (the sun's angles need UTC); empty: none</source>
+      <translation>用于未记录偏移的照片（太阳角度需要 UTC 时间）；留空：无</translation>
     </message>
     <message>
       <source>Back-projection (photo-pixel layer; empty: run it here)</source>
@@ -1366,50 +1370,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
       <translation>按得分对视图加权（加权中位数）</translation>
     </message>
     <message>
-      <source>Values measured</source>
-      <translation>测量的值</translation>
-    </message>
-    <message>
-      <source>°C</source>
-      <translation>°C</translation>
-    </message>
-    <message>
-      <source>Kelvin</source>
-      <translation>开尔文</translation>
-    </message>
-    <message>
-      <source>°C × 10</source>
-      <translation>°C × 10</translation>
-    </message>
-    <message>
-      <source>°C × 1000</source>
-      <translation>°C × 1000</translation>
-    </message>
-    <message>
-      <source>Centi-kelvin (K × 100)</source>
-      <translation>厘开尔文（K × 100）</translation>
-    </message>
-    <message>
-      <source>Temperature TIFF scale (°C = stored × scale + offset)</source>
-      <translation>温度 TIFF 的比例（°C = 存储值 × 比例 + 偏移）</translation>
-    </message>
-    <message>
-      <source>Empty: the preset's</source>
-      <translation>留空：使用预设值</translation>
-    </message>
-    <message>
-      <source>Temperature TIFF offset, °C (empty: the preset)</source>
-      <translation>温度 TIFF 的偏移，°C（留空：预设）</translation>
-    </message>
-    <message>
-      <source>UTC offset of the photos' clock (hours)</source>
-      <translation>照片时钟的 UTC 偏移（小时）</translation>
-    </message>
-    <message>
-      <source>For photos that do not state it (the sun's angles need UTC); empty: none</source>
-      <translation>用于未记录偏移的照片（太阳角度需要 UTC 时间）；留空：无</translation>
-    </message>
-    <message>
       <source>Statistics of every ROI × photo</source>
       <translation>每个 ROI × 照片的统计量</translation>
     </message>
@@ -1440,18 +1400,6 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
     <message>
       <source>Standard deviation</source>
       <translation>标准差</translation>
-    </message>
-    <message>
-      <source>As stored</source>
-      <translation>按存储的值</translation>
-    </message>
-    <message>
-      <source>Temperature (°C)</source>
-      <translation>温度（°C）</translation>
-    </message>
-    <message>
-      <source>Reflectance</source>
-      <translation>反射率</translation>
     </message>
     <message>
       <source>{rois}: plot statistics from the photos of {project}</source>
@@ -2154,6 +2102,82 @@ Outputs: the long table (roi, date, trait, value); the ROIs with the traits of t
     <message>
       <source>Written: {path}</source>
       <translation>已写入：{path}</translation>
+    </message>
+    <message>
+      <source>Emissivity (empty: the photo's)</source>
+      <translation>发射率（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Object distance, m (empty: the photo's)</source>
+      <translation>目标距离，米（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Reflected apparent temperature, °C (empty: the photo's)</source>
+      <translation>反射表观温度，°C（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Atmospheric temperature, °C (empty: the photo's)</source>
+      <translation>大气温度，°C（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Relative humidity, % (empty: the photo's)</source>
+      <translation>相对湿度，%（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>IR window temperature, °C (empty: the photo's)</source>
+      <translation>红外窗口温度，°C（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>IR window transmission, 0–1 (empty: the photo's)</source>
+      <translation>红外窗口透过率，0–1（留空：照片的值）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFFs store</source>
+      <translation>温度 TIFF 的存储方式</translation>
+    </message>
+    <message>
+      <source>°C</source>
+      <translation>°C</translation>
+    </message>
+    <message>
+      <source>Kelvin</source>
+      <translation>开尔文</translation>
+    </message>
+    <message>
+      <source>°C × 10</source>
+      <translation>°C × 10</translation>
+    </message>
+    <message>
+      <source>°C × 1000</source>
+      <translation>°C × 1000</translation>
+    </message>
+    <message>
+      <source>Centi-kelvin (K × 100)</source>
+      <translation>厘开尔文（K × 100）</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF scale (°C = stored × scale + offset)</source>
+      <translation>温度 TIFF 的比例（°C = 存储值 × 比例 + 偏移）</translation>
+    </message>
+    <message>
+      <source>Empty: the preset's</source>
+      <translation>留空：使用预设值</translation>
+    </message>
+    <message>
+      <source>Temperature TIFF offset, °C (empty: the preset)</source>
+      <translation>温度 TIFF 的偏移，°C（留空：预设）</translation>
+    </message>
+    <message>
+      <source>As stored</source>
+      <translation>按存储的值</translation>
+    </message>
+    <message>
+      <source>Temperature (°C)</source>
+      <translation>温度（°C）</translation>
+    </message>
+    <message>
+      <source>Reflectance</source>
+      <translation>反射率</translation>
     </message>
     <message>
       <source>Photo viewer: which photos see this?</source>
