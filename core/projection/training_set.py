@@ -64,7 +64,6 @@ killed run's leftovers are removed by the next (:mod:`.training_folder`).
 """
 import dataclasses
 import os
-import shutil
 from dataclasses import dataclass, field
 from typing import Dict, List, Optional, Sequence
 

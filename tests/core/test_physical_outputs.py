@@ -22,9 +22,10 @@ from easyidp_toolbox.core.raster import epsg_geo_tags, open_geotiff, write_geoti
 sys.path.insert(0, str(Path(__file__).parent))
 from test_photo_statistics import OFFSET  # noqa: E402
 from test_thermal import CAMERA, PHOTO  # noqa: E402
-from test_thermal_statistics import thermal  # noqa: E402,F401 (the fixture)
+import test_thermal_statistics  # noqa: E402
 from easyidp_toolbox.tests.support.planck_reference import planck_by_hand  # noqa: E402
 
+thermal = test_thermal_statistics.thermal   # the fixture: three FLIR views, made for this module
 P32 = {k: float(np.float32(v)) for k, v in {**CAMERA, **PHOTO}.items()}   # as the photo stores
 
 
