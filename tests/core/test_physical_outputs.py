@@ -184,3 +184,46 @@ def test_training_images_in_celsius(thermal, tmp_path):
             assert (out / "yolo_detect" / "images" / s / im["file_name"]).exists()
         manifest = json.loads((out / "training_set.json").read_text())
         assert manifest["values"] == {"values": "temperature", "unit": "degC"}
+
+
+def test_crops_in_reflectance_equal_the_spectral_truth(demo, tmp_path):
+    """[independent] Crops with values = reflectance of MicaSense-style band files written by
+    the demo's multispectral camera (digital numbers from its spectral model's reflectance,
+    through its own inverse of MicaSense's model, under a passing cloud, with saturated
+    glints): each crop pixel equals the spectral model's reflectance of the RGB photo's pixel
+    (mean error < 3e-4), glints NaN; one band, named by its band tag, unit reflectance."""
+    import dataclasses
+
+    from easyidp_toolbox.core import open_reconstruction, read_geojson
+    from easyidp_toolbox.core.demo.multispectral import true_reflectance, write_multispectral_flight
+    from easyidp_toolbox.core.projection import back_project
+    from easyidp_toolbox.core.projection.photos import read_photo
+    from easyidp_toolbox.core.raster import DSM
+    from easyidp_toolbox.core.roi import ROISet
+    recon = open_reconstruction(demo.metashape_project)
+    plots = read_geojson(demo.plots_geojson, name_field="plot_id")
+    rois = ROISet([r for r in plots if r.name in ("B3", "C4")], plots.crs)
+    bp = back_project(rois, recon, heights=DSM(demo.dsm), max_views=2, min_visible=0.9)
+    assert len(bp) >= 2
+    rgb = {lab: path for lab, path in zip(bp.photo_labels, bp.photo_paths)}
+    used = sorted({bp.photo_labels[j] for j in bp.photo_index})
+    flight = write_multispectral_flight([rgb[lab] for lab in used], tmp_path / "ms")
+    band = {lab: ("Red", "NIR")[k % 2] for k, lab in enumerate(used)}
+    files = {lab: rec["files"][band[lab]] for lab, rec in zip(used, flight)}
+    bp = dataclasses.replace(bp, photo_paths=[files.get(lab, p) for lab, p in
+                                              zip(bp.photo_labels, bp.photo_paths)])
+    out = crop_photos(bp, tmp_path / "crops", values="reflectance")
+    assert len(out.files) == len(bp) and not out.skipped_photos
+    for path, side in zip(out.files, out.sidecars):
+        meta = json.loads(Path(side).read_text())
+        lab = meta["camera"]
+        arr = tifffile.imread(path)
+        assert arr.dtype == np.float32 and arr.shape[2] == 2
+        (x0, y0), (w, h) = meta["offset"], meta["crop_size"]
+        truth = true_reflectance(read_photo(rgb[lab]))[band[lab]][y0:y0 + h, x0:x0 + w]
+        ok = np.isfinite(arr[..., 0])
+        assert ok.mean() > 0.97
+        assert np.abs(arr[..., 0] - truth)[ok].mean() < 3e-4
+        items, nodata = _gdal_items(path)
+        assert items[("UNITTYPE", "0")] == "reflectance" and nodata == "nan"
+        assert meta["values"]["bands"] == [band[lab]]
