@@ -100,6 +100,10 @@ Values of the crops: as stored (the photos' own pixels, the default), temperatur
       <translation>DSM が指定されていないため、遮蔽は判定しません。</translation>
     </message>
     <message>
+      <source>The values chosen apply to the crops and previews only, and neither folder was given.</source>
+      <translation>選んだ値は切り出し画像とプレビューにだけ使われますが、どちらのフォルダも指定されていません。</translation>
+    </message>
+    <message>
       <source>Cutting the ROIs out of the photos…</source>
       <translation>写真から ROI を切り出しています…</translation>
     </message>

@@ -100,6 +100,10 @@ Values of the crops: as stored (the photos' own pixels, the default), temperatur
       <translation>未提供 DSM：不检测遮挡。</translation>
     </message>
     <message>
+      <source>The values chosen apply to the crops and previews only, and neither folder was given.</source>
+      <translation>所选的数值只用于裁剪图和预览，但两个文件夹都没有给出。</translation>
+    </message>
+    <message>
       <source>Cutting the ROIs out of the photos…</source>
       <translation>正在从照片中裁出感兴趣区…</translation>
     </message>

@@ -57,8 +57,9 @@ Rules (stated once, here):
   is not valid (saturated, unreadable); a photo that holds no such values is left out with
   its labels, as one that does not decode. Networks train on either.
 
-Whole photos are decoded once (the check) and copied byte for byte; tiled photos (and photos
-in physical values) are decoded at the check and again to cut them (:mod:`.training_images`). Every file is written atomically. The folder holds only the set: what
+Whole photos are decoded once (the check) and copied byte for byte; tiled photos (and every
+photo in physical values) are decoded at the check and again to cut them
+(:mod:`.training_images`). Every file is written atomically. The folder holds only the set: what
 it lists in ``training_set.json``; OVERWRITE removes exactly that, foreign files are refused, a
 killed run's leftovers are removed by the next (:mod:`.training_folder`).
 """

@@ -190,6 +190,10 @@ class BackProjectROIs(EasyIDPAlgorithm):
         outputs = {self.OUTPUT: out, self.OUTPUT_SUMMARY: summary}
         if json_path:
             outputs[self.OUTPUT_JSON] = result.write_easyidp_json(json_path)
+        values = value_parameters(self, parameters, context)
+        if values["values"] != "stored" and not (crops or previews):
+            feedback.pushWarning(self.tr("The values chosen apply to the crops and previews "
+                                         "only, and neither folder was given."))
         if crops or previews:
             feedback.pushInfo(self.tr("Cutting the ROIs out of the photos…"))
             written = crop_photos(
@@ -197,7 +201,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                 margin=self.parameterAsInt(parameters, self.MARGIN, context),
                 overwrite=self.overwrite(parameters, context),
                 progress=feedback_progress(feedback, 5 + span, 100),
-                is_cancelled=feedback.isCanceled, **value_parameters(self, parameters, context))
+                is_cancelled=feedback.isCanceled, **values)
             for label, why in written.skipped_photos.items():
                 feedback.pushWarning(self.tr("Photo {label} skipped: {why}").format(label=label, why=why))
             feedback.pushInfo(self.tr("{n} crops and {p} previews written.").format(

@@ -244,3 +244,16 @@ def test_crops_in_celsius(provider, survey, tmp_path):
         want = np.vectorize(table.get, otypes=[np.float64])(window)
         assert np.abs(t - want).max() < 0.01
         del ds
+
+
+def test_values_without_crops_say_so(provider, survey):
+    """[independent] VALUES = temperature without a crops or previews folder: the log warns
+    that the values apply to those only (nothing else changes)."""
+    import processing
+    feedback = QgsProcessingFeedback()
+    processing.run(ALG, {"ROIS": survey.plots_geojson, "NAME_FIELD": "plot_id",
+                         "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 3,
+                         "GROUND_HEIGHT": 0.0, "PHOTO": "DJI_0002", "VALUES": 1,
+                         "OUTPUT": "memory:", "OUTPUT_SUMMARY": "memory:"},
+                   context=QgsProcessingContext(), feedback=feedback)
+    assert "apply to the crops and previews only" in feedback.textLog()
