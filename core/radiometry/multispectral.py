@@ -29,7 +29,7 @@ from .photo_tags import PhotoTags, read_photo_tags, read_raw_band
 from .values import PhotoValues
 
 __all__ = ["ReflectanceOptions", "reflectance_values", "Capture", "group_captures", "band_key",
-           "SUPPORTED_CAMERAS"]
+           "capture_key", "SUPPORTED_CAMERAS"]
 
 SUPPORTED_CAMERAS = ("MicaSense RedEdge-3/M/MX/P, Altum, Altum-PT (DLS 1, DLS 2)",
                      "DJI P4 Multispectral, Mavic 3M (sunlight sensor)")
@@ -217,7 +217,9 @@ class Capture:
     bands: Dict[str, str] = field(default_factory=dict)
 
 
-def _capture_key(tags: PhotoTags) -> str:
+def capture_key(tags: PhotoTags) -> str:
+    """The capture a band file belongs to: its capture id (MicaSense ``CaptureId``, DJI
+    ``CaptureUUID``), else its capture time to the sub-second."""
     for k in ("MicaCamera:CaptureId", "Camera:CaptureId", "drone-dji:CaptureUUID"):
         value = tags.xmp.get(k)
         if value and not isinstance(value, list):
@@ -237,7 +239,7 @@ def group_captures(paths: Sequence) -> List[Capture]:
     for path in paths:
         path = os.fspath(path)
         tags = read_photo_tags(path)
-        key = _capture_key(tags)
+        key = capture_key(tags)
         band = _band_name(tags)
         capture = captures.setdefault(key, Capture(key))
         if band in capture.bands:
