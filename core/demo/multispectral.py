@@ -23,6 +23,7 @@ the plot's outline, projected by the generator's own camera model (``flight.proj
 rasterised here by an even-odd test: not the product's back-projection or reader.
 """
 import dataclasses
+import functools
 import io
 import math
 import os
@@ -151,7 +152,9 @@ def write_multispectral_flight(photos: List[str], folder, *, seed: int = 0) -> L
     return captures
 
 
+@functools.lru_cache(maxsize=1)
 def _shots(seed: int, size: str, mess):
+    """(scene, camera, {file name: shot}) of the demo survey (the scene is made once per run)."""
     from .field import FieldMess
     from .flight import make_camera, plan_flight
     from .scene import make_scene
@@ -197,12 +200,13 @@ def _inside(poly: np.ndarray, shape) -> Tuple[int, int, np.ndarray]:
 
 def plot_reflectance_truth(captures: List[dict], height: float, *, seed: int = 0,
                            size: str = "small", mess=None, step: float = 0.05,
-                           project=None) -> Dict[tuple, dict]:
+                           project=None, keys=None) -> Dict[tuple, dict]:
     """{(plot id, capture name ``IMG_kkkk``): {band: mean reflectance}} of every plot a capture
     sees whole: the demo's reflectance field under the plot outline at ``height`` (map
     vertical), edges sampled every ``step`` m and projected into the RGB photo the capture rides
     with by ``project(photo label, map xyz (n, 3)) → pixels (n, 2)`` (default: the generator's
-    camera model at the true pose, ``flight.project_still``)."""
+    camera model at the true pose, ``flight.project_still``); ``keys``: only these (plot id,
+    capture name) pairs (None: all)."""
     from .field import plot_corners
     from .flight import project_still
     scene, camera, shots = _shots(seed, size, mess)
@@ -213,9 +217,12 @@ def plot_reflectance_truth(captures: List[dict], height: float, *, seed: int = 0
     out = {}
     for rec in captures:
         shot = shots[os.path.basename(rec["photo"])]
-        truth = true_reflectance(read_photo(rec["photo"]))
         name = os.path.basename(rec["files"]["Red"]).rsplit("_", 1)[0]
-        for p in scene.plots:
+        plots = [p for p in scene.plots if keys is None or (p["plot_id"], name) in keys]
+        if not plots:
+            continue
+        truth = true_reflectance(read_photo(rec["photo"]))
+        for p in plots:
             corners = plot_corners(p)
             ring = []
             for a, b in zip(corners, np.roll(corners, -1, axis=0)):
