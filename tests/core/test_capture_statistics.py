@@ -144,3 +144,44 @@ def test_a_capture_missing_a_band_is_not_used_and_a_band_twice_is_refused(rig, t
     shutil.copy(folder / "IMG_0000_4.tif", folder / "IMG_0001_4.tif")   # capture0's NIR twice
     with pytest.raises(InputError, match=r"band 'NIR' of capture capture0 is also in"):
         photo_statistics(bp, folder, values="reflectance", statistics=("mean",))
+
+
+def test_pix4d_band_file_without_a_calibrated_pose_is_refused_with_what_to_do(rig, tmp_path):
+    """[independent] a Pix4D project of the rig (written by the demo's Pix4D writer from the
+    rig's poses) whose params folder lacks one band file's calibration (Pix4D disabled it):
+    Pix4D writes no rig relatives into its params folder, so that band file is kept unaligned
+    and a note names the project and what to do; the calibrated band files are placed by their
+    own poses (the same pixels as the rig's cameras), and Plot statistics keeps that capture's
+    row unused, saying which band is missing."""
+    from easyidp_toolbox.core.demo.flight import CameraModel, Shot
+    from easyidp_toolbox.core.demo.pix4d_writer import write_pix4d
+    from easyidp_toolbox.core.reconstruction import open_reconstruction
+    recon, rois, bp = rig
+    f, cx, cy = LENS["Red"]
+    model = CameraModel(label="rig", model="rig", width=W, height=H, pixel_mm=0.003,
+                        calibration=Calibration(f=f, cx=cx, cy=cy))
+    cams = [c for c in recon.cameras if c.sensor_id == "Red"] + \
+        [c for c in recon.cameras if c.sensor_id == "NIR"]
+    shots = [Shot(label=c.label, filename=Path(c.photo_path).name, R=c.R, C=c.C, line=0,
+                  yaw_deg=0.0, gps=c.C + OFFSET, time="2024:06:01 02:30:00") for c in cams]
+    p4d = Path(write_pix4d(tmp_path, "rig", model, shots, OFFSET, [c.photo_path for c in cams])["p4d"])
+    params = tmp_path / "rig" / "1_initial" / "params"
+    ccp = params / "rig_calibrated_camera_parameters.txt"
+    text = ccp.read_text().split("IMG_0001_4.tif")[0]          # the last image's block dropped
+    ccp.write_text(text)
+    pm = params / "rig_pmatrix.txt"
+    pm.write_text("".join(line for line in pm.read_text().splitlines(True)
+                          if not line.startswith("IMG_0001_4")))
+    p4 = open_reconstruction(p4d)
+    aligned = {c.label: c.aligned for c in p4.cameras}
+    assert aligned["IMG_0001_4.tif"] is False and sum(aligned.values()) == 3
+    note = next(n for n in p4.notes if "no calibrated pose" in n)
+    assert str(p4d) in note and "IMG_0001_4.tif" in note and "no rig relatives" in note
+    assert "enable them in Pix4Dmapper" in note and "Metashape" in note
+    red = p4.project_points(np.array([[OFFSET[0] - 4.0, OFFSET[1], 0.0]]), UTM)
+    ours = recon.project_points(np.array([[OFFSET[0] - 4.0, OFFSET[1], 0.0]]), UTM)
+    assert np.abs(red.pixels[0] - ours.pixels[0]).max() < 1e-6
+    st = photo_statistics(back_project(rois, p4, heights=0.0, distortion=False),
+                          values="reflectance", statistics=("mean",))
+    late = [v for v in range(len(st.record)) if st.photo[v] == "IMG_0001"]
+    assert late and all(not st.used[v] and "no nir view" in st.why[v] for v in late)
