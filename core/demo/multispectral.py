@@ -33,6 +33,10 @@ import numpy as np
 
 from ..files import write_bytes
 from ..projection.photos import read_photo
+from .field import FieldMess, plot_corners
+from .flight import make_camera, plan_flight, project_still
+from .pix4d_writer import write_pix4d
+from .scene import make_scene
 
 __all__ = ["BANDS", "write_multispectral_flight", "true_reflectance", "capture_light",
            "band_file", "write_multispectral_project", "plot_reflectance_truth", "ndvi"]
@@ -155,9 +159,6 @@ def write_multispectral_flight(photos: List[str], folder, *, seed: int = 0) -> L
 @functools.lru_cache(maxsize=1)
 def _shots(seed: int, size: str, mess):
     """(scene, camera, {file name: shot}) of the demo survey (the scene is made once per run)."""
-    from .field import FieldMess
-    from .flight import make_camera, plan_flight
-    from .scene import make_scene
     scene = make_scene(seed, mess=FieldMess() if mess is None else mess)
     camera = make_camera(size)
     shots = plan_flight(scene, np.random.default_rng([seed, 1]))
@@ -170,7 +171,6 @@ def write_multispectral_project(folder, captures: List[dict], *, seed: int = 0,
     ``captures`` (:func:`write_multispectral_flight`), at the pose of the RGB photo its capture
     rides with; the survey must have been made with the same ``seed``, ``size`` and ``mess``.
     Returns the .p4d path."""
-    from .pix4d_writer import write_pix4d
     scene, camera, shots = _shots(seed, size, mess)
     band_shots, paths = [], []
     for rec in captures:
@@ -207,8 +207,6 @@ def plot_reflectance_truth(captures: List[dict], height: float, *, seed: int = 0
     with by ``project(photo label, map xyz (n, 3)) → pixels (n, 2)`` (default: the generator's
     camera model at the true pose, ``flight.project_still``); ``keys``: only these (plot id,
     capture name) pairs (None: all)."""
-    from .field import plot_corners
-    from .flight import project_still
     scene, camera, shots = _shots(seed, size, mess)
     if project is None:
         def project(label, xyz):

@@ -34,6 +34,10 @@ ignores a single outlying view). NaN with fewer than two views.
 Photos are measured as stored unless ``values`` asks for temperature or reflectance
 (:mod:`..radiometry`: the one place where pixels become physical values; invalid pixels such as
 saturated ones are left out, never averaged).
+
+**Band files of multispectral captures** (MicaSense, DJI; as stored or reflectance) are one view
+per ROI × capture (:mod:`.capture_stats`): each band measured through its own camera and
+polygon, indices from the band means and medians of the same ROI, no cover.
 """
 import functools
 import math
@@ -160,7 +164,8 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
         ``"stored"``: the photos as stored (columns ``red_mean``, …); ``"temperature"``: °C
         (:func:`..radiometry.read_photo_values`; columns ``temp_c_mean``, …);
         ``"reflectance"``: reflectance 0–1 (columns ``nir_refl_median``, …; indices on
-        reflectance).
+        reflectance). Band files of multispectral captures (as stored or reflectance) give one
+        view per ROI × capture, named by their band tags (:mod:`.capture_stats`).
     value_options : dict, optional
         The options of ``values`` (object parameters, temperature scale:
         :func:`..radiometry.read_photo_values`).
