@@ -1302,7 +1302,7 @@ Per ROI and photo, the pixels whose centre is inside the ROI's polygon (clipped 
 
 Across views, per ROI: the median of each statistic (score-weighted if asked), its MAD, minimum and maximum over the views used (visible share at least the minimum; the best ones by score when a maximum is set), their number, each view's deviation from its ROI's value and each ROI's largest (the disagreement; about 1 is typical for the field, several times more flags a shadow, wind, a bad pose). Oblique views see the sides of tall canopy, so cover and indices grow with the view angle: the default keeps the 3 best views.
 
-Values: as stored (the photos' own numbers), temperature in °C (FLIR radiometric JPEGs of the Zenmuse XT/XT2, Vue Pro R, Duo Pro R and FLIR handhelds, converted by the Planck curve with the photo's constants and object parameters, each of which can be overridden; or temperature TIFFs with a stated scale and offset; DJI R-JPEGs must be converted with DJI's tool first) or reflectance. Temperature and reflectance put the unit in the column names (temp_c_mean, nir_refl_median); saturated pixels are left out. Each view also gets its photo's acquisition time and the sun's zenith, azimuth and phase angle (sun–plot–camera).
+Values: as stored (the photos' own numbers), temperature in °C (FLIR radiometric JPEGs of the Zenmuse XT/XT2, Vue Pro R, Duo Pro R and FLIR handhelds, converted by the Planck curve with the photo's constants and object parameters, each of which can be overridden; or temperature TIFFs with a stated scale and offset; DJI R-JPEGs must be converted with DJI's tool first) or reflectance (MicaSense and DJI multispectral band files, from their irradiance sensor). The band files of one capture are one view: each band is measured through its own camera, one row per ROI × capture with a column per band, and indices come from the band means and medians of the same ROI. Temperature and reflectance put the unit in the column names (temp_c_mean, nir_refl_median); saturated pixels are left out. Each view also gets its photo's acquisition time and the sun's zenith, azimuth and phase angle (sun–plot–camera).
 
 Outputs: a table of every ROI × photo with its statistics; the ROIs with the across-view values; optionally one PNG per ROI with the views used side by side and their values.</source>
       <translation>在每张看到它的原始照片中测量每个 ROI（小区），并为每个 ROI 给出跨视图的一个稳健值。原始照片没有重影或拼接线，近天底视图的颜色真实。
@@ -1313,7 +1313,7 @@ Outputs: a table of every ROI × photo with its statistics; the ROIs with the ac
 
 跨视图，对每个 ROI：各统计量的中位数（如要求则按得分加权）、其 MAD、所用视图上的最小值和最大值（可见比例不低于最小值；设置最大数量时取得分最高者）、视图数、每个视图相对其 ROI 值的偏差以及每个 ROI 的最大偏差（不一致度；约 1 对该田块是典型的，数倍以上则提示阴影、风或错误的位姿）。倾斜视图会看到高冠层的侧面，因此覆盖度和指数随视角增大：默认保留最好的 3 个视图。
 
-值：按存储的值（照片自身的数值）、°C 温度（Zenmuse XT/XT2、Vue Pro R、Duo Pro R 及 FLIR 手持机的 FLIR 辐射测量 JPEG，用照片的常数和目标参数（均可覆盖）按普朗克曲线换算；或给定比例和偏移的温度 TIFF；DJI R-JPEG 须先用 DJI 的工具转换）或反射率。温度和反射率会在列名中加入单位（temp_c_mean、nir_refl_median）；饱和像素被排除。每个视图还给出照片的拍摄时间以及太阳天顶角、方位角和相位角（太阳–小区–相机）。
+值：按存储的值（照片自身的数值）、°C 温度（Zenmuse XT/XT2、Vue Pro R、Duo Pro R 及 FLIR 手持机的 FLIR 辐射测量 JPEG，用照片的常数和目标参数（均可覆盖）按普朗克曲线换算；或给定比例和偏移的温度 TIFF；DJI R-JPEG 须先用 DJI 的工具转换）或反射率（MicaSense 和 DJI 多光谱波段文件，依据其辐照度传感器）。一次拍摄的各波段文件是一个视图：每个波段通过其自身的相机测量，每个 ROI × 拍摄一行、每个波段一列，指数由同一 ROI 的波段均值和中位数计算。温度和反射率会在列名中加入单位（temp_c_mean、nir_refl_median）；饱和像素被排除。每个视图还给出照片的拍摄时间以及太阳天顶角、方位角和相位角（太阳–小区–相机）。
 
 输出：每个 ROI × 照片及其统计量的表；带跨视图值的 ROI；可选地，每个 ROI 一张 PNG，并排显示所用视图及其数值。</translation>
     </message>

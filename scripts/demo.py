@@ -118,7 +118,7 @@ def main(out: str) -> int:
     photo_folder = run_photo_folder_demo(steps, s, truth, out, _features)
     photo_stats = run_photo_statistics_demo(steps, s, truth, out, _features)
     photo_stats += run_round_trip_demo(steps, out)
-    multispectral = run_multispectral_demo(s, out)
+    multispectral = run_multispectral_demo(steps, s, out, _features)
     thermal = run_thermal_demo(steps, s, out, _features)
 
     # ---- checks against the truth ----------------------------------------------------------
@@ -183,9 +183,9 @@ def main(out: str) -> int:
           f"(next lines); the round trip's object visibility: {CONS} (generator's camera):")
     for line in photo_stats:
         print(line)
-    print(f"  {IND} multispectral reflectance and NDVI against the demo's spectral model under the "
-          f"same plot masks (digital numbers written by the generator's own inverse of MicaSense's "
-          f"model; the masks are shared, so this checks the radiometry):")
+    print(f"  {IND} multispectral NDVI against the demo's reflectance field under the plot outlines "
+          f"(digital numbers written by the generator's own inverse of MicaSense's model; the "
+          f"outlines projected by OpenCV):")
     for line in multispectral:
         print(line)
     for line in thermal:

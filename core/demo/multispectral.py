@@ -13,7 +13,17 @@ between photos. The digital numbers are written through the inverse of MicaSense
 model (dark level, vignetting, row gradient, gain, exposure; see ``core/radiometry/micasense.py``
 for the forward model) with sensor noise and a few saturated glints, and the DLS 2 tags carry the irradiance of each
 capture. Written here independently of the product's reader: the inverse below is its own code.
+
+:func:`write_multispectral_project` writes a Pix4D project in which every band file is its own
+camera (calibrated camera parameters: each band at its capture's pose), so that *Plot statistics
+from photos* measures the band files as they come from a rig. :func:`plot_reflectance_truth` is
+the truth a plot's reflectance is checked against: the demo's reflectance field (the spectral
+model of the RGB photo each capture rides with) averaged over the pixels whose centre is inside
+the plot's outline, projected by the generator's own camera model (``flight.project_still``) and
+rasterised here by an even-odd test: not the product's back-projection or reader.
 """
+import dataclasses
+import functools
 import io
 import math
 import os
@@ -23,9 +33,13 @@ import numpy as np
 
 from ..files import write_bytes
 from ..projection.photos import read_photo
+from .field import FieldMess, plot_corners
+from .flight import make_camera, plan_flight, project_still
+from .pix4d_writer import write_pix4d
+from .scene import make_scene
 
 __all__ = ["BANDS", "write_multispectral_flight", "true_reflectance", "capture_light",
-           "band_file"]
+           "band_file", "write_multispectral_project", "plot_reflectance_truth", "ndvi"]
 
 BANDS = {"Red": 3, "NIR": 4}                        # MicaSense RedEdge band index per band
 CALIBRATION = {"Red": (2.3e-4, 1.4e-7, 2.2e-5), "NIR": (3.2e-4, 0.9e-7, 1.6e-5)}   # a1, a2, a3
@@ -140,3 +154,91 @@ def write_multispectral_flight(photos: List[str], folder, *, seed: int = 0) -> L
             record["gain"][band] = gain
         captures.append(record)
     return captures
+
+
+@functools.lru_cache(maxsize=1)
+def _shots(seed: int, size: str, mess):
+    """(scene, camera, {file name: shot}) of the demo survey (the scene is made once per run)."""
+    scene = make_scene(seed, mess=FieldMess() if mess is None else mess)
+    camera = make_camera(size)
+    shots = plan_flight(scene, np.random.default_rng([seed, 1]))
+    return scene, camera, {os.path.basename(sh.filename): sh for sh in shots}
+
+
+def write_multispectral_project(folder, captures: List[dict], *, seed: int = 0,
+                                size: str = "small", mess=None) -> str:
+    """Write ``folder/multispectral.p4d`` and its params: one camera per band file of
+    ``captures`` (:func:`write_multispectral_flight`), at the pose of the RGB photo its capture
+    rides with; the survey must have been made with the same ``seed``, ``size`` and ``mess``.
+    Returns the .p4d path."""
+    scene, camera, shots = _shots(seed, size, mess)
+    band_shots, paths = [], []
+    for rec in captures:
+        shot = shots[os.path.basename(rec["photo"])]
+        for path in rec["files"].values():
+            band_shots.append(dataclasses.replace(shot, filename=os.path.basename(path),
+                                                  label=os.path.splitext(os.path.basename(path))[0]))
+            paths.append(path)
+    return write_pix4d(folder, "multispectral", camera, band_shots, scene.offset, paths)["p4d"]
+
+
+def _inside(poly: np.ndarray, shape) -> Tuple[int, int, np.ndarray]:
+    """(r0, c0, mask): the pixel centres inside the closed polygon ``poly`` (n, 2) pixels, by
+    the even-odd rule over its bounding box."""
+    rows, cols = shape
+    c0, r0 = (max(int(np.floor(v)), 0) for v in poly.min(axis=0))
+    c1, r1 = min(int(np.ceil(poly[:, 0].max())), cols), min(int(np.ceil(poly[:, 1].max())), rows)
+    y, x = np.mgrid[r0:max(r1, r0), c0:max(c1, c0)] + 0.5
+    inside = np.zeros(x.shape, bool)
+    for (xa, ya), (xb, yb) in zip(poly, np.roll(poly, -1, axis=0)):
+        if ya == yb:
+            continue
+        cross = ((ya > y) != (yb > y)) & (x < xa + (y - ya) * (xb - xa) / (yb - ya))
+        inside ^= cross
+    return r0, c0, inside
+
+
+def plot_reflectance_truth(captures: List[dict], height: float, *, seed: int = 0,
+                           size: str = "small", mess=None, step: float = 0.05,
+                           project=None, keys=None) -> Dict[tuple, dict]:
+    """{(plot id, capture name ``IMG_kkkk``): {band: mean reflectance}} of every plot a capture
+    sees whole: the demo's reflectance field under the plot outline at ``height`` (map
+    vertical), edges sampled every ``step`` m and projected into the RGB photo the capture rides
+    with by ``project(photo label, map xyz (n, 3)) → pixels (n, 2)`` (default: the generator's
+    camera model at the true pose, ``flight.project_still``); ``keys``: only these (plot id,
+    capture name) pairs (None: all)."""
+    scene, camera, shots = _shots(seed, size, mess)
+    if project is None:
+        def project(label, xyz):
+            shot = next(sh for sh in shots.values() if sh.label == label)
+            return project_still(camera, [shot], xyz - scene.offset)[0][0]
+    out = {}
+    for rec in captures:
+        shot = shots[os.path.basename(rec["photo"])]
+        name = os.path.basename(rec["files"]["Red"]).rsplit("_", 1)[0]
+        plots = [p for p in scene.plots if keys is None or (p["plot_id"], name) in keys]
+        if not plots:
+            continue
+        truth = true_reflectance(read_photo(rec["photo"]))
+        for p in plots:
+            corners = plot_corners(p)
+            ring = []
+            for a, b in zip(corners, np.roll(corners, -1, axis=0)):
+                n = max(int(np.ceil(np.hypot(*(b - a)) / step)), 1)
+                ring += [a + (b - a) * t for t in np.arange(n) / n]
+            xyz = np.column_stack([np.array(ring), np.full(len(ring), height)])
+            px = np.asarray(project(shot.label, xyz), float)
+            if not np.all(np.isfinite(px)) or px[:, 0].min() < 0 or px[:, 1].min() < 0 or \
+                    px[:, 0].max() > camera.width or px[:, 1].max() > camera.height:
+                continue
+            r0, c0, mask = _inside(px, (camera.height, camera.width))
+            if mask.sum() < 50:
+                continue
+            rows, cols = slice(r0, r0 + mask.shape[0]), slice(c0, c0 + mask.shape[1])
+            out[(p["plot_id"], name)] = {b: float(truth[b][rows, cols][mask].mean()) for b in BANDS}
+    return out
+
+
+def ndvi(reflectance: Dict[str, float]) -> float:
+    """NDVI of a plot's mean reflectance per band."""
+    return (reflectance["NIR"] - reflectance["Red"]) / (reflectance["NIR"] + reflectance["Red"])

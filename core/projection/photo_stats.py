@@ -34,6 +34,10 @@ ignores a single outlying view). NaN with fewer than two views.
 Photos are measured as stored unless ``values`` asks for temperature or reflectance
 (:mod:`..radiometry`: the one place where pixels become physical values; invalid pixels such as
 saturated ones are left out, never averaged).
+
+**Band files of multispectral captures** (MicaSense, DJI; as stored or reflectance) are one view
+per ROI × capture (:mod:`.capture_stats`): each band measured through its own camera and
+polygon, indices from the band means and medians of the same ROI, no cover.
 """
 import functools
 import math
@@ -52,11 +56,12 @@ from ..progress import as_progress
 from ..radiometry import VALUES, PhotoValues, read_photo_values
 from ..photo_files import photo_notes
 from .across_views import aggregate_views
+from .capture_stats import band_columns, band_layout, capture_views, combine_bands
 from .photos import DecodedPhotos, resolve_photos
 from .result import BackProjection
 from .stat_previews import StatSheets
 from .stats_table import PhotoStatistics
-from .view_measure import STATISTICS, ViewMeasure, band_names_for
+from .view_measure import STATISTICS, ViewMeasure, band_names_for, percentile_name
 from .view_occlusion import PhotoOcclusion
 from .view_sun import view_sun
 
@@ -159,7 +164,8 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
         ``"stored"``: the photos as stored (columns ``red_mean``, …); ``"temperature"``: °C
         (:func:`..radiometry.read_photo_values`; columns ``temp_c_mean``, …);
         ``"reflectance"``: reflectance 0–1 (columns ``nir_refl_median``, …; indices on
-        reflectance).
+        reflectance). Band files of multispectral captures (as stored or reflectance) give one
+        view per ROI × capture, named by their band tags (:mod:`.capture_stats`).
     value_options : dict, optional
         The options of ``values`` (object parameters, temperature scale:
         :func:`..radiometry.read_photo_values`).
@@ -189,11 +195,18 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
     if k and not found:
         raise InputError(f"None of the {len(labels)} photos is available: "
                          f"{'; '.join(list(missing.values())[:3])}. Give the photos folder.")
-    state = _Pass(result, stats, qs, wanted, cover_threshold, bands, k, values)
+    layout = band_layout(found) if values in ("stored", "reflectance") else None
+    if layout is None:
+        state = _Pass(result, stats, qs, wanted, cover_threshold, bands, k, values)
+    else:
+        state = _CapturePass(result, layout, stats, qs, wanted, cover_threshold, bands, k, values)
     state.skipped.update(missing)
     state.notes += photo_notes(list(found.values()))
     sheets = None
-    if previews_folder is not None:
+    if previews_folder is not None and layout is not None:
+        state.notes.append("no previews: they are not drawn yet for the band files of "
+                           "multispectral captures")
+    elif previews_folder is not None:
         sheets = StatSheets(result, previews_folder, preview_views, min_visible, max_views)
     by_photo: Dict[int, List[int]] = {}
     for i, j in enumerate(result.photo_index.tolist()):
@@ -241,9 +254,10 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
                 prog.set(95.0 * (n + 1) / max(len(todo), 1))
         out = state.finish(min_visible, max_views, weighted)
         sun = view_sun(result, rois, recon, found, utc_offset)
-        out.acquired = sun["acquired"]
-        out.sun_zenith, out.sun_azimuth = sun["sun_zenith"], sun["sun_azimuth"]
-        out.phase_angle = sun["phase_angle"]
+        pick = out.record                  # a capture view: its first band's record
+        out.acquired = [sun["acquired"][i] for i in pick]
+        out.sun_zenith, out.sun_azimuth = sun["sun_zenith"][pick], sun["sun_azimuth"][pick]
+        out.phase_angle = sun["phase_angle"][pick]
         out.notes += sun["notes"]
         out.notes += occ.notes() if occ is not None else []
         out.rays = occ.rays if occ is not None else 0
@@ -331,6 +345,10 @@ class _Pass:
             return False
         return True
 
+    def view_measure(self, i: int) -> ViewMeasure:
+        """The measurement of record ``i``."""
+        return self.m
+
     def value_note(self, note: str) -> None:
         """Count a photo's note of what was applied (reported once per kind)."""
         self.value_notes[note] = self.value_notes.get(note, 0) + 1
@@ -342,7 +360,7 @@ class _Pass:
         keep = mask if occluded is None else mask & ~occluded[0]
         if valid is not None:
             keep = keep & valid[r0:r0 + mask.shape[0], c0:c0 + mask.shape[1]]
-        vals, n, hist = self.m.view(img, r0, c0, keep)
+        vals, n, hist = self.view_measure(i).view(img, r0, c0, keep)
         self.values[i] = vals
         npoly = int(mask.sum())
         self.polygon_pixels[i] = npoly
@@ -416,6 +434,71 @@ class _Pass:
             weighted=bool(weighted), skipped_photos=dict(self.skipped),
             photos_decoded=self.photos_decoded, notes=notes, values_kind=self.values_kind)
 
+
+class _CapturePass(_Pass):
+    """The pass over the band files of multispectral captures (:mod:`.capture_stats`): each
+    record measured in its own band file through its own polygon, then one view per ROI ×
+    capture."""
+
+    def __init__(self, result, layout, stats, qs, wanted, threshold, bands, k, values):
+        super().__init__(result, stats, qs, wanted, threshold, bands, k, values)
+        self.layout = layout
+        self.per = list(stats) + [percentile_name(q) for q in qs]
+        self.band_of = [layout.band.get(result.photo_labels[j])
+                        for j in result.photo_index.tolist()]
+        self.measures: Dict[str, ViewMeasure] = {}
+        self.values = np.full((k, len(self.per)), np.nan)
+        if bands:
+            self.notes.append("the band names given are not used: band files are named by "
+                              "their band tags")
+
+    def ready(self, img: np.ndarray, label: str, value_bands=None) -> bool:
+        if label not in self.layout.band:
+            self.skipped[label] = ("not a band file, where the other photos are band files of a "
+                                   "multispectral camera: measure one camera at a time")
+            return False
+        if img.ndim == 3 and img.shape[2] > 1:
+            self.skipped[label] = f"it has {img.shape[2]} bands where a band file has one"
+            return False
+        return True
+
+    def view_measure(self, i: int) -> ViewMeasure:
+        band = self.band_of[i]
+        if band not in self.measures:
+            self.measures[band] = ViewMeasure([band], self.stats, self.qs, (), None, None)
+        return self.measures[band]
+
+    def finish(self, min_visible, max_images, weighted) -> PhotoStatistics:
+        views = capture_views(self.result, self.layout)
+        bands, indices, columns = band_columns(list(self.measures), self.per, self.wanted)
+        values, complete, missing = combine_bands(views, self.band_of, self.values, self.per,
+                                                  bands, indices, columns, self.measured)
+        recs = views.records
+
+        def per_view(arr, how):
+            with np.errstate(invalid="ignore"):
+                return np.array([how(arr[r]) for r in recs], float) if recs else np.zeros(0)
+
+        def most(a):
+            return np.nan if np.isnan(a).all() else np.nanmax(a)
+        self.pixels = np.where(complete, per_view(self.pixels, np.min), 0).astype(np.int64)
+        self.polygon_pixels = per_view(self.polygon_pixels, np.min).astype(np.int64)
+        self.occluded = per_view(self.occluded, most)
+        self.undecided = per_view(self.undecided, most)
+        self.result, self.k, self.values, self.measured = views, len(views), values, complete
+        self.m = ViewMeasure(bands, self.stats, self.qs, (), None, None)
+        self.m.indices, self.m.columns = indices, columns
+        self.hists = {}
+        self.notes.append(f"{len(set(self.layout.capture.values()))} multispectral capture(s) of "
+                          f"{len(self.layout.band)} band files: one view per ROI × capture, each "
+                          "band measured through its own camera; indices from the band means "
+                          "and medians of the same ROI; no canopy cover")
+        out = super().finish(min_visible, max_images, weighted)
+        out.record = np.array([r[0] for r in recs], np.int64)
+        for v, why in enumerate(missing):
+            if why and not out.used[v]:
+                out.why[v] = why
+        return out
 
 
 __all__ = ["photo_statistics", "window_mask"]

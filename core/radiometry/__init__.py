@@ -27,7 +27,8 @@ from .values import PhotoValues
 
 from .output_tags import NODATA_TEXT, gdal_metadata, tiff_extratags
 from .multispectral import (SUPPORTED_CAMERAS, Capture, ReflectanceOptions, band_key,
-                            group_captures, reflectance_values)
+                            capture_key, group_captures, reflectance_values)
+from .photo_tags import read_photo_tags
 
 VALUES = ("stored", "temperature", "reflectance")
 UNITS = {"stored": "stored", "temperature": "degC", "reflectance": "reflectance"}
@@ -105,5 +106,6 @@ __all__ = ["PhotoValues", "read_photo_values", "read_photo", "VALUES", "UNITS",
            "ThermalParameters", "OBJECT_PARAMETERS", "KELVIN", "raw_to_celsius", "celsius_to_raw",
            "FlirPhoto", "read_flir", "temperature_values", "TEMPERATURE_PRESETS",
            "scale_offset", "DJI_RJPEG", "acquisition_time", "reflectance_values",
-           "ReflectanceOptions", "Capture", "group_captures", "band_key", "SUPPORTED_CAMERAS",
-           "photo_decoder", "gdal_metadata", "tiff_extratags", "NODATA_TEXT"]
+           "ReflectanceOptions", "Capture", "group_captures", "band_key", "capture_key",
+           "read_photo_tags", "SUPPORTED_CAMERAS", "photo_decoder", "gdal_metadata",
+           "tiff_extratags", "NODATA_TEXT"]

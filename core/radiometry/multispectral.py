@@ -29,7 +29,7 @@ from .photo_tags import PhotoTags, read_photo_tags, read_raw_band
 from .values import PhotoValues
 
 __all__ = ["ReflectanceOptions", "reflectance_values", "Capture", "group_captures", "band_key",
-           "SUPPORTED_CAMERAS"]
+           "capture_key", "SUPPORTED_CAMERAS", "MICASENSE_LWIR"]
 
 SUPPORTED_CAMERAS = ("MicaSense RedEdge-3/M/MX/P, Altum, Altum-PT (DLS 1, DLS 2)",
                      "DJI P4 Multispectral, Mavic 3M (sunlight sensor)")
@@ -93,9 +93,17 @@ def _band_name(tags: PhotoTags) -> str:
     return str(name)
 
 
+MICASENSE_LWIR = ("{path}: the LWIR band of a MicaSense Altum or Altum-PT is its thermal camera: it "
+                  "stores temperatures in centi-kelvin, not light, so it has no reflectance; measure "
+                  "it with the values 'temperature' and the temperature-TIFF preset centi-kelvin "
+                  "(K × 100)")
+
+
 def _signal(path) -> Tuple[PhotoTags, np.ndarray, np.ndarray, str]:
     """(tags, signal, saturated, note): the vendor's radiance-like signal of one band file."""
     tags = read_photo_tags(path)
+    if band_key(tags.xmp.get("Camera:BandName") or "") == "lwir":
+        raise InputError(MICASENSE_LWIR.format(path=tags.path))
     vendor = _vendor(tags)
     _band_name(tags)
     raw = read_raw_band(path)
@@ -217,7 +225,9 @@ class Capture:
     bands: Dict[str, str] = field(default_factory=dict)
 
 
-def _capture_key(tags: PhotoTags) -> str:
+def capture_key(tags: PhotoTags) -> str:
+    """The capture a band file belongs to: its capture id (MicaSense ``CaptureId``, DJI
+    ``CaptureUUID``), else its capture time to the sub-second."""
     for k in ("MicaCamera:CaptureId", "Camera:CaptureId", "drone-dji:CaptureUUID"):
         value = tags.xmp.get(k)
         if value and not isinstance(value, list):
@@ -237,7 +247,7 @@ def group_captures(paths: Sequence) -> List[Capture]:
     for path in paths:
         path = os.fspath(path)
         tags = read_photo_tags(path)
-        key = _capture_key(tags)
+        key = capture_key(tags)
         band = _band_name(tags)
         capture = captures.setdefault(key, Capture(key))
         if band in capture.bands:

@@ -15,7 +15,13 @@ Multispectral rigs: the calibrated camera parameters give every band file its ow
 distortion and pose, so each band is placed by its own camera and no rig relatives are needed.
 Without that file, the pmatrix path takes the lens from the ``.cam`` file; one that holds
 several camera models (one per band of a rig: ``camera_calibration_file 0``, ``1``, …) does not
-say which image uses which, so such a project is refused with a message.
+say which image uses which, so such a project is refused with a message. Pix4Dmapper writes its
+rig relatives only into its quality report, not into the params folder (the files listed in
+Pix4D's "What does the Output Params Folder contain?"), so a band file that Pix4D did not
+calibrate cannot be placed from its capture's other bands: a band file the ``.p4d`` lists without
+a calibrated pose, whose capture's other bands are calibrated (MicaSense ``IMG_0001_3.tif``,
+DJI ``…_MS_NIR.TIF``: the capture is the name before the band suffix), is kept unaligned, and a
+note names the project and says what to do.
 
 Pix4D pixel coordinates: the principal point is measured from the top-left *corner* (in the
 .cam files cx = w/2 − XPOFF_px exactly, with fiducials at the sensor corners), the same
@@ -30,7 +36,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from ..crs import as_crs, project_crs
-from ..photo_files import is_windows_path, photo_key
+from ..photo_files import file_name, is_windows_path, photo_key
 from ..errors import InputError, reads_file
 from ..safe_xml import XMLError, parse_xml
 from .frame_model import Calibration
@@ -318,9 +324,34 @@ def open_pix4d(path, crs=None) -> Reconstruction:
                                   R=R, C=C))
         if cam_file is None:
             notes.append("no .cam file: lens distortion unknown, projections are undistorted")
+    unplaced = _uncalibrated_bands(photos, cameras)
+    if unplaced:
+        sid, first = str(len(sensors)), next(iter(sensors.values()))
+        sensors[("unplaced",)] = Sensor(id=sid, label="band cameras without a calibrated pose",
+                                        width=first.width, height=first.height, calibration=None)
+        cameras += [Camera(id=k, label=file_name(photos[k]), sensor_id=sid, photo_path=photos[k])
+                    for k in unplaced]
+        notes.append(f"{p4d or folder}: {len(unplaced)} band file(s) of rig captures have no "
+                     f"calibrated pose (e.g. {file_name(photos[unplaced[0]])}), and Pix4D's "
+                     "params folder holds no rig relatives to place them from their capture's "
+                     "other bands, so they are not measured: enable them in Pix4Dmapper and run "
+                     "its initial processing again, or use a Metashape project of the same "
+                     "photos (its rig offsets are applied)")
     return Reconstruction(source=path, software="pix4d", label=files["offset"].name[:-len(_SUFFIXES["offset"])],
                           crs=crs, frame=OffsetFrame(crs, offset),
                           sensors={s.id: s for s in sensors.values()}, cameras=cameras, notes=notes)
+
+
+_BAND_SUFFIX = re.compile(r"(?i)^(.+)_(\d|ms_[a-z]+)$")   # IMG_0001_3, DJI_…_MS_NIR
+
+
+def _uncalibrated_bands(photos: Dict[str, str], cameras: List[Camera]) -> List[str]:
+    """Photo keys of the ``.p4d`` that have no camera and whose capture (the name before the
+    band suffix) has calibrated band files."""
+    calibrated = {photo_key(c.label) for c in cameras}
+    captures = {m.group(1) for m in map(_BAND_SUFFIX.match, calibrated) if m}
+    return [k for k in photos if k not in calibrated and
+            (lambda m: m is not None and m.group(1) in captures)(_BAND_SUFFIX.match(k))]
 
 
 def _image_size(K: np.ndarray, cam_file: Optional[Path]) -> Tuple[int, int]:

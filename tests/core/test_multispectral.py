@@ -241,6 +241,29 @@ def test_missing_calibration_tags_name_the_photo(tmp_path):
         reflectance_values(plain)
 
 
+def test_altum_pt_lwir_band_is_thermal_not_missing_calibration(tmp_path):
+    """[independent] an Altum-PT LWIR band file (MicaSense's thermal band: centi-kelvin, no
+    radiometric calibration tags) asked for reflectance gets one line saying it is thermal and
+    what to do, not "calibration tags missing"; measured as it says, it reads °C by MicaSense's
+    own conversion (``image.py``: °C = (raw − 27315) · 0.01), written out here."""
+    from easyidp_toolbox.core.radiometry import read_photo_values
+    raw = np.full((ROWS, COLS), 29815, np.uint16)
+    raw[3, 4] = 30123
+    lwir = tmp_path / "IMG_0007_6.tif"
+    write_band_tiff(lwir, raw, xmp=xmp_packet({"Camera:BandName": "LWIR",
+                                               "MicaCamera:CaptureId": "pt0"}, MICASENSE_NS,
+                                              as_elements=("Camera:BandName",)),
+                    make="MicaSense", model="Altum-PT", black_level=[0] * 4)
+    with pytest.raises(InputError) as err:
+        reflectance_values(lwir)
+    text = str(err.value)
+    assert "IMG_0007_6.tif" in text and "thermal" in text and "centi-kelvin" in text
+    assert "missing" not in text and "\n" not in text
+    got = read_photo_values(lwir, values="temperature", options={"temperature_preset": "cK"})
+    expected = (raw.astype(float) - 27315.0) * 0.01
+    np.testing.assert_allclose(got.values, expected, atol=1e-4)
+
+
 def test_panel_calibration_and_a_panel_photo_without_a_panel(tmp_path):
     """[independent] reflectance = albedo · L / mean L(panel), the panel area from
     Camera:ReflectArea; a panel photo without that tag and without a region is refused."""

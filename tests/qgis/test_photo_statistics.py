@@ -186,3 +186,62 @@ def test_headless_plot_temperatures_from_flir_photos(qp_env, survey, tmp_path):
     assert checked >= 2
     got = {r["plot_id"]: r["temp_c_median"] for r, _ in rows(res["OUTPUT"])}
     assert abs(got[plot] - th["plots"][plot]) < 0.05
+
+
+def test_headless_plot_reflectance_and_ndvi_from_multispectral_band_files(qp_env, survey, tmp_path):
+    """[independent] The demo survey's multispectral camera (MicaSense-style Red and NIR band
+    files of the first 12 captures, digital numbers under a passing cloud with per-band
+    auto-exposure, DLS 2 tags) with a Pix4D project in which every band file is its own camera:
+    qgis_process runs Plot statistics from photos with VALUES = reflectance. One view per plot ×
+    capture, with red_refl_mean, nir_refl_mean and ndvi_mean. The truth is the demo's known
+    reflectance field (its spectral model of the RGB photo each capture rides with) averaged
+    under the plot outline at the same vertex height, projected by OpenCV from the camera and
+    poses truth.json states (``tests/support/independent_camera.py``, no product code) and
+    rasterised by the generator's even-odd test: per view and per plot, NDVI within 0.01."""
+    import os
+    from functools import partial
+
+    from osgeo import ogr
+    from easyidp_toolbox.core.demo import NO_MESS
+    from easyidp_toolbox.core.demo.multispectral import (ndvi, plot_reflectance_truth,
+                                                         write_multispectral_flight,
+                                                         write_multispectral_project)
+    from easyidp_toolbox.tests.support.independent_camera import load, photo_pixels
+
+    height = 95.5                                   # m, the vertex height of every plot
+    photo_dir = os.path.join(survey.folder, "photos")
+    photos = sorted(os.path.join(photo_dir, f) for f in os.listdir(photo_dir)
+                    if f.endswith(".JPG"))[:12]
+    flight = write_multispectral_flight(photos, tmp_path / "ms")
+    p4d = write_multispectral_project(tmp_path / "ms_project", flight, mess=NO_MESS)
+    res = run_algorithm(ALG, {
+        "ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id", "PROJECT": p4d, "HEIGHT_SOURCE": 3,
+        "GROUND_HEIGHT": height, "VALUES": 2, "STATISTICS": "0", "PERCENTILES": "",
+        "MAX_IMAGES": 3, "OUTPUT_VIEWS": str(tmp_path / "views.gpkg"),
+        "OUTPUT": str(tmp_path / "plots.gpkg")}, qp_env)
+
+    def rows(path):
+        ds = ogr.Open(path)                  # held while its layer is read
+        out = [f.items() for f in ds.GetLayer(0)]
+        del ds
+        return out
+
+    truth_doc = load(survey.truth)
+    project = partial(lambda doc, label, xyz: photo_pixels(doc, label, xyz)[0], truth_doc)
+    truth = plot_reflectance_truth(flight, height, mess=NO_MESS, project=project)
+    views = rows(res["OUTPUT_VIEWS"])
+    assert {"red_refl_mean", "nir_refl_mean", "ndvi_mean"} <= set(views[0])
+    assert all(v["photo"].startswith("IMG_") and not v["photo"].endswith(("_3", "_4"))
+               for v in views)
+    used = {}
+    for v in views:
+        if v["used"] and (v["roi"], v["photo"]) in truth:
+            want = ndvi(truth[(v["roi"], v["photo"])])
+            assert abs(v["ndvi_mean"] - want) < 0.01, (v["roi"], v["photo"])
+            used.setdefault(v["roi"], []).append(want)
+    assert len(used) >= 10
+    plots = {r["plot_id"]: r for r in rows(res["OUTPUT"])}
+    whole = [p for p, wants in used.items() if len(wants) == plots[p]["views"]]
+    for plot in whole:                              # every used view has its truth
+        assert abs(plots[plot]["ndvi_mean"] - np.median(used[plot])) < 0.01, plot
+    assert len(whole) >= 5
