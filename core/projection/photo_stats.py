@@ -39,7 +39,6 @@ saturated ones are left out, never averaged).
 per ROI × capture (:mod:`.capture_stats`): each band measured through its own camera and
 polygon, indices from the band means and medians of the same ROI, no cover.
 """
-import functools
 import math
 import os
 from contextlib import ExitStack
@@ -53,7 +52,7 @@ from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
 from ..geometry import rasterize
 from ..progress import as_progress
-from ..radiometry import VALUES, PhotoValues, read_photo_values
+from ..radiometry import VALUES, PhotoValues, photo_decoder
 from ..photo_files import photo_notes
 from .across_views import aggregate_views
 from .capture_stats import band_columns, band_layout, capture_views, combine_bands
@@ -221,8 +220,7 @@ def photo_statistics(result: BackProjection, photos_folder=None, *, bands: Optio
                 d + ".png" for d in sheets.names)
         # the decoding runs ahead in threads; the measuring stays on this thread: its many
         # small numpy calls hold the GIL (two measuring threads were 1.4× slower than one)
-        decode = None if values == "stored" else \
-            functools.partial(read_photo_values, values=values, options=value_options)
+        decode = photo_decoder(values, value_options)
         with DecodedPhotos([found[result.photo_labels[j]] for j in todo],
                            result.image_sizes[todo], workers, decode=decode) as decoded:
             for n, img, why in decoded:
