@@ -53,6 +53,7 @@ STATUS_NAMES = {HIT: "hit", MISS: "miss", LEFT: "left the DSM", NODATA: "nodata"
 
 TILE = 256          # cells per tile side: the unit read from the DSM
 LINEARISATION_TOLERANCE = 5e-4   # m: largest accepted error of the linearised model frame
+EXACT = 1e-9       # m: a linearisation this close over the whole DSM is the map itself
 FAR = 1e7           # model units: the end of a ray without max_distance
 BATCH = 16384       # rays traversed at once (per thread)
 
@@ -380,9 +381,12 @@ def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=
     po, pd = o @ aff.M.T + aff.m, d @ aff.M.T
     t0, t1, edge = _clip_to_extent(surface, po, pd, tmax)
     _first_wave(surface, _Rays(po, pd, t0, t1, edge), prog)
-    # where the rays cross the heights read: is one linearisation enough there?
-    err, regrouped = 0.0, False
-    if np.isfinite(surface.zmin):
+    # where the rays cross the heights read: is one linearisation enough there? (not asked
+    # where the map is affine over the whole extent: a DSM in the project's CRS, a local frame)
+    full = _affine_error(surface, aff)
+    exact = full <= EXACT
+    err, regrouped = (full if exact else 0.0), False
+    if np.isfinite(surface.zmin) and not exact:
         with np.errstate(divide="ignore", invalid="ignore"):
             t_low = np.where(pd[:, 2] < 0, (surface.zmin - po[:, 2]) / pd[:, 2], t1)
         status = np.where(t0 < t1, HIT, MISS).astype(np.uint8)
@@ -394,7 +398,7 @@ def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=
             regrouped = True
     if not regrouped:
         po, pd, t, status, t0, _ = _run(surface, aff, o, d, tmax, prog)
-        if np.isfinite(surface.zmin):
+        if np.isfinite(surface.zmin) and not exact:
             box = _band_box(surface, po, pd, t, status, t0)
             if box is not None:
                 err = aff.error(*box)
@@ -413,6 +417,15 @@ def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=
             x, y = surface.uv_to_map(q[:, 0], q[:, 1])
             xyz[hit] = np.column_stack([x, y, q[:, 2]])
     return RayHits(np.where(hit, t, np.nan), xyz, status, float(err))
+
+
+def _affine_error(surface, aff: _Affine) -> float:
+    """The linearisation's error over the whole extent and the heights read (or 0–1 before
+    any): at most :data:`EXACT` where the map is affine (then no band needs checking)."""
+    x0, y0 = surface.tif.pixel_to_map(0.0, 0.0)
+    x1, y1 = surface.tif.pixel_to_map(float(surface.W), float(surface.H))
+    z0, z1 = (surface.zmin, surface.zmax) if np.isfinite(surface.zmin) else (0.0, 1.0)
+    return aff.error(min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1), z0, z1)
 
 
 def _band_box(surface, po, pd, t, status, t0, sel=None):
