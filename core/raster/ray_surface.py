@@ -19,10 +19,10 @@ and the rays are traversed in groups, each with its own anchor, split and re-run
 error *measured* where they met the surface is below :data:`LINEARISATION_TOLERANCE`
 (``RayHits.linearisation_error`` reports it).
 
-**Traversal.** A lockstep 2-D DDA (Amanatides & Woo) over three levels: tiles of
-:data:`TILE` cells (the unit read from the file, with their height range), blocks of
-:data:`BLOCK` cells (a max-mipmap level) and cells. A tile or block is entered only when the
-ray comes down to its highest height; in a cell, the bilinear height along the ray is a
+**Traversal** (:mod:`.ray_traverse`). A lockstep 2-D DDA (Amanatides & Woo) over three
+levels: tiles of :data:`TILE` cells (the unit read from the file, with their height range),
+blocks of ``BLOCK`` cells (a max-mipmap level) and cells. A tile or block is entered, and
+walked from, only where the ray comes down to its highest height; in a cell, the bilinear height along the ray is a
 quadratic in the ray parameter, solved exactly for its smallest root. Every cell crossed by
 the ray's ground track is visited in order, so no ridge can be stepped over. Rays are
 traversed in batches, one thread per core; the tiles they first come down into are read
@@ -218,9 +218,10 @@ class RaySurface:
             iu = np.clip(np.floor(u[k]).astype(np.int64), 0, self.W)
             iv = np.clip(np.floor(v[k]).astype(np.int64), 0, self.H)
             T, T1 = self.T, self.T + 1
-            tiles = np.unique((iv // T) * self.ntu + iu // T)
+            tid = (iv // T) * self.ntu + iu // T
+            tiles = np.flatnonzero(np.bincount(tid, minlength=self.ntv * self.ntu))
             self.load(zip((tiles // self.ntu).tolist(), (tiles % self.ntu).tolist()), progress)
-            f = self.slot[iv // T, iu // T] * (T1 * T1) + (iv % T) * T1 + iu % T
+            f = self.slot.reshape(-1)[tid] * (T1 * T1) + (iv % T) * T1 + iu % T
             st = self.samples_flat()
             a, b = u[k] - iu, v[k] - iv
             h00, h10 = st[f].astype(np.float64), st[f + 1].astype(np.float64)
