@@ -22,11 +22,12 @@ error *measured* where they met the surface is below :data:`LINEARISATION_TOLERA
 **Traversal** (:mod:`.ray_traverse`). A lockstep 2-D DDA (Amanatides & Woo) over three
 levels: tiles of :data:`TILE` cells (the unit read from the file, with their height range),
 blocks of ``BLOCK`` cells (a max-mipmap level) and cells. A tile or block is entered, and
-walked from, only where the ray comes down to its highest height; in a cell, the bilinear height along the ray is a
-quadratic in the ray parameter, solved exactly for its smallest root. Every cell crossed by
-the ray's ground track is visited in order, so no ridge can be stepped over. Rays are
-traversed in batches, one thread per core; the tiles they first come down into are read
-before, in two large sweeps (each file block decoded once), and the rest as rays reach them.
+walked from, only where the ray comes down to its highest height; in a cell, the bilinear
+height along the ray is a quadratic in the ray parameter, solved exactly for its smallest
+root. Every cell crossed by the ray's ground track is visited in order, so no ridge can be
+stepped over. Rays are traversed in batches, one thread per core; the tiles they first come
+down into are read before, in two large sweeps (each file block decoded once), and the rest
+as rays reach them.
 
 **Result** per ray: ``HIT`` (the first point of the ray at or below the surface, from its
 origin), ``MISS`` (it never reaches the surface inside the DSM within ``max_distance``, e.g.
