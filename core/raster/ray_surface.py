@@ -298,9 +298,12 @@ def _clip_to_extent(surface: RaySurface, o, d, tmax):
 def _first_wave(surface: RaySurface, r: _Rays, prog, waves: int = 2) -> None:
     """Read the tiles all rays come down into first, in a few large sweeps, before threads
     traverse batches of them: threads that read in turn, tile by tile, would decode the file
-    blocks shared by neighbouring tiles again and again."""
+    blocks shared by neighbouring tiles again and again. Nothing to do (and no walk) once
+    every tile is in memory."""
     idx = np.flatnonzero(r.t0 < r.t1)
     for _ in range(waves):
+        if (surface.slot >= 0).all():
+            return
         code, tv, tu, ta, _ = _tile_walk(surface, r, idx, r.t0[idx], _nodata_ceiling(surface))
         want = np.flatnonzero(code == 2)
         if not want.size:
