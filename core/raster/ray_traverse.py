@@ -242,8 +242,9 @@ def _traverse(surface, r: _Rays, prog):
                     top = cmax[f]
                     c = np.zeros(len(ids), np.int8)
                     if has_nod:
-                        nod = np.isnan(top)
-                        c[nod & (zl <= zc) & (tb_ > ta_)] = 2
+                        nod = np.flatnonzero(np.isnan(top))
+                        if nod.size:
+                            c[nod[(zl[nod] <= zc) & (tb_[nod] > ta_[nod])]] = 2
                     test = np.flatnonzero(zl <= top)
                     if test.size:
                         f = ax[test, 0] * (T1 * T1) + lv[test] * T1 + lu[test]
