@@ -186,7 +186,11 @@ def _down_to(r: _Rays, idx, top, ta, tb):
 
 
 def _traverse(surface, r: _Rays, prog):
-    """First hits of a batch of rays in pixel space → (t (n,), status (n,))."""
+    """First hits of a batch of rays in pixel space → (t (n,), status (n,)).
+
+    Each round walks the rays over the tiles to the next one they come down into, then, inside
+    it, over its blocks and the cells of each block they come down into, block after block,
+    until they stop or leave the tile (the tile is not walked again for each block)."""
     n = len(r.t0)
     t = np.full(n, np.nan)
     status = np.full(n, MISS, np.uint8)
@@ -209,73 +213,87 @@ def _traverse(surface, r: _Rays, prog):
         keep = ~ended
         cand = np.flatnonzero(code == 1)
         if cand.size:
-            ci = active[cand]
-
-            def block_class(ids, iv, iu, ta_, tb_, zl, aux):
-                top = surface.block_max[iv, iu]
-                top = np.where(surface.block_nod[iv, iu], np.maximum(top, zc), top)
-                return ((zl <= top) & (tb_ > ta_)).astype(np.int8)
-
-            top = surface.tile_max[tv[cand], tu[cand]]
-            top = np.where(surface.tile_nod[tv[cand], tu[cand]], np.maximum(top, zc), top)
-            bcode, biv, biu, bta, btb = _walk(r, ci, _down_to(r, ci, top, ta[cand], tb[cand]),
-                                              tb[cand], BLOCK, zero, blocks_hi, block_class,
-                                              2 * nb + 2)
-            t_cur[ci] = btb                              # no candidate block: the tile's exit
-            has = np.flatnonzero(bcode == 1)
-            if has.size:
-                bi = ci[has]
-                aux = np.column_stack([surface.slot[tv[cand[has]], tu[cand[has]]],
-                                       tv[cand[has]] * T, tu[cand[has]] * T])
-                hit_t = np.full(len(bi), np.nan)
-                has_nod = bool(surface.tile_nod[tv[cand[has]], tu[cand[has]]].any())
-                cmax = surface.cell_max_flat()
-                samples = surface.samples_flat()
-
-                def cell_class(ids, iv, iu, ta_, tb_, zl, ax):
-                    # segments lie in one block: a step beyond it inside the tile is the
-                    # next cell; beyond the tile, a zero-length sliver at its edge, where the
-                    # edge cell's patch (clipped index, also given to the solve) is exact
-                    lv = np.clip(iv - ax[:, 1], 0, T - 1)
-                    lu = np.clip(iu - ax[:, 2], 0, T - 1)
-                    f = ax[:, 0] * (T * T) + lv * T + lu
-                    top = cmax[f]
-                    c = np.zeros(len(ids), np.int8)
-                    if has_nod:
-                        nod = np.flatnonzero(np.isnan(top))
-                        if nod.size:
-                            c[nod[(zl[nod] <= zc) & (tb_[nod] > ta_[nod])]] = 2
-                    test = np.flatnonzero(zl <= top)
-                    if test.size:
-                        f = ax[test, 0] * (T1 * T1) + lv[test] * T1 + lu[test]
-                        h = (samples[f].astype(np.float64), samples[f + 1].astype(np.float64),
-                             samples[f + T1].astype(np.float64),
-                             samples[f + T1 + 1].astype(np.float64))
-                        items = bi[ids[test]]
-                        # the solve uses the cell whose corners were read: the clipped one
-                        th = _solve_cells(r, items, lv[test] + ax[test, 1], lu[test] + ax[test, 2],
-                                          ta_[test], tb_[test], h)
-                        got = np.isfinite(th)
-                        c[test[got]] = 1
-                        k = ids[test[got]]
-                        first = np.isnan(hit_t[k])     # finished rays walk on until compacted
-                        hit_t[k[first]] = th[got][first]
-                    return c
-
-                top = surface.block_max[biv[has], biu[has]]
-                top = np.where(surface.block_nod[biv[has], biu[has]], np.maximum(top, zc), top)
-                ccode, _, _, cta, ctb = _walk(r, bi, _down_to(r, bi, top, bta[has], btb[has]),
-                                              btb[has], 1, zero, cells_hi, cell_class,
-                                              2 * BLOCK + 4, aux, bounded=False)
+            stopped = np.zeros(n, bool)
+            ci, tv, tu, tb = active[cand], tv[cand], tu[cand], tb[cand]
+            top = surface.tile_max[tv, tu]
+            top = np.where(surface.tile_nod[tv, tu], np.maximum(top, zc), top)
+            start = _down_to(r, ci, top, ta[cand], tb)
+            while ci.size:
+                has, ccode, cta, ctb, hit_t, bi = _blocks_of_tile(
+                    surface, r, ci, tv, tu, start, tb, zc, zero, blocks_hi, cells_hi, T, T1, nb,
+                    t_cur)
+                if bi is None:
+                    break
                 h1, h2 = ccode == 1, ccode == 2
                 t[bi[h1]], status[bi[h1]] = hit_t[h1], HIT
                 t[bi[h2]], status[bi[h2]] = cta[h2], NODATA
                 t_cur[bi] = ctb
-                stopped = np.zeros(n, bool)
                 stopped[bi[~(ccode == 0)]] = True
-                keep &= ~stopped[active]
+                go = ccode == 0                  # no hit in that block: the next one in the tile
+                ci, tv, tu, tb, start = ci[has[go]], tv[has[go]], tu[has[go]], tb[has[go]], ctb[go]
+            keep &= ~stopped[active]
         active = active[keep]
     return t, status
+
+
+def _blocks_of_tile(surface, r: _Rays, ci, tv, tu, start, tb, zc, zero, blocks_hi, cells_hi, T,
+                    T1, nb, t_cur):
+    """Walk the rays ``ci`` (in tiles (tv, tu)) over blocks from ``start`` to ``tb`` to the
+    next block they come down into, and over its cells: (positions in ``ci`` that found a
+    block, the cell walk's code, t_in, t_out, hit t, their ray ids), or ``bi`` None when no
+    ray found one. ``t_cur`` is set to where each ray's block walk ended."""
+    def block_class(ids, iv, iu, ta_, tb_, zl, aux):
+        top = surface.block_max[iv, iu]
+        top = np.where(surface.block_nod[iv, iu], np.maximum(top, zc), top)
+        return ((zl <= top) & (tb_ > ta_)).astype(np.int8)
+
+    bcode, biv, biu, bta, btb = _walk(r, ci, start, tb, BLOCK, zero, blocks_hi, block_class,
+                                      2 * nb + 2)
+    t_cur[ci] = btb                              # no candidate block: the tile's exit
+    has = np.flatnonzero(bcode == 1)
+    if not has.size:
+        return has, None, None, None, None, None
+    bi = ci[has]
+    aux = np.column_stack([surface.slot[tv[has], tu[has]], tv[has] * T, tu[has] * T])
+    hit_t = np.full(len(bi), np.nan)
+    has_nod = bool(surface.tile_nod[tv[has], tu[has]].any())
+    cmax = surface.cell_max_flat()
+    samples = surface.samples_flat()
+
+    def cell_class(ids, iv, iu, ta_, tb_, zl, ax):
+        # segments lie in one block: a step beyond it inside the tile is the next cell; beyond
+        # the tile, a zero-length sliver at its edge, where the edge cell's patch (clipped
+        # index, also given to the solve) is exact
+        lv = np.clip(iv - ax[:, 1], 0, T - 1)
+        lu = np.clip(iu - ax[:, 2], 0, T - 1)
+        f = ax[:, 0] * (T * T) + lv * T + lu
+        top = cmax[f]
+        c = np.zeros(len(ids), np.int8)
+        if has_nod:
+            nod = np.flatnonzero(np.isnan(top))
+            if nod.size:
+                c[nod[(zl[nod] <= zc) & (tb_[nod] > ta_[nod])]] = 2
+        test = np.flatnonzero(zl <= top)
+        if test.size:
+            f = ax[test, 0] * (T1 * T1) + lv[test] * T1 + lu[test]
+            h = (samples[f].astype(np.float64), samples[f + 1].astype(np.float64),
+                 samples[f + T1].astype(np.float64), samples[f + T1 + 1].astype(np.float64))
+            items = bi[ids[test]]
+            # the solve uses the cell whose corners were read: the clipped one
+            th = _solve_cells(r, items, lv[test] + ax[test, 1], lu[test] + ax[test, 2],
+                              ta_[test], tb_[test], h)
+            got = np.isfinite(th)
+            c[test[got]] = 1
+            k = ids[test[got]]
+            first = np.isnan(hit_t[k])     # finished rays walk on until compacted
+            hit_t[k[first]] = th[got][first]
+        return c
+
+    top = surface.block_max[biv[has], biu[has]]
+    top = np.where(surface.block_nod[biv[has], biu[has]], np.maximum(top, zc), top)
+    ccode, _, _, cta, ctb = _walk(r, bi, _down_to(r, bi, top, bta[has], btb[has]), btb[has], 1,
+                                  zero, cells_hi, cell_class, 2 * BLOCK + 4, aux, bounded=False)
+    return has, ccode, cta, ctb, hit_t, bi
 
 
 def _tiles_ahead(surface, r: _Rays, idx, ta, k: int) -> set:
