@@ -5,13 +5,16 @@ A lockstep 2-D DDA (Amanatides & Woo, :func:`_walk`) per level: tiles (the unit 
 file), blocks of :data:`BLOCK` cells (a max-mipmap level) and cells, where the bilinear height
 along the ray is a quadratic solved exactly (:func:`_solve_cells`). A walk over blocks (cells)
 starts where the ray comes down to the tile's (block's) highest height, not where it enters
-the tile (block): the part above it cannot meet the ground, so it is not walked.
+the tile (block): the part above it cannot meet the ground, so it is not walked. Inside a
+tile a ray walks block after block until it stops or leaves the tile; only then are the tiles
+walked again.
 """
 import numpy as np
 
 HIT, MISS, LEFT, NODATA = 0, 1, 2, 3
 BLOCK = 8          # cells per block side: the max-mipmap level inside a tile
 PREFETCH = 4        # tiles looked ahead on a ray's way when one must be read
+
 
 class _Rays:
     """Rays in pixel space for one batch: (u, v, z)(t) = o + t·d for t in [t0, t1]."""
