@@ -246,23 +246,31 @@ def line_of_sight_coarse_first(recon, cam, surface, p, tol, job, row, col, step)
     if n < 64 or not (step > 1).any():
         return line_of_sight(recon, cam, surface, p, tol)
     seen = np.zeros(n, bool)
-    coarse = np.flatnonzero((step > 1) & (row % step == 0) & (col % step == 0))
+    is_coarse = (step > 1) & (row % step == 0) & (col % step == 0)
+    coarse = np.flatnonzero(is_coarse)
     seen[coarse] = line_of_sight(recon, cam, surface, p[coarse], tol)
-    key = lambda j, r, c: (j.astype(np.int64) << 42) | (r.astype(np.int64) << 21) | c
-    nodes = key(job[coarse], row[coarse], col[coarse])
-    order = np.argsort(nodes)
-    nodes, status = nodes[order], seen[coarse][order]
-    rest = np.setdiff1d(np.arange(n), coarse, assume_unique=True)
-    st = step[rest]
-    r0, c0 = (row[rest] // st) * st, (col[rest] // st) * st
+    # each job's coarse nodes on a grid of their own (-1: not cast), all the grids in one array
+    job = np.asarray(job, np.int64)
+    nj = int(job.max()) + 1
+    sj = np.ones(nj, np.int64)
+    sj[job] = step
+    rmax, cmax = np.zeros(nj, np.int64), np.zeros(nj, np.int64)
+    np.maximum.at(rmax, job, row)
+    np.maximum.at(cmax, job, col)
+    gw = cmax // sj + 2
+    off = np.concatenate([[0], np.cumsum((rmax // sj + 2) * gw)])
+    grid = np.full(int(off[-1]), -1, np.int8)
+    grid[off[job[coarse]] + (row[coarse] // step[coarse]) * gw[job[coarse]]
+         + col[coarse] // step[coarse]] = seen[coarse]
+    rest = np.flatnonzero(~is_coarse)
+    st, jr = step[rest], job[rest]
+    at = off[jr] + (row[rest] // st) * gw[jr] + col[rest] // st
     votes = np.zeros(len(rest), np.int64)
     known = st > 1
-    for dr, dc in ((0, 0), (0, 1), (1, 0), (1, 1)):
-        k = key(job[rest], r0 + dr * st, c0 + dc * st)
-        at = np.minimum(np.searchsorted(nodes, k), len(nodes) - 1)
-        hit = nodes[at] == k
-        known &= hit
-        votes += np.where(hit, status[at], 0)
+    for d in (0, 1, gw[jr], gw[jr] + 1):
+        g = grid[at + d]
+        known &= g >= 0
+        votes += g
     decided = known & ((votes == 0) | (votes == 4))
     seen[rest[decided]] = votes[decided] == 4
     todo = rest[~decided]

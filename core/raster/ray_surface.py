@@ -19,14 +19,15 @@ and the rays are traversed in groups, each with its own anchor, split and re-run
 error *measured* where they met the surface is below :data:`LINEARISATION_TOLERANCE`
 (``RayHits.linearisation_error`` reports it).
 
-**Traversal.** A lockstep 2-D DDA (Amanatides & Woo) over three levels: tiles of
-:data:`TILE` cells (the unit read from the file, with their height range), blocks of
-:data:`BLOCK` cells (a max-mipmap level) and cells. A tile or block is entered only when the
-ray comes down to its highest height; in a cell, the bilinear height along the ray is a
-quadratic in the ray parameter, solved exactly for its smallest root. Every cell crossed by
-the ray's ground track is visited in order, so no ridge can be stepped over. Rays are
-traversed in batches, one thread per core; the tiles they first come down into are read
-before, in two large sweeps (each file block decoded once), and the rest as rays reach them.
+**Traversal** (:mod:`.ray_traverse`). A lockstep 2-D DDA (Amanatides & Woo) over three
+levels: tiles of :data:`TILE` cells (the unit read from the file, with their height range),
+blocks of ``BLOCK`` cells (a max-mipmap level) and cells. A tile or block is entered, and
+walked from, only where the ray comes down to its highest height; in a cell, the bilinear
+height along the ray is a quadratic in the ray parameter, solved exactly for its smallest
+root. Every cell crossed by the ray's ground track is visited in order, so no ridge can be
+stepped over. Rays are traversed in batches, one thread per core; the tiles they first come
+down into are read before, in two large sweeps (each file block decoded once), and the rest
+as rays reach them.
 
 **Result** per ray: ``HIT`` (the first point of the ray at or below the surface, from its
 origin), ``MISS`` (it never reaches the surface inside the DSM within ``max_distance``, e.g.
@@ -45,17 +46,17 @@ import numpy as np
 from ..errors import EasyIDPError
 from ..progress import as_progress
 from .geotiff import GeoTiff
+from .ray_traverse import (BLOCK, HIT, LEFT, MISS, NODATA, _nodata_ceiling, _Rays, _read_wanted,
+                           _tile_walk, _traverse)
 from .sweep import Window, sweep_windows, thread_pool
 
-HIT, MISS, LEFT, NODATA = 0, 1, 2, 3
 STATUS_NAMES = {HIT: "hit", MISS: "miss", LEFT: "left the DSM", NODATA: "nodata"}
 
 TILE = 256          # cells per tile side: the unit read from the DSM
-BLOCK = 8          # cells per block side: the max-mipmap level inside a tile
 LINEARISATION_TOLERANCE = 5e-4   # m: largest accepted error of the linearised model frame
+EXACT = 1e-9       # m: a linearisation this close over the whole DSM is the map itself
 FAR = 1e7           # model units: the end of a ray without max_distance
 BATCH = 16384       # rays traversed at once (per thread)
-PREFETCH = 4        # tiles looked ahead on a ray's way when one must be read
 
 
 @dataclass
@@ -218,9 +219,10 @@ class RaySurface:
             iu = np.clip(np.floor(u[k]).astype(np.int64), 0, self.W)
             iv = np.clip(np.floor(v[k]).astype(np.int64), 0, self.H)
             T, T1 = self.T, self.T + 1
-            tiles = np.unique((iv // T) * self.ntu + iu // T)
+            tid = (iv // T) * self.ntu + iu // T
+            tiles = np.flatnonzero(np.bincount(tid, minlength=self.ntv * self.ntu))
             self.load(zip((tiles // self.ntu).tolist(), (tiles % self.ntu).tolist()), progress)
-            f = self.slot[iv // T, iu // T] * (T1 * T1) + (iv % T) * T1 + iu % T
+            f = self.slot.reshape(-1)[tid] * (T1 * T1) + (iv % T) * T1 + iu % T
             st = self.samples_flat()
             a, b = u[k] - iu, v[k] - iv
             h00, h10 = st[f].astype(np.float64), st[f + 1].astype(np.float64)
@@ -271,275 +273,6 @@ class _Affine:
         return float(np.sqrt((d * d).sum(axis=1)).max())
 
 
-# ---- the traversal ---------------------------------------------------------------------------------
-class _Rays:
-    """Rays in pixel space for one batch: (u, v, z)(t) = o + t·d for t in [t0, t1]."""
-
-    def __init__(self, o, d, t0, t1, at_edge):
-        self.ou, self.ov, self.oz = o[:, 0].copy(), o[:, 1].copy(), o[:, 2].copy()
-        self.du, self.dv, self.dz = d[:, 0].copy(), d[:, 1].copy(), d[:, 2].copy()
-        self.t0, self.t1, self.at_edge = t0, t1, at_edge
-
-
-def _walk(r: _Rays, idx, ta, tb, size: int, lo, hi, classify, max_steps: int, aux=None,
-          bounded: bool = True):
-    """Lockstep DDA (Amanatides & Woo) over the square grid of ``size`` cells, for the rays
-    ``idx`` along [ta, tb], every crossed grid cell in order.
-
-    ``lo``/``hi`` (v, u) bound the grid indices visited (inclusive; with ``bounded`` False the
-    caller's classify copes with indices a step beyond). ``classify(ids, iv, iu,
-    t_in, t_out, z_low, aux)`` gets the cells being visited (``ids``: positions in ``idx``;
-    ``z_low``: the ray's lowest height over the cell) and returns an int8 code per cell: 0 go
-    on, > 0 stop there. Returns (code, iv, iu, t_in, t_out) per ray: code 0 when the segment
-    ended (t_in = t_out = tb) or ``max_steps`` were taken (t_in = t_out = where it stopped).
-    """
-    n = len(idx)
-    code = np.zeros(n, np.int8)
-    out_iv = np.zeros(n, np.int64)
-    out_iu = np.zeros(n, np.int64)
-    out_a, out_b = tb.copy(), tb.copy()
-    ou, ov, oz = r.ou[idx], r.ov[idx], r.oz[idx]
-    du, dv, dz = r.du[idx], r.dv[idx], r.dz[idx]
-    s = float(size)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        u, v = (ou + du * ta) / s, (ov + dv * ta) / s
-        iu = np.where(du < 0, np.ceil(u) - 1, np.floor(u)).astype(np.int64)
-        iv = np.where(dv < 0, np.ceil(v) - 1, np.floor(v)).astype(np.int64)
-        np.clip(iu, lo[1], hi[1], out=iu)
-        np.clip(iv, lo[0], hi[0], out=iv)
-        su, sv = np.sign(du).astype(np.int64), np.sign(dv).astype(np.int64)
-        inv_u = np.where(du != 0, 1.0 / du, np.inf)
-        inv_v = np.where(dv != 0, 1.0 / dv, np.inf)
-        nu_t = np.where(su != 0, ((iu + (su > 0)) * s - ou) * inv_u, np.inf)
-        nv_t = np.where(sv != 0, ((iv + (sv > 0)) * s - ov) * inv_v, np.inf)
-    tdu, tdv = np.abs(s * inv_u), np.abs(s * inv_v)
-    lowz = np.where(dz < 0, 1, 0).astype(bool)
-    t_in, t_end = ta.copy(), tb.copy()
-    ids = np.arange(n)
-    alive = np.ones(n, bool)
-    n_alive = n
-    for _ in range(max_steps):
-        if n_alive == 0:
-            break
-        t_out = np.minimum(nu_t, nv_t)
-        np.maximum(t_out, t_in, out=t_out)
-        np.minimum(t_out, t_end, out=t_out)
-        zl = oz + dz * np.where(lowz, t_out, t_in)
-        c = classify(ids, iv, iu, t_in, t_out, zl, aux)
-        stop = (c > 0) & alive
-        if stop.any():
-            k = ids[stop]
-            code[k] = c[stop]
-            out_iv[k], out_iu[k] = iv[stop], iu[stop]
-            out_a[k], out_b[k] = t_in[stop], t_out[stop]
-        go_u = nu_t <= nv_t
-        go_v = ~go_u
-        np.add(iu, su, out=iu, where=go_u)
-        np.add(iv, sv, out=iv, where=go_v)
-        np.add(nu_t, tdu, out=nu_t, where=go_u)
-        np.add(nv_t, tdv, out=nv_t, where=go_v)
-        gone = t_out >= t_end
-        if bounded:
-            gone |= (iu < lo[1]) | (iu > hi[1]) | (iv < lo[0]) | (iv > hi[0])
-            np.clip(iu, lo[1], hi[1], out=iu)
-            np.clip(iv, lo[0], hi[0], out=iv)
-        t_in = t_out
-        gone |= stop
-        gone &= alive
-        if gone.any():
-            alive &= ~gone
-            n_alive = int(np.count_nonzero(alive))
-            if n_alive < 0.75 * len(alive):      # compact: drop the finished rays
-                keep = alive
-                (ou, ov, oz, du, dv, dz, iu, iv, su, sv, nu_t, nv_t, tdu, tdv, lowz, t_in, t_end,
-                 ids) = [x[keep] for x in (ou, ov, oz, du, dv, dz, iu, iv, su, sv, nu_t, nv_t,
-                                           tdu, tdv, lowz, t_in, t_end, ids)]
-                if aux is not None:
-                    aux = aux[keep]
-                alive = np.ones(n_alive, bool)
-    if n_alive:                                     # out of steps: report where each stopped
-        k = ids[alive]
-        out_a[k] = t_in[alive]
-        out_b[k] = t_in[alive]
-    return code, out_iv, out_iu, out_a, out_b
-
-
-def _solve_cells(r: _Rays, idx, iv, iu, t_in, t_out, h):
-    """Smallest t in [t_in, t_out] where the ray is at or below the bilinear cell (iv, iu)
-    with corner heights h = (h00, h10, h01, h11); NaN where there is none.
-
-    Along the ray the bilinear height is a quadratic in t, so ``z(t) − h(t) = C + B·s + A·s²``
-    (s = t − t_in) is solved in closed form (the numerically stable quadratic formula)."""
-    h00, h10, h01, h11 = h
-    du, dv, dz = r.du[idx], r.dv[idx], r.dz[idx]
-    a = r.ou[idx] + du * t_in - iu
-    b = r.ov[idx] + dv * t_in - iv
-    hx, hy = h10 - h00, h01 - h00
-    hxy = h11 - h10 - h01 + h00
-    C = r.oz[idx] + dz * t_in - (h00 + hx * a + hy * b + hxy * a * b)
-    B = dz - (hx * du + hy * dv + hxy * (a * dv + b * du))
-    A = -hxy * du * dv
-    L = t_out - t_in
-    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        disc = B * B - 4 * A * C
-        q = -0.5 * (B + np.copysign(np.sqrt(np.maximum(disc, 0.0)), B))
-        r1 = np.where(A != 0, q / A, np.inf)
-        r2 = np.where(q != 0, C / q, np.inf)
-    r1 = np.where((r1 >= 0) & (r1 <= L), r1, np.inf)
-    r2 = np.where((r2 >= 0) & (r2 <= L), r2, np.inf)
-    s = np.where(disc >= 0, np.minimum(r1, r2), np.inf)
-    s = np.where(C <= 0, 0.0, s)
-    return np.where(np.isfinite(s), t_in + s, np.nan)
-
-
-def _nodata_ceiling(surface: RaySurface) -> float:
-    """Nodata may hide anything up to the highest height read (anything at all before a read)."""
-    return surface.zmax if np.isfinite(surface.zmax) else np.inf
-
-
-def _tile_walk(surface: RaySurface, r: _Rays, idx, ta, zc):
-    """Walk the rays ``idx`` from ``ta`` over the tiles to the first one they come down into
-    (code 1) or that is not read yet (code 2); ``_walk``'s (code, iv, iu, t_in, t_out)."""
-    def tile_class(ids, iv, iu, t_in, t_out, zl, aux):
-        # the slot first: another thread may be reading tiles, and sets a tile's slot only
-        # after its maxima
-        unread = surface.slot[iv, iu] < 0
-        top = surface.tile_max[iv, iu]
-        top = np.where(surface.tile_nod[iv, iu], np.maximum(top, zc), top)
-        c = ((zl <= top) & (t_out > t_in)).astype(np.int8)
-        c[unread] = 2
-        return c
-
-    return _walk(r, idx, ta, r.t1[idx], surface.T, np.array([0, 0]),
-                 np.array([surface.ntv - 1, surface.ntu - 1]), tile_class,
-                 surface.ntu + surface.ntv + 2)
-
-
-def _read_wanted(surface: RaySurface, r: _Rays, idx, tv, tu, ta, prog) -> None:
-    """Read the unread tiles (tv, tu) where the rays ``idx`` stopped at ``ta``, the unread
-    tiles next on their way down, and (for a large job) the holes of the area read, so that
-    file blocks shared by neighbouring tiles are decoded once."""
-    need = set(zip(tv.tolist(), tu.tolist()))
-    if np.isfinite(surface.zmax):
-        need |= _tiles_ahead(surface, r, idx, ta, PREFETCH)
-    if len(need) >= 4:
-        a = np.array(sorted(need))
-        (v0, u0), (v1, u1) = a.min(axis=0), a.max(axis=0)
-        grown = set()
-        for tv_, tu_ in need:
-            for dv_ in (-1, 0, 1):
-                for du_ in (-1, 0, 1):
-                    if v0 <= tv_ + dv_ <= v1 and u0 <= tu_ + du_ <= u1:
-                        grown.add((tv_ + dv_, tu_ + du_))
-        need |= grown
-    surface.load(need, prog)
-
-
-def _traverse(surface: RaySurface, r: _Rays, prog):
-    """First hits of a batch of rays in pixel space → (t (n,), status (n,))."""
-    n = len(r.t0)
-    t = np.full(n, np.nan)
-    status = np.full(n, MISS, np.uint8)
-    T, nb = surface.T, surface.T // BLOCK
-    T1 = T + 1
-    t_cur = r.t0.copy()
-    active = np.flatnonzero(r.t0 < r.t1)
-    zero = np.array([0, 0])
-    blocks_hi = np.array([surface.ntv * nb - 1, surface.ntu * nb - 1])
-    cells_hi = np.array([surface.H, surface.W])
-    while active.size:
-        prog.check()
-        zc = _nodata_ceiling(surface)
-        code, tv, tu, ta, tb = _tile_walk(surface, r, active, t_cur[active], zc)
-        ended = (code == 0) & (ta >= r.t1[active])     # MISS or LEFT: decided by _run
-        t_cur[active] = ta                               # tile entry, or where the walk stopped
-        want = np.flatnonzero(code == 2)
-        if want.size:
-            _read_wanted(surface, r, active[want], tv[want], tu[want], ta[want], prog)
-        keep = ~ended
-        cand = np.flatnonzero(code == 1)
-        if cand.size:
-            ci = active[cand]
-
-            def block_class(ids, iv, iu, ta_, tb_, zl, aux):
-                top = surface.block_max[iv, iu]
-                top = np.where(surface.block_nod[iv, iu], np.maximum(top, zc), top)
-                return ((zl <= top) & (tb_ > ta_)).astype(np.int8)
-
-            bcode, _, _, bta, btb = _walk(r, ci, ta[cand], tb[cand], BLOCK, zero, blocks_hi,
-                                          block_class, 2 * nb + 2)
-            t_cur[ci] = btb                              # no candidate block: the tile's exit
-            has = np.flatnonzero(bcode == 1)
-            if has.size:
-                bi = ci[has]
-                aux = np.column_stack([surface.slot[tv[cand[has]], tu[cand[has]]],
-                                       tv[cand[has]] * T, tu[cand[has]] * T])
-                hit_t = np.full(len(bi), np.nan)
-                has_nod = bool(surface.tile_nod[tv[cand[has]], tu[cand[has]]].any())
-                cmax = surface.cell_max_flat()
-                samples = surface.samples_flat()
-
-                def cell_class(ids, iv, iu, ta_, tb_, zl, ax):
-                    # segments lie in one block: a step beyond it inside the tile is the
-                    # next cell; beyond the tile, a zero-length sliver at its edge, where the
-                    # edge cell's patch (clipped index, also given to the solve) is exact
-                    lv = np.clip(iv - ax[:, 1], 0, T - 1)
-                    lu = np.clip(iu - ax[:, 2], 0, T - 1)
-                    f = ax[:, 0] * (T * T) + lv * T + lu
-                    top = cmax[f]
-                    c = np.zeros(len(ids), np.int8)
-                    if has_nod:
-                        nod = np.isnan(top)
-                        c[nod & (zl <= zc) & (tb_ > ta_)] = 2
-                    test = np.flatnonzero(zl <= top)
-                    if test.size:
-                        f = ax[test, 0] * (T1 * T1) + lv[test] * T1 + lu[test]
-                        h = (samples[f].astype(np.float64), samples[f + 1].astype(np.float64),
-                             samples[f + T1].astype(np.float64),
-                             samples[f + T1 + 1].astype(np.float64))
-                        items = bi[ids[test]]
-                        # the solve uses the cell whose corners were read: the clipped one
-                        th = _solve_cells(r, items, lv[test] + ax[test, 1], lu[test] + ax[test, 2],
-                                          ta_[test], tb_[test], h)
-                        got = np.isfinite(th)
-                        c[test[got]] = 1
-                        k = ids[test[got]]
-                        first = np.isnan(hit_t[k])     # finished rays walk on until compacted
-                        hit_t[k[first]] = th[got][first]
-                    return c
-
-                ccode, _, _, cta, ctb = _walk(r, bi, bta[has], btb[has], 1, zero, cells_hi,
-                                              cell_class, 2 * BLOCK + 4, aux, bounded=False)
-                h1, h2 = ccode == 1, ccode == 2
-                t[bi[h1]], status[bi[h1]] = hit_t[h1], HIT
-                t[bi[h2]], status[bi[h2]] = cta[h2], NODATA
-                t_cur[bi] = ctb
-                stopped = np.zeros(n, bool)
-                stopped[bi[~(ccode == 0)]] = True
-                keep &= ~stopped[active]
-        active = active[keep]
-    return t, status
-
-
-def _tiles_ahead(surface: RaySurface, r: _Rays, idx, ta, k: int) -> set:
-    """Unread tiles among the next ``k`` tiles on the rays' way from ``ta`` while they are
-    not above the highest height read (so a wave reads more than one tile per ray)."""
-    found = set()
-    ceiling = surface.zmax + max(surface.zmax - surface.zmin, 1.0)
-    seen = np.zeros(len(idx), np.int64)
-
-    def classify(ids, iv, iu, t_in, t_out, zl, aux):
-        unread = (surface.slot[iv, iu] < 0) & (zl <= ceiling)
-        for a, b in zip(iv[unread].tolist(), iu[unread].tolist()):
-            found.add((a, b))
-        seen[ids] += 1
-        return (seen[ids] >= k).astype(np.int8)
-
-    _walk(r, idx, ta, r.t1[idx], surface.T, np.array([0, 0]),
-          np.array([surface.ntv - 1, surface.ntu - 1]), classify, k)
-    return found
-
-
 def _clip_to_extent(surface: RaySurface, o, d, tmax):
     """Ray parameter range [t0, t1] inside the extent (slab method) and whether t1 is the
     extent's edge (not ``tmax``)."""
@@ -565,9 +298,12 @@ def _clip_to_extent(surface: RaySurface, o, d, tmax):
 def _first_wave(surface: RaySurface, r: _Rays, prog, waves: int = 2) -> None:
     """Read the tiles all rays come down into first, in a few large sweeps, before threads
     traverse batches of them: threads that read in turn, tile by tile, would decode the file
-    blocks shared by neighbouring tiles again and again."""
+    blocks shared by neighbouring tiles again and again. Nothing to do (and no walk) once
+    every tile is in memory."""
     idx = np.flatnonzero(r.t0 < r.t1)
     for _ in range(waves):
+        if (surface.slot >= 0).all():
+            return
         code, tv, tu, ta, _ = _tile_walk(surface, r, idx, r.t0[idx], _nodata_ceiling(surface))
         want = np.flatnonzero(code == 2)
         if not want.size:
@@ -650,9 +386,12 @@ def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=
     po, pd = o @ aff.M.T + aff.m, d @ aff.M.T
     t0, t1, edge = _clip_to_extent(surface, po, pd, tmax)
     _first_wave(surface, _Rays(po, pd, t0, t1, edge), prog)
-    # where the rays cross the heights read: is one linearisation enough there?
-    err, regrouped = 0.0, False
-    if np.isfinite(surface.zmin):
+    # where the rays cross the heights read: is one linearisation enough there? (not asked
+    # where the map is affine over the whole extent: a DSM in the project's CRS, a local frame)
+    full = _affine_error(surface, aff)
+    exact = full <= EXACT
+    err, regrouped = (full if exact else 0.0), False
+    if np.isfinite(surface.zmin) and not exact:
         with np.errstate(divide="ignore", invalid="ignore"):
             t_low = np.where(pd[:, 2] < 0, (surface.zmin - po[:, 2]) / pd[:, 2], t1)
         status = np.where(t0 < t1, HIT, MISS).astype(np.uint8)
@@ -664,7 +403,7 @@ def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=
             regrouped = True
     if not regrouped:
         po, pd, t, status, t0, _ = _run(surface, aff, o, d, tmax, prog)
-        if np.isfinite(surface.zmin):
+        if np.isfinite(surface.zmin) and not exact:
             box = _band_box(surface, po, pd, t, status, t0)
             if box is not None:
                 err = aff.error(*box)
@@ -683,6 +422,15 @@ def first_hits(surface: RaySurface, frame, origins, directions, *, max_distance=
             x, y = surface.uv_to_map(q[:, 0], q[:, 1])
             xyz[hit] = np.column_stack([x, y, q[:, 2]])
     return RayHits(np.where(hit, t, np.nan), xyz, status, float(err))
+
+
+def _affine_error(surface, aff: _Affine) -> float:
+    """The linearisation's error over the whole extent and the heights read (or 0–1 before
+    any): at most :data:`EXACT` where the map is affine (then no band needs checking)."""
+    x0, y0 = surface.tif.pixel_to_map(0.0, 0.0)
+    x1, y1 = surface.tif.pixel_to_map(float(surface.W), float(surface.H))
+    z0, z1 = (surface.zmin, surface.zmax) if np.isfinite(surface.zmin) else (0.0, 1.0)
+    return aff.error(min(x0, x1), max(x0, x1), min(y0, y1), max(y0, y1), z0, z1)
 
 
 def _band_box(surface, po, pd, t, status, t0, sel=None):
