@@ -1,0 +1,76 @@
+"""ROIs from WKB in bulk (core.roi.rois_from_wkb), the path the QGIS tools read layers by."""
+import struct
+
+import numpy as np
+import pytest
+import shapely
+from shapely.geometry import MultiPolygon, Polygon
+
+from easyidp_toolbox.core.errors import ROIError
+from easyidp_toolbox.core.roi import roi_from_coordinates, rois_from_wkb
+
+
+def _messy(rng, k):
+    """A polygon (closed rings, as GIS store them) with repeated vertices, maybe a hole."""
+    t = np.sort(rng.uniform(0, 2 * np.pi, rng.integers(3, 12)))
+    cx, cy = rng.uniform(3.6e5, 3.7e5), rng.uniform(3.9e6, 4.0e6)
+    shell = np.column_stack([cx + 5 * np.cos(t), cy + 5 * np.sin(t)])
+    if k % 3 == 0:
+        shell = np.repeat(shell, rng.integers(1, 3, len(shell)), axis=0)   # duplicates
+    hole = np.array([[cx - 1, cy - 1], [cx + 1, cy - 1], [cx, cy + 1]])
+    return [shell] + ([hole] if k % 4 == 0 else [])
+
+
+def test_same_rois_as_from_coordinates():
+    """[independent] WKB written by shapely (GEOS), 2-D, Z, big-endian, multipolygons, holes,
+    duplicate vertices: every ROI equals what roi_from_coordinates makes of the same rings
+    (the reader the plugin used before), vertex for vertex, Z included."""
+    rng = np.random.default_rng(5)
+    names, blobs, coords, kinds = [], [], [], []
+    for k in range(60):
+        polys = [_messy(rng, k + j) for j in range(1 + (k % 5 == 0))]
+        z = k % 2 == 1
+        if z:
+            polys = [[np.column_stack([r, rng.normal(95, 1, len(r))]) for r in p] for p in polys]
+        shp = [Polygon(p[0], p[1:]) for p in polys]
+        geom = shp[0] if len(shp) == 1 else MultiPolygon(shp)
+        blobs.append(shapely.to_wkb(geom, byte_order=0 if k % 7 == 0 else 1,
+                                    output_dimension=3 if z else 2))
+        names.append(f"p{k}")
+        closed = [[list(g.exterior.coords)] + [list(h.coords) for h in g.interiors] for g in shp]
+        coords.append(closed)
+    got = rois_from_wkb(names, blobs, "EPSG:32654")
+    assert got.crs.to_epsg() == 32654 and got.names == names
+    for roi, c in zip(got, coords):
+        want = roi_from_coordinates(roi.name, "MultiPolygon", c)
+        assert len(roi.parts) == len(want.parts)
+        for p, q in zip(roi.parts, want.parts):
+            assert [r.tolist() for r in p] == [r.tolist() for r in q]
+        assert (roi.z is None) == (want.z is None)
+        if want.z is not None:
+            assert [[r.tolist() for r in p] for p in roi.z] == [[r.tolist() for r in p]
+                                                               for p in want.z]
+
+
+def test_m_dropped_empty_and_null():
+    """[independent] Hand-written WKB: a PolygonM (ISO code 2003) keeps x, y only; an empty
+    polygon and a null geometry give ROIs without parts, which validation names."""
+    ring = [(0, 0, 7), (4, 0, 7), (4, 3, 7), (0, 0, 7)]
+    m = struct.pack("<BII", 1, 2003, 1) + struct.pack("<I", 4) + b"".join(
+        struct.pack("<3d", *v) for v in ring)
+    empty = struct.pack("<BII", 1, 3, 0)
+    got = rois_from_wkb(["m", "empty", "null"], [m, empty, None])
+    assert got[0].parts[0][0].tolist() == [[0, 0], [4, 0], [4, 3]] and got[0].z is None
+    assert got[1].parts == [] and got[2].parts == []
+    with pytest.raises(ROIError, match="'empty' has an empty geometry"):
+        got[1].validate()
+
+
+def test_not_a_polygon_or_truncated():
+    """[independent] A point and a truncated polygon are refused with the ROI's name."""
+    point = struct.pack("<BI2d", 1, 1, 0.0, 0.0)
+    with pytest.raises(ROIError, match="'pt' is a geometry of WKB type 1"):
+        rois_from_wkb(["pt"], [point])
+    cut = struct.pack("<BII", 1, 3, 1) + struct.pack("<I", 4) + struct.pack("<3d", 0, 0, 1)
+    with pytest.raises(ROIError, match="'cut': its geometry"):
+        rois_from_wkb(["cut"], [cut])
