@@ -441,6 +441,30 @@ def _convex_simple(ring: np.ndarray) -> bool:
     return bool(abs(abs(turn.sum()) - 2 * np.pi) < 1e-6)
 
 
+def convex_simple_rings(xy: np.ndarray, offs: np.ndarray) -> np.ndarray:
+    """(R,) bool: :func:`_convex_simple` of every ring of the ragged vertices ``xy`` (V, 2),
+    ring i = ``xy[offs[i]:offs[i + 1]]``, in one pass (rings of fewer than 3 vertices: False).
+    What validating many plots costs when they are convex (most are)."""
+    lens = np.diff(offs)
+    out = np.zeros(len(lens), bool)
+    full = np.flatnonzero(lens >= 3)
+    if not len(full):
+        return out
+    sub = np.concatenate([np.arange(offs[i], offs[i + 1]) for i in full]) \
+        if len(full) < len(lens) else np.arange(len(xy))
+    o = offsets(lens[full])
+    p = np.asarray(xy, np.float64)[sub, :2]
+    nxt = cyclic_next(o)
+    e = p[nxt] - p
+    f = e[nxt]
+    cross = e[:, 0] * f[:, 1] - e[:, 1] * f[:, 0]
+    starts = o[:-1]
+    lo, hi = np.minimum.reduceat(cross, starts), np.maximum.reduceat(cross, starts)
+    turn = np.add.reduceat(np.arctan2(cross, e[:, 0] * f[:, 0] + e[:, 1] * f[:, 1]), starts)
+    out[full] = ((lo > 0) | (hi < 0)) & (np.abs(np.abs(turn) - 2 * np.pi) < 1e-6)
+    return out
+
+
 def self_intersections(rings: Rings, max_report: int = 1) -> List[Tuple[float, float]]:
     """Points where edges of the rings cross or touch other than at shared ring vertices.
 

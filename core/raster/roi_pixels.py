@@ -1,11 +1,11 @@
 """ROIs on a raster's pixel grid: reprojection, pixel windows and masks (shared by crop and stats)."""
-import math
 from dataclasses import dataclass
 from typing import List, Optional, Tuple
 
 import numpy as np
 
 from .. import geometry
+from ..ragged import offsets
 from ..crs import same_crs
 from ..errors import InputError, ROIError
 from .geotiff import GeoTiff
@@ -69,26 +69,6 @@ def rois_in_raster_crs(rois: ROISet, tif: GeoTiff) -> ROISet:
     return rois.to_crs(tif.crs)
 
 
-def _window_of(tif: GeoTiff, rings_px, grow: float) -> Optional[Window]:
-    allxy = np.concatenate(rings_px)
-    x0, y0 = allxy.min(axis=0) - grow
-    x1, y1 = allxy.max(axis=0) + grow
-    c0, r0 = max(math.floor(x0), 0), max(math.floor(y0), 0)
-    c1, r1 = min(math.ceil(x1), tif.width), min(math.ceil(y1), tif.height)
-    if c1 <= c0 or r1 <= r0:
-        return None
-    return Window(r0, c0, r1 - r0, c1 - c0)
-
-
-def to_pixels(tif: GeoTiff, roi: ROI) -> List[np.ndarray]:
-    """The ROI's rings in pixel coordinates (col, row), corner origin."""
-    out = []
-    for ring in roi.rings:
-        c, r = tif.map_to_pixel(ring[:, 0], ring[:, 1])
-        out.append(np.column_stack([c, r]))
-    return out
-
-
 def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: float = 0.0,
                ) -> Tuple[List[PixelROI], dict]:
     """The ROIs on the raster grid; ROIs whose envelope misses the raster are returned as skipped.
@@ -102,14 +82,27 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
     placed, skipped = [], {}
     size = (abs(tif.geotransform[1]), abs(tif.geotransform[5]))
     grow_px = max(buffer, 0.0) / min(size)
+    # every vertex of every ROI to pixels at once, then each ROI's window from its extent
+    rings = [ring for roi in rois for ring in roi.rings]
+    ring_offs = offsets([len(r) for r in rings])
+    roi_rings = offsets([len(roi.rings) for roi in rois])
+    xy = np.concatenate(rings) if rings else np.zeros((0, 2))
+    px = np.column_stack(tif.map_to_pixel(xy[:, 0], xy[:, 1]))
+    starts = ring_offs[roi_rings[:-1]]
+    lo = np.floor(np.minimum.reduceat(px, starts, axis=0) - grow_px) if len(px) else px
+    hi = np.ceil(np.maximum.reduceat(px, starts, axis=0) + grow_px) if len(px) else px
+    c0, r0 = np.maximum(lo, 0).astype(np.int64).T
+    c1 = np.minimum(hi[:, 0], tif.width).astype(np.int64)
+    r1 = np.minimum(hi[:, 1], tif.height).astype(np.int64)
+    px -= np.repeat(np.column_stack([c0, r0]), np.diff(ring_offs[roi_rings]), axis=0)
+    px_rings = np.split(px, ring_offs[1:-1])
     for i, roi in enumerate(rois):
-        rings = to_pixels(tif, roi)
-        win = _window_of(tif, rings, grow_px)
-        if win is None:
+        if c1[i] <= c0[i] or r1[i] <= r0[i]:
             skipped[i] = "outside the raster"
             continue
-        placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
-                               all_touched, buffer, size))
+        placed.append(PixelROI(i, roi, Window(int(r0[i]), int(c0[i]), int(r1[i] - r0[i]),
+                                              int(c1[i] - c0[i])),
+                               px_rings[roi_rings[i]:roi_rings[i + 1]], all_touched, buffer, size))
     if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks, a few passes
         simple = [p for p in placed if len(p.rings) == 1]
         work = np.cumsum([p.window.rows * len(p.rings[0]) for p in simple])

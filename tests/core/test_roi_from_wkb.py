@@ -26,7 +26,7 @@ def test_same_rois_as_from_coordinates():
     duplicate vertices: every ROI equals what roi_from_coordinates makes of the same rings
     (the reader the plugin used before), vertex for vertex, Z included."""
     rng = np.random.default_rng(5)
-    names, blobs, coords, kinds = [], [], [], []
+    names, blobs, coords = [], [], []
     for k in range(60):
         polys = [_messy(rng, k + j) for j in range(1 + (k % 5 == 0))]
         z = k % 2 == 1
@@ -74,3 +74,26 @@ def test_not_a_polygon_or_truncated():
     cut = struct.pack("<BII", 1, 3, 1) + struct.pack("<I", 4) + struct.pack("<3d", 0, 0, 1)
     with pytest.raises(ROIError, match="'cut': its geometry"):
         rois_from_wkb(["cut"], [cut])
+
+
+def test_bulk_validation_matches_ring_by_ring():
+    """[independent] Validating a set checks convex one-ring ROIs all at once: squares,
+    triangles and regular polygons pass; a star (turns one way, twice round), a bow-tie, a
+    ring on one line and a ring with NaN are still refused, each by name, as ROI.validate
+    refuses them on its own."""
+    from easyidp_toolbox.core.geometry import convex_simple_rings
+    from easyidp_toolbox.core.roi import ROI, ROISet
+    t5 = np.arange(5) * 2 * np.pi / 5
+    good = [np.array([[0, 0], [2, 0], [2, 1], [0, 1.0]]), np.array([[0, 0], [1, 0], [0, 1.0]]),
+            np.column_stack([np.cos(t5), np.sin(t5)])]
+    bad = {"star": np.column_stack([np.cos(2 * t5), np.sin(2 * t5)]),
+           "bowtie": np.array([[0, 0], [1, 1], [1, 0], [0, 1.0]]),
+           "line": np.array([[0, 0], [1, 1], [2, 2.0]]),
+           "nan": np.array([[0, 0], [1, 0], [np.nan, 1.0]])}
+    rings = good + list(bad.values())
+    offs = np.cumsum([0] + [len(r) for r in rings])
+    assert convex_simple_rings(np.concatenate(rings), offs).tolist() == [True] * 3 + [False] * 4
+    ROISet([ROI(f"g{k}", [[r + 1e5]]) for k, r in enumerate(good)]).validate()
+    for name, ring in bad.items():
+        with pytest.raises(ROIError, match=f"ROI '{name}'"):
+            ROISet([ROI("g", [[good[0]]]), ROI(name, [[ring]])]).validate()
