@@ -7,12 +7,15 @@ or polygon without any valid pixel gets NaN and is reported, never 0.
 import numpy as np
 
 from ..deprecation import renamed_parameters
-from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
+from ..height_statistics import (HeightResult, check_heights_args, statistic_of, statistics_of,
+                                 vertex_result)
 from ..progress import as_progress
 from ..roi import ROI, ROISet
 from .dsm import as_dsm, valid_heights
 from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
 from .sweep import sweep_windows
+
+STATS_BATCH = 512     # ROIs whose pixels wait for their statistics (one numpy pass per batch)
 
 
 @renamed_parameters(dsm_crs="source_crs")
@@ -75,13 +78,22 @@ def dsm_roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "
     require_overlap(placed, skipped, local, tif)
     result = HeightResult("polygon", [np.nan] * len(local), dict(skipped), list(tif.notes))
 
+    pending = {}         # ROI index → its valid pixels, their statistics taken in batches
+
+    def flush() -> None:
+        for i, v in zip(pending, statistics_of(list(pending.values()), statistic, percentile)):
+            result.values[i] = float(v)
+        pending.clear()
+
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]
         a = arr[..., 0]
         mask = p.mask()
         sel = mask & valid_heights(tif, a)
         if sel.any():
-            result.values[p.index] = statistic_of(a[sel], statistic, percentile)
+            pending[p.index] = a[sel]
+            if len(pending) >= STATS_BATCH:
+                flush()
         elif not mask.any():
             result.missing[p.index] = NO_PIXEL if p.buffer >= 0 else (
                 f"the buffer of {p.buffer:g} (DSM map units) shrinks it to nothing: it is "
@@ -90,6 +102,7 @@ def dsm_roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "
             result.missing[p.index] = "all DSM pixels inside it are nodata"
 
     sweep_windows(tif, [p.window for p in placed], consume, prog)
+    flush()
     return result
 
 

@@ -182,3 +182,20 @@ def test_a_negative_buffer_larger_than_the_roi_blames_the_buffer(tmp_path):
     res = dsm_roi_heights(path, ROISet([ROI("p", [[ring]])], 32654), buffer=-1000)
     assert np.isnan(res.values[0]) and "buffer of -1000" in res.missing[0]
     assert "smaller negative buffer" in res.missing[0]
+
+
+def test_statistics_of_many_groups_equal_numpy_group_by_group():
+    """[independent] The batched statistics (one pass over many ROIs' pixels) equal numpy's
+    own on each group: float32 values, NaN and inf ignored, a group with no finite value NaN."""
+    from easyidp_toolbox.core.height_statistics import statistics_of
+    rng = np.random.default_rng(3)
+    groups = [rng.normal(95, 2, rng.integers(1, 300)).astype(np.float32) for _ in range(50)]
+    groups[3][::2] = np.nan
+    groups[7][0] = np.inf
+    groups.insert(10, np.array([np.nan], np.float32))
+    for stat, fn in (("mean", np.mean), ("min", np.min), ("max", np.max), ("std", np.std),
+                     ("median", np.median)):
+        got = statistics_of(groups, stat)
+        want = [fn(g[np.isfinite(g)].astype(np.float64)) if np.isfinite(g).any() else np.nan
+                for g in groups]
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12, equal_nan=True)
