@@ -139,3 +139,31 @@ def _polygon(k: int, j: int, blob: bytes, pos: int, e: str, dims: int, z: bool,
             out.append((k, j, blob, pos, n, dims, z, e))
         pos += 8 * n * dims
     return pos
+
+
+def wkb_with_height(blobs: Sequence[Optional[bytes]], heights: Sequence[float]) -> List[bytes]:
+    """Each WKB Polygon or MultiPolygon of ``blobs`` as an ISO little-endian MultiPolygonZ with
+    the same rings and vertices (as stored: closing vertices and duplicates kept, M dropped)
+    and Z = ``heights[i]`` at every vertex (NaN stays NaN); a null or empty geometry gives an
+    empty MultiPolygonZ. How the heights tool writes its features' geometries, all at once."""
+    rings: list = []
+    for k, blob in enumerate(blobs):
+        if blob:
+            _parse(k, f"#{k}", bytes(blob), rings)
+    h = np.asarray(heights, np.float64)
+    coords = [np.frombuffer(blob, f"{e}f8", n * dims, pos).reshape(n, dims)[:, :2]
+              for _, _, blob, pos, n, dims, _, e in rings]
+    lens = np.array([len(c) for c in coords], np.int64)
+    data = np.column_stack([np.concatenate(coords), np.repeat(h[[r[0] for r in rings]], lens)]
+                           ).astype("<f8").tobytes() if rings else b""
+    cuts = (24 * offsets(lens)).tolist()
+    out: List[list] = [[] for _ in blobs]            # per record: per polygon, its ring bytes
+    last = (-1, -1)
+    for j, (roi, poly, *_) in enumerate(rings):
+        if (roi, poly) != last:
+            out[roi].append([])
+            last = (roi, poly)
+        out[roi][-1].append(struct.pack("<I", int(lens[j])) + data[cuts[j]:cuts[j + 1]])
+    head_z = struct.pack("<BI", 1, POLYGON + 1000)
+    return [struct.pack("<BII", 1, MULTIPOLYGON + 1000, len(polys)) + b"".join(
+        head_z + struct.pack("<I", len(p)) + b"".join(p) for p in polys) for polys in out]

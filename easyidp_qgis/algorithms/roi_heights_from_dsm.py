@@ -13,7 +13,7 @@ from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..crs import crs_string
-from ..geometries import multipolygon
+from ..geometries import from_wkb, multipolygon
 from ..progress import feedback_progress
 from ..rasters import geotiff_source
 from ..rois import rois_parameter
@@ -25,6 +25,7 @@ MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels 
 # the statistics of core.height_statistics, in the order of the tool's menu
 STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]
 SAMPLING = ["bilinear", "nearest"]
+_PLAIN = (WkbType.Polygon, WkbType.MultiPolygon)   # made Z from their WKB in one pass
 
 
 class ROIHeightsFromDSM(EasyIDPAlgorithm):
@@ -132,12 +133,14 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
                                              source.sourceCrs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        geoms = _flat_z_all(features, [h for h, _ in per_feature]) \
+            if "rings" not in step.inputs else \
+            [_with_z(_rings(f.geometry()), h, zs) for f, (h, zs) in zip(features, per_feature)]
         batch = []
-        for feat, (height, zs) in zip(features, per_feature):
+        for feat, (height, _), geom in zip(features, per_feature, geoms):
             out = QgsFeature(fields)
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
-            out.setGeometry(_flat_z(feat.geometry(), height) if zs is None else
-                            _with_z(_rings(feat.geometry()), height, zs))
+            out.setGeometry(geom)
             batch.append(out)
             if len(batch) == BATCH:
                 sink.addFeatures(batch, FeatureSinkFlag.FastInsert)
@@ -176,6 +179,18 @@ def _rings(geom):
     """Polygons → rings → (x, y) tuples, closing vertices included, as QGIS stores them."""
     polys = geom.asMultiPolygon() if geom.isMultipart() else [geom.asPolygon()]
     return [[[(p.x(), p.y()) for p in ring] for ring in poly] for poly in polys]
+
+
+def _flat_z_all(features, heights):
+    """:func:`_flat_z` of every feature: the polygons' WKB made Z by the core in one pass
+    (``core.roi.wkb_with_height``), curved geometries by QGIS one by one."""
+    from ...core.roi import wkb_with_height
+    plain = [QgsWkbTypes.flatType(f.geometry().wkbType()) in _PLAIN or f.geometry().isNull()
+             for f in features]
+    blobs = [bytes(f.geometry().asWkb()) if ok else None for f, ok in zip(features, plain)]
+    wkbs = wkb_with_height(blobs, heights)
+    return [from_wkb(w) if ok else _flat_z(f.geometry(), h)
+            for f, h, ok, w in zip(features, heights, plain, wkbs)]
 
 
 def _flat_z(geom, height):

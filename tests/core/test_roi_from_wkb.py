@@ -97,3 +97,43 @@ def test_bulk_validation_matches_ring_by_ring():
     for name, ring in bad.items():
         with pytest.raises(ROIError, match=f"ROI '{name}'"):
             ROISet([ROI("g", [[good[0]]]), ROI(name, [[ring]])]).validate()
+
+
+def test_wkb_with_height_keeps_every_vertex_and_sets_z():
+    """[independent] Polygons and multipolygons written by shapely (2-D, Z, big-endian, with
+    holes and a repeated vertex) come back, read by shapely, as MultiPolygonZ with the same
+    vertices (closing and repeated ones kept) and Z = the height; null and empty give an empty
+    MultiPolygonZ, NaN stays NaN."""
+    from easyidp_toolbox.core.roi import wkb_with_height
+    sq = [(0, 0), (4, 0), (4, 0), (4, 3), (0, 3), (0, 0)]
+    hole = [(1, 1), (2, 1), (2, 2), (1, 1)]
+    geoms = [Polygon(sq), MultiPolygon([Polygon(sq, [hole]), Polygon([(9, 9), (10, 9), (9, 10)])]),
+             Polygon([(x, y, 7.5) for x, y in sq])]
+    blobs = [shapely.to_wkb(geoms[0]), shapely.to_wkb(geoms[1], byte_order=0),
+             shapely.to_wkb(geoms[2], output_dimension=3), None, shapely.to_wkb(Polygon())]
+    got = [_read_multipolygon_z(b) for b in wkb_with_height(blobs, [1.0, 2.0, np.nan, 3.0, 4.0])]
+    for g, src, h in zip(got, geoms, [1.0, 2.0, np.nan]):
+        parts = list(src.geoms) if src.geom_type == "MultiPolygon" else [src]
+        assert len(g) == len(parts)
+        for a, b in zip(g, parts):
+            for ca, rb in zip(a, [b.exterior, *b.interiors]):
+                assert ca[:, :2].tolist() == np.array(rb.coords)[:, :2].tolist()
+                np.testing.assert_array_equal(ca[:, 2], np.full(len(ca), h))
+    assert got[3] == [] and got[4] == []
+
+
+def _read_multipolygon_z(b: bytes) -> list:
+    """A second reader, for ISO little-endian MultiPolygonZ (1006) only (older GEOS reads ISO
+    Z codes as 2-D)."""
+    assert struct.unpack_from("<BI", b, 0) == (1, 1006)
+    (n,), pos, out = struct.unpack_from("<I", b, 5), 9, []
+    for _ in range(n):
+        assert struct.unpack_from("<BI", b, pos) == (1, 1003)
+        (nr,), pos, rings = struct.unpack_from("<I", b, pos + 5), pos + 9, []
+        for _ in range(nr):
+            (nv,) = struct.unpack_from("<I", b, pos)
+            rings.append(np.frombuffer(b, "<f8", 3 * nv, pos + 4).reshape(nv, 3))
+            pos += 4 + 24 * nv
+        out.append(rings)
+    assert pos == len(b)
+    return out
