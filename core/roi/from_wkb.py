@@ -9,12 +9,12 @@ and cleaned in one numpy pass; the per-ROI cost that is left is slicing (10,000 
 hundredths of a second, against 0.8 s ring by ring).
 """
 import struct
-from typing import List, Optional, Sequence, Tuple
+from typing import List, NamedTuple, Optional, Sequence, Tuple
 
 import numpy as np
 
 from ..errors import ROIError
-from ..ragged import offsets
+from ..ragged import offsets, ranges
 from .model import ROI, ROISet
 
 POLYGON, MULTIPOLYGON = 3, 6
@@ -38,6 +38,59 @@ def rois_from_wkb(names: Sequence[str], blobs: Sequence[Optional[bytes]], crs=No
     ROISet
         The ROIs in the order of ``names`` (not yet validated: :meth:`ROISet.validate`).
     """
+    rings = _read_rings(names, blobs)
+    lens = rings.lens
+    keep = _kept(rings.xyz[:, :2], offsets(lens))
+    kept_lens = np.add.reduceat(keep.astype(np.int64), offsets(lens)[:-1]) if len(lens) \
+        else lens            # every ring read has vertices (empty rings are left out)
+    xyz = rings.xyz[keep]
+    xy = np.ascontiguousarray(xyz[:, :2])
+    z = np.ascontiguousarray(xyz[:, 2])
+    cuts = offsets(kept_lens).tolist()
+    xy_rings = [xy[i:j] for i, j in zip(cuts[:-1], cuts[1:])]
+    z_rings = [z[i:j] for i, j in zip(cuts[:-1], cuts[1:])]
+    if rings.single:                         # one ring per ROI, the ROIs with a geometry
+        out = [ROI(str(name), [], {}, None) for name in names]
+        for k, r_xy, r_z, zk in zip(rings.roi.tolist(), xy_rings, z_rings, rings.has_z.tolist()):
+            out[k].parts = [[r_xy]]
+            out[k].z = [[r_z]] if zk else None
+        return ROISet(out, crs)
+    parts: List[list] = [[] for _ in names]
+    heights: List[list] = [[] for _ in names]
+    z_ok = [True] * len(names)
+    last = (-1, -1)
+    for roi, poly, z_flag, r_xy, r_z in zip(rings.roi.tolist(), rings.poly.tolist(),
+                                            rings.has_z.tolist(), xy_rings, z_rings):
+        if (roi, poly) != last:
+            parts[roi].append([])
+            heights[roi].append([])
+            last = (roi, poly)
+        parts[roi][-1].append(r_xy)
+        heights[roi][-1].append(r_z)
+        z_ok[roi] = z_ok[roi] and z_flag
+    return ROISet([ROI(str(name), p, {}, h if p and ok else None)
+                   for name, p, h, ok in zip(names, parts, heights, z_ok)], crs)
+
+
+class _Rings(NamedTuple):
+    """The rings of many WKB geometries, in order: each ring's ROI, polygon (within its ROI),
+    vertex count and Z flag, and all vertices as stored (V, 3) float64 (Z NaN without Z).
+    ``single``: every geometry read has one ring (then ``roi`` is increasing)."""
+    roi: np.ndarray
+    poly: np.ndarray
+    lens: np.ndarray
+    has_z: np.ndarray
+    xyz: np.ndarray
+    single: bool
+
+
+def _read_rings(names: Sequence[str], blobs: Sequence[Optional[bytes]]) -> _Rings:
+    """The rings of ``blobs``: one numpy pass when every geometry is a little-endian Polygon,
+    or MultiPolygon of one polygon, of one ring, 2-D or Z (plots, mostly); else geometry by
+    geometry."""
+    fast = _single_rings(blobs)
+    if fast is not None:
+        return fast
     rings: List[Tuple[int, int, bytes, int, int, int, bool, str]] = []
     # per ring: (roi, polygon, blob, byte offset, vertices, doubles per vertex, z, byte order)
     for k, (name, blob) in enumerate(zip(names, blobs)):
@@ -45,32 +98,64 @@ def rois_from_wkb(names: Sequence[str], blobs: Sequence[Optional[bytes]], crs=No
             _parse(k, str(name), bytes(blob), rings)
     lens = np.array([r[4] for r in rings], np.int64)
     has_z = np.array([r[6] for r in rings], bool)
-    coords = [np.frombuffer(blob, f"{e}f8", n * dims, pos).reshape(n, dims)
-              for _, _, blob, pos, n, dims, _, e in rings]
-    xyz = np.concatenate([c[:, :3] if z else np.column_stack([c[:, :2], np.full(n, np.nan)])
-                          for c, z, n in zip(coords, has_z, lens)]) if rings else np.zeros((0, 3))
-    keep = _kept(xyz[:, :2], offsets(lens))
-    kept_lens = np.add.reduceat(keep.astype(np.int64), offsets(lens)[:-1]) if len(lens) \
-        else lens            # every ring read has vertices (empty rings are left out)
-    xyz = xyz[keep].astype(np.float64)
-    xy = np.ascontiguousarray(xyz[:, :2])
-    z = np.ascontiguousarray(xyz[:, 2])
-    cuts = offsets(kept_lens)
-    xy_rings, z_rings = np.split(xy, cuts[1:-1]), np.split(z, cuts[1:-1])
-    parts: List[list] = [[] for _ in names]
-    heights: List[list] = [[] for _ in names]
-    z_ok = [True] * len(names)
-    last = (-1, -1)
-    for (roi, poly, *_), z_flag, r_xy, r_z in zip(rings, has_z, xy_rings, z_rings):
-        if (roi, poly) != last:
-            parts[roi].append([])
-            heights[roi].append([])
-            last = (roi, poly)
-        parts[roi][-1].append(r_xy)
-        heights[roi][-1].append(r_z)
-        z_ok[roi] = z_ok[roi] and bool(z_flag)
-    return ROISet([ROI(str(name), p, {}, h if p and ok else None)
-                   for name, p, h, ok in zip(names, parts, heights, z_ok)], crs)
+    xyz = np.full((int(lens.sum()), 3), np.nan)
+    at = 0
+    for _, _, blob, pos, n, dims, z, e in rings:
+        c = np.frombuffer(blob, f"{e}f8", n * dims, pos).reshape(n, dims)
+        xyz[at:at + n, :2 + z] = c[:, :2 + z]
+        at += n
+    return _Rings(np.array([r[0] for r in rings], np.int64), np.array([r[1] for r in rings],
+                  np.int64), lens, has_z, xyz, False)
+
+
+_CODES = {3: (False, False), 1003: (True, False), 0x80000003: (True, False),
+          6: (False, True), 1006: (True, True), 0x80000006: (True, True)}
+"""WKB type code → (Z, multi) of the codes the one-pass reader takes."""
+
+
+def _single_rings(blobs: Sequence[Optional[bytes]]) -> Optional[_Rings]:
+    """:func:`_read_rings` for the one-ring case in one numpy pass; None when any geometry is
+    another kind."""
+    sizes = np.array([len(b) if b else 0 for b in blobs], np.int64)
+    have = np.flatnonzero(sizes)
+    if not len(have) or sizes[have].min() < 13:
+        return None
+    buf = np.frombuffer(b"".join(bytes(b) for b in blobs if b), np.uint8)
+    start = offsets(sizes[have])[:-1]
+
+    def u32(pos):
+        pos = np.minimum(pos, len(buf) - 4)
+        return (buf[pos].astype(np.int64) | buf[pos + 1].astype(np.int64) << 8
+                | buf[pos + 2].astype(np.int64) << 16 | buf[pos + 3].astype(np.int64) << 24)
+    code = u32(start + 1)
+    kinds = set(np.unique(code).tolist())
+    if not kinds <= set(_CODES) or (buf[start] != 1).any():
+        return None
+    z = np.array([_CODES[c][0] for c in code.tolist()], bool)
+    multi = np.array([_CODES[c][1] for c in code.tolist()], bool)
+    ring = start + np.where(multi, 14, 5)           # the ring count
+    if multi.any():
+        m = start[multi]
+        inner = u32(m + 10)
+        if (u32(m + 5) != 1).any() or (buf[m + 9] != 1).any() or \
+                not set(inner.tolist()) <= {3, 1003, 0x80000003} or \
+                ((inner != 3) != z[multi]).any():
+            return None
+    if (u32(ring) != 1).any():
+        return None
+    n = u32(ring + 4)
+    dims = 2 + z
+    first = ring + 8
+    if not (first + 8 * dims * n == start + sizes[have]).all() or (n == 0).any():
+        return None
+    xyz = np.full((int(n.sum()), 3), np.nan)
+    for d in (2, 3):                                # 2-D and Z rings
+        sel = dims == d
+        if sel.any():
+            rows = np.repeat(sel, n)
+            raw = buf[ranges(first[sel], first[sel] + 8 * d * n[sel])]
+            xyz[rows, :d] = raw.view("<f8").reshape(-1, d)
+    return _Rings(have, np.zeros(len(have), np.int64), n, z, xyz, True)
 
 
 def _kept(xy: np.ndarray, offs: np.ndarray) -> np.ndarray:
@@ -146,24 +231,20 @@ def wkb_with_height(blobs: Sequence[Optional[bytes]], heights: Sequence[float]) 
     the same rings and vertices (as stored: closing vertices and duplicates kept, M dropped)
     and Z = ``heights[i]`` at every vertex (NaN stays NaN); a null or empty geometry gives an
     empty MultiPolygonZ. How the heights tool writes its features' geometries, all at once."""
-    rings: list = []
-    for k, blob in enumerate(blobs):
-        if blob:
-            _parse(k, f"#{k}", bytes(blob), rings)
+    rings = _read_rings([f"#{k}" for k in range(len(blobs))], blobs)
     h = np.asarray(heights, np.float64)
-    coords = [np.frombuffer(blob, f"{e}f8", n * dims, pos).reshape(n, dims)[:, :2]
-              for _, _, blob, pos, n, dims, _, e in rings]
-    lens = np.array([len(c) for c in coords], np.int64)
-    data = np.column_stack([np.concatenate(coords), np.repeat(h[[r[0] for r in rings]], lens)]
-                           ).astype("<f8").tobytes() if rings else b""
+    lens = rings.lens
+    data = np.column_stack([rings.xyz[:, :2], np.repeat(h[rings.roi], lens)]).astype("<f8"
+                                                                                    ).tobytes()
     cuts = (24 * offsets(lens)).tolist()
+    counts = [struct.pack("<I", n) for n in lens.tolist()]
     out: List[list] = [[] for _ in blobs]            # per record: per polygon, its ring bytes
     last = (-1, -1)
-    for j, (roi, poly, *_) in enumerate(rings):
+    for j, (roi, poly) in enumerate(zip(rings.roi.tolist(), rings.poly.tolist())):
         if (roi, poly) != last:
             out[roi].append([])
             last = (roi, poly)
-        out[roi][-1].append(struct.pack("<I", int(lens[j])) + data[cuts[j]:cuts[j + 1]])
+        out[roi][-1].append(counts[j] + data[cuts[j]:cuts[j + 1]])
     head_z = struct.pack("<BI", 1, POLYGON + 1000)
     return [struct.pack("<BII", 1, MULTIPOLYGON + 1000, len(polys)) + b"".join(
         head_z + struct.pack("<I", len(p)) + b"".join(p) for p in polys) for polys in out]

@@ -137,3 +137,42 @@ def _read_multipolygon_z(b: bytes) -> list:
         out.append(rings)
     assert pos == len(b)
     return out
+
+
+@pytest.mark.parametrize("big_endian_one", [False, True])
+def test_one_ring_plots_in_one_pass(big_endian_one):
+    """[independent] One-ring plots (what the one-pass reader takes: Polygon or MultiPolygon of
+    one polygon, 2-D or Z in ISO and extended codes, repeated vertices, a null among them),
+    written by shapely, give what roi_from_coordinates gives; with one big-endian geometry
+    (read geometry by geometry instead) the same. wkb_with_height keeps every vertex."""
+    from easyidp_toolbox.core.roi import wkb_with_height
+    rng = np.random.default_rng(8)
+    names, blobs, coords = [], [], []
+    for k in range(40):
+        ring = _messy(rng, 3 * k)[0]
+        z = k % 3 == 1
+        if z:
+            ring = np.column_stack([ring, rng.normal(95, 1, len(ring))])
+        poly = Polygon(ring)
+        geom = MultiPolygon([poly]) if k % 2 else poly
+        blobs.append(None if k == 5 else shapely.to_wkb(
+            geom, output_dimension=3 if z else 2, flavor="iso" if k % 4 == 1 else "extended",
+            byte_order=0 if big_endian_one and k == 7 else 1))
+        names.append(f"p{k}")
+        coords.append([] if k == 5 else [[list(poly.exterior.coords)]])
+    got = rois_from_wkb(names, blobs)
+    for roi, c in zip(got, coords):
+        want = roi_from_coordinates(roi.name, "MultiPolygon", c)
+        assert [[r.tolist() for r in p] for p in roi.parts] == \
+            [[r.tolist() for r in p] for p in want.parts]
+        assert (roi.z is None) == (want.z is None)
+        if want.z is not None:
+            assert roi.z[0][0].tolist() == want.z[0][0].tolist()
+    for k, w in enumerate(wkb_with_height(blobs, np.arange(40.0))):
+        g = _read_multipolygon_z(w)
+        if k == 5:
+            assert g == []
+            continue
+        src = np.array(coords[k][0][0])
+        assert g[0][0][:, :2].tolist() == src[:, :2].tolist()
+        assert (g[0][0][:, 2] == k).all()
