@@ -370,15 +370,14 @@ def row_spans(rings: Sequence[np.ndarray], shapes: Sequence[Tuple[int, int]]) ->
     more = np.zeros(m, bool)
     dup = (pown[1:] == pown[:-1]) & (prow[1:] == prow[:-1])
     more[pown[1:][dup]] = True
-    bounds = np.searchsorted(pown, np.arange(m + 1))
-    for k in range(m):
-        if more[k]:
-            continue
-        sl = slice(bounds[k], bounds[k + 1])
-        s_row = np.zeros(rows_of[k], np.int64)
-        e_row = np.zeros(rows_of[k], np.int64)
-        s_row[prow[sl]], e_row[prow[sl]] = start[sl], stop[sl]
-        out[k] = (s_row, e_row)
+    # every polygon's rows in two arrays (rows without a crossing: the empty span 0, 0)
+    base = offsets(rows_of)
+    s_all = np.zeros(int(base[-1]), np.int64)
+    e_all = np.zeros(int(base[-1]), np.int64)
+    s_all[base[pown] + prow], e_all[base[pown] + prow] = start, stop
+    b = base.tolist()
+    for k in np.flatnonzero(~more).tolist():
+        out[k] = (s_all[b[k]:b[k + 1]], e_all[b[k]:b[k + 1]])
     return out
 
 

@@ -95,14 +95,16 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
     c1 = np.minimum(hi[:, 0], tif.width).astype(np.int64)
     r1 = np.minimum(hi[:, 1], tif.height).astype(np.int64)
     px -= np.repeat(np.column_stack([c0, r0]), np.diff(ring_offs[roi_rings]), axis=0)
-    px_rings = np.split(px, ring_offs[1:-1])
-    for i, roi in enumerate(rois):
-        if c1[i] <= c0[i] or r1[i] <= r0[i]:
+    cuts = ring_offs.tolist()
+    px_rings = [px[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
+    per_roi = roi_rings.tolist()
+    for i, (roi, row, col, rows, cols) in enumerate(zip(rois, r0.tolist(), c0.tolist(),
+                                                        (r1 - r0).tolist(), (c1 - c0).tolist())):
+        if rows <= 0 or cols <= 0:
             skipped[i] = "outside the raster"
             continue
-        placed.append(PixelROI(i, roi, Window(int(r0[i]), int(c0[i]), int(r1[i] - r0[i]),
-                                              int(c1[i] - c0[i])),
-                               px_rings[roi_rings[i]:roi_rings[i + 1]], all_touched, buffer, size))
+        placed.append(PixelROI(i, roi, Window(row, col, rows, cols),
+                               px_rings[per_roi[i]:per_roi[i + 1]], all_touched, buffer, size))
     if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks, a few passes
         simple = [p for p in placed if len(p.rings) == 1]
         work = np.cumsum([p.window.rows * len(p.rings[0]) for p in simple])
