@@ -55,13 +55,17 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
                                            QgsProject.instance().transformContext())
         out_crs = crs
     names, blobs, others, features = [], [], {}, []
+    flat_type = QgsWkbTypes.flatType
     total = max(source.featureCount(), 1)
     progress = feedback_progress(feedback, 0, 5) if feedback is not None else None
     for k, feat in enumerate(source.getFeatures(QgsFeatureRequest())):
         if feedback is not None and feedback.isCanceled():
             break
-        name = feat[name_field] if name_field else feat.id()
-        name = str(feat.id()) if is_null(name) else str(name)
+        if name_field:
+            name = feat[name_field]
+            name = str(feat.id()) if is_null(name) else str(name)
+        else:
+            name = str(feat.id())
         geom = feat.geometry()
         if transform is not None and not geom.isNull():
             geom = QgsGeometry(geom)
@@ -76,7 +80,7 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
         names.append(name)
         if geom.isNull():
             blobs.append(None)
-        elif QgsWkbTypes.flatType(geom.wkbType()) in _PLAIN:   # all at once, below
+        elif flat_type(geom.wkbType()) in _PLAIN:        # all at once, below
             blobs.append(bytes(geom.asWkb()))
         else:                                           # curves: QGIS's own vertices
             blobs.append(None)
