@@ -185,12 +185,13 @@ def _flat_z_all(features, heights):
     """:func:`_flat_z` of every feature: the polygons' WKB made Z by the core in one pass
     (``core.roi.wkb_with_height``), curved geometries by QGIS one by one."""
     from ...core.roi import wkb_with_height
-    plain = [QgsWkbTypes.flatType(f.geometry().wkbType()) in _PLAIN or f.geometry().isNull()
-             for f in features]
-    blobs = [bytes(f.geometry().asWkb()) if ok else None for f, ok in zip(features, plain)]
-    wkbs = wkb_with_height(blobs, heights)
-    return [from_wkb(w) if ok else _flat_z(f.geometry(), h)
-            for f, h, ok, w in zip(features, heights, plain, wkbs)]
+    geoms = [f.geometry() for f in features]
+    flat = QgsWkbTypes.flatType
+    plain = [g.isNull() or flat(g.wkbType()) in _PLAIN for g in geoms]
+    wkbs = wkb_with_height([bytes(g.asWkb()) if ok else None for g, ok in zip(geoms, plain)],
+                           heights)
+    return [from_wkb(w) if ok else _flat_z(g, h)
+            for g, h, ok, w in zip(geoms, heights, plain, wkbs)]
 
 
 def _flat_z(geom, height):
