@@ -8,6 +8,7 @@ from .. import geometry
 from ..ragged import offsets, position_in_run, ranges
 from ..crs import same_crs
 from ..errors import InputError, ROIError
+from ..gc_pause import paused_gc
 from .geotiff import GeoTiff
 from .sweep import Window
 from ..roi import ROI, ROISet
@@ -79,6 +80,11 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
     ``-buffer`` from its boundary).
     Returns (placed ROIs, {ROI index: reason} for the ROIs skipped).
     """
+    with paused_gc():
+        return _place(tif, rois, all_touched, buffer)
+
+
+def _place(tif: GeoTiff, rois: ROISet, all_touched: bool, buffer: float):
     placed, skipped = [], {}
     size = (abs(tif.geotransform[1]), abs(tif.geotransform[5]))
     grow_px = max(buffer, 0.0) / min(size)

@@ -14,6 +14,7 @@ from typing import List, NamedTuple, Optional, Sequence, Tuple
 import numpy as np
 
 from ..errors import ROIError
+from ..gc_pause import paused_gc
 from ..ragged import offsets, ranges
 from .model import ROI, ROISet
 
@@ -38,7 +39,11 @@ def rois_from_wkb(names: Sequence[str], blobs: Sequence[Optional[bytes]], crs=No
     ROISet
         The ROIs in the order of ``names`` (not yet validated: :meth:`ROISet.validate`).
     """
-    rings = _read_rings(names, blobs)
+    with paused_gc():
+        return _rois(names, _read_rings(names, blobs), crs)
+
+
+def _rois(names: Sequence[str], rings: "_Rings", crs) -> ROISet:
     lens = rings.lens
     keep = _kept(rings.xyz[:, :2], offsets(lens))
     kept_lens = np.add.reduceat(keep.astype(np.int64), offsets(lens)[:-1]) if len(lens) \
@@ -153,8 +158,9 @@ def _single_rings(blobs: Sequence[Optional[bytes]]) -> Optional[_Rings]:
         sel = dims == d
         if sel.any():
             rows = np.repeat(sel, n)
-            raw = buf[ranges(first[sel], first[sel] + 8 * d * n[sel])]
-            xyz[rows, :d] = raw.view("<f8").reshape(-1, d)
+            at = ranges(first[sel] // 8, first[sel] // 8 + d * n[sel]) * 8 + \
+                np.repeat(first[sel] % 8, d * n[sel])
+            xyz[rows, :d] = _doubles(buf, at).reshape(-1, d)
     return _Rings(have, np.zeros(len(have), np.int64), n, z, xyz, True)
 
 
@@ -233,18 +239,66 @@ def wkb_with_height(blobs: Sequence[Optional[bytes]], heights: Sequence[float]) 
     empty MultiPolygonZ. How the heights tool writes its features' geometries, all at once."""
     rings = _read_rings([f"#{k}" for k in range(len(blobs))], blobs)
     h = np.asarray(heights, np.float64)
-    lens = rings.lens
-    data = np.column_stack([rings.xyz[:, :2], np.repeat(h[rings.roi], lens)]).astype("<f8"
-                                                                                    ).tobytes()
-    cuts = (24 * offsets(lens)).tolist()
-    counts = [struct.pack("<I", n) for n in lens.tolist()]
-    out: List[list] = [[] for _ in blobs]            # per record: per polygon, its ring bytes
-    last = (-1, -1)
-    for j, (roi, poly) in enumerate(zip(rings.roi.tolist(), rings.poly.tolist())):
-        if (roi, poly) != last:
-            out[roi].append([])
-            last = (roi, poly)
-        out[roi][-1].append(counts[j] + data[cuts[j]:cuts[j + 1]])
-    head_z = struct.pack("<BI", 1, POLYGON + 1000)
-    return [struct.pack("<BII", 1, MULTIPOLYGON + 1000, len(polys)) + b"".join(
-        head_z + struct.pack("<I", len(p)) + b"".join(p) for p in polys) for polys in out]
+    lens, roi = rings.lens, rings.roi
+    # polygons: runs of rings with the same (ROI, polygon); sizes in bytes, then positions
+    new_poly = np.ones(len(lens), bool)
+    new_poly[1:] = (roi[1:] != roi[:-1]) | (rings.poly[1:] != rings.poly[:-1])
+    poly_of_ring = np.cumsum(new_poly) - 1
+    poly_roi = roi[new_poly]
+    ring_size = 4 + 24 * lens
+    poly_size = 9 + np.bincount(poly_of_ring, ring_size, len(poly_roi)).astype(np.int64)
+    polys_per_rec = np.bincount(poly_roi, minlength=len(blobs))
+    rec_size = 9 + np.bincount(poly_roi, poly_size, len(blobs)).astype(np.int64)
+    rec_start = offsets(rec_size)
+    poly_start = rec_start[poly_roi] + 9 + _before_in_run(poly_size, poly_roi)
+    ring_start = poly_start[poly_of_ring] + 9 + _before_in_run(ring_size, poly_of_ring)
+    buf = np.zeros(int(rec_start[-1]), np.uint8)
+    _put(buf, rec_start[:-1], 1, MULTIPOLYGON + 1000, polys_per_rec)
+    _put(buf, poly_start, 1, POLYGON + 1000, np.bincount(poly_of_ring, minlength=len(poly_roi)))
+    _put(buf, ring_start - 5, None, None, lens)
+    xyz = np.column_stack([rings.xyz[:, :2], np.repeat(h[roi], lens)])
+    first = ring_start + 4
+    at = ranges(first // 8, first // 8 + 3 * lens) * 8 + np.repeat(first % 8, 3 * lens)
+    _doubles(buf, at, xyz.ravel())
+    data = buf.tobytes()
+    cuts = rec_start.tolist()
+    return [data[i:j] for i, j in zip(cuts[:-1], cuts[1:])]
+
+
+def _before_in_run(size: np.ndarray, run: np.ndarray) -> np.ndarray:
+    """For items in runs (``run``: non-decreasing run ids), the total ``size`` of the items
+    before each in its run."""
+    before = np.cumsum(size) - size
+    first = np.ones(len(run), bool)
+    first[1:] = run[1:] != run[:-1]
+    return before - before[first][np.cumsum(first) - 1]
+
+
+def _put(buf: np.ndarray, at: np.ndarray, order, code, count: np.ndarray) -> None:
+    """Write a WKB header (byte order, type code, a count) at each position ``at`` (only the
+    count, at ``at + 5``, when ``order`` is None)."""
+    if order is not None:
+        head = np.empty((len(at), 5), np.uint8)
+        head[:, 0] = order
+        head[:, 1:5] = np.frombuffer(struct.pack("<I", code), np.uint8)
+        buf[(at[:, None] + np.arange(5)).ravel()] = head.ravel()
+    c = np.asarray(count, "<u4").view(np.uint8).reshape(-1, 4)
+    buf[(at[:, None] + np.arange(5, 9)).ravel()] = c.ravel()
+
+
+def _doubles(buf: np.ndarray, at: np.ndarray, values: Optional[np.ndarray] = None):
+    """The little-endian doubles at the byte positions ``at`` of ``buf`` (uint8), or, with
+    ``values``, write them there: through eight float64 views, one per byte alignment, so the
+    gather is per double, not per byte."""
+    out = np.empty(len(at)) if values is None else None
+    shift = at % 8
+    for o in range(8):
+        sel = np.flatnonzero(shift == o)
+        if not len(sel):
+            continue
+        view = buf[o:o + (len(buf) - o) // 8 * 8].view("<f8")
+        if values is None:
+            out[sel] = view[(at[sel] - o) // 8]
+        else:
+            view[(at[sel] - o) // 8] = values[sel]
+    return out

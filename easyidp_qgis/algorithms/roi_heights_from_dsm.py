@@ -80,6 +80,13 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.OUTPUT, self.tr("ROIs with heights"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
+    def run_tool(self, parameters, context, feedback):
+        """The run with Python's cyclic collector paused (``core.gc_pause``): reading,
+        placing and writing 100,000 plots builds that many features and ROIs."""
+        from ...core.gc_pause import paused_gc
+        with paused_gc():
+            return super().run_tool(parameters, context, feedback)
+
     def core_step(self, parameters, context, feedback):
         from ...core.raster import DSM, dsm_roi_heights, vertex_heights
 
