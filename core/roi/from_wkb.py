@@ -234,9 +234,24 @@ def _polygon(k: int, j: int, blob: bytes, pos: int, e: str, dims: int, z: bool,
 
 def wkb_with_height(blobs: Sequence[Optional[bytes]], heights: Sequence[float]) -> List[bytes]:
     """Each WKB Polygon or MultiPolygon of ``blobs`` as an ISO little-endian MultiPolygonZ with
-    the same rings and vertices (as stored: closing vertices and duplicates kept, M dropped)
-    and Z = ``heights[i]`` at every vertex (NaN stays NaN); a null or empty geometry gives an
-    empty MultiPolygonZ. How the heights tool writes its features' geometries, all at once."""
+    the same rings and vertices and one height at every vertex: how the heights tool writes
+    its features' geometries, all at once.
+
+    Parameters
+    ----------
+    blobs : sequence of bytes or None
+        WKB Polygons or MultiPolygons (as :func:`rois_from_wkb` reads them); None or empty
+        bytes for a null geometry.
+    heights : sequence of float
+        One height per geometry (NaN stays NaN).
+
+    Returns
+    -------
+    list of bytes
+        One MultiPolygonZ per geometry: its rings and vertices as stored (closing vertices
+        and duplicates kept, M dropped), Z = its height; a null or empty geometry gives an
+        empty MultiPolygonZ.
+    """
     rings = _read_rings([f"#{k}" for k in range(len(blobs))], blobs)
     h = np.asarray(heights, np.float64)
     lens, roi = rings.lens, rings.roi
