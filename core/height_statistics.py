@@ -53,7 +53,6 @@ def statistic_of(values, statistic: str, percentile: float = 50.0) -> float:
     raise EasyIDPError(f"Unknown statistic {statistic!r}: use one of {', '.join(STATISTICS)}.")
 
 
-
 def statistics_of(groups: List[np.ndarray], statistic: str, percentile: float = 50.0) -> np.ndarray:
     """:func:`statistic_of` of every array of ``groups`` (the values of many ROIs): mean, min,
     max and std in one pass over all values (numpy's reductions, run by run), the others group
@@ -85,6 +84,7 @@ def statistics_of(groups: List[np.ndarray], statistic: str, percentile: float = 
             d = v - np.repeat(mean, n)
             out[has] = np.sqrt(np.add.reduceat(d * d, starts) / n)
     return out
+
 
 @dataclass
 class HeightResult:

@@ -10,7 +10,8 @@ from .geometries import polygon_coordinates
 from .progress import feedback_progress
 from .values import is_null
 
-_PLAIN = (WkbType.Polygon, WkbType.MultiPolygon)   # read from WKB in one pass (core)
+PLAIN_POLYGONS = (WkbType.Polygon, WkbType.MultiPolygon)
+"""The flat geometry types read from their WKB in one pass by the core (curves: by QGIS)."""
 
 
 def add_roi_parameters(alg, name_field: bool = True):
@@ -80,7 +81,7 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
         names.append(name)
         if geom.isNull():
             blobs.append(None)
-        elif flat_type(geom.wkbType()) in _PLAIN:        # all at once, below
+        elif flat_type(geom.wkbType()) in PLAIN_POLYGONS:        # all at once, below
             blobs.append(bytes(geom.asWkb()))
         else:                                           # curves: QGIS's own vertices
             blobs.append(None)

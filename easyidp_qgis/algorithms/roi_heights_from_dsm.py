@@ -16,7 +16,7 @@ from ..crs import crs_string
 from ..geometries import from_wkb, multipolygon
 from ..progress import feedback_progress
 from ..rasters import geotiff_source
-from ..rois import rois_parameter
+from ..rois import PLAIN_POLYGONS, rois_parameter
 from ..sinks import BATCH, close_sink
 from .base import CoreStep, EasyIDPAlgorithm, translatable
 
@@ -25,7 +25,6 @@ MODES = [("polygon", translatable("Per polygon: one statistic of the DSM pixels 
 # the statistics of core.height_statistics, in the order of the tool's menu
 STATS = ["mean", "median", "min", "max", "percentile", "std", "pmin", "pmax"]
 SAMPLING = ["bilinear", "nearest"]
-_PLAIN = (WkbType.Polygon, WkbType.MultiPolygon)   # made Z from their WKB in one pass
 
 
 class ROIHeightsFromDSM(EasyIDPAlgorithm):
@@ -194,7 +193,7 @@ def _flat_z_all(features, heights):
     from ...core.roi import wkb_with_height
     geoms = [f.geometry() for f in features]
     flat = QgsWkbTypes.flatType
-    plain = [g.isNull() or flat(g.wkbType()) in _PLAIN for g in geoms]
+    plain = [g.isNull() or flat(g.wkbType()) in PLAIN_POLYGONS for g in geoms]
     wkbs = wkb_with_height([bytes(g.asWkb()) if ok else None for g, ok in zip(geoms, plain)],
                            heights)
     return [from_wkb(w) if ok else _flat_z(g, h)
