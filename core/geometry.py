@@ -370,15 +370,14 @@ def row_spans(rings: Sequence[np.ndarray], shapes: Sequence[Tuple[int, int]]) ->
     more = np.zeros(m, bool)
     dup = (pown[1:] == pown[:-1]) & (prow[1:] == prow[:-1])
     more[pown[1:][dup]] = True
-    bounds = np.searchsorted(pown, np.arange(m + 1))
-    for k in range(m):
-        if more[k]:
-            continue
-        sl = slice(bounds[k], bounds[k + 1])
-        s_row = np.zeros(rows_of[k], np.int64)
-        e_row = np.zeros(rows_of[k], np.int64)
-        s_row[prow[sl]], e_row[prow[sl]] = start[sl], stop[sl]
-        out[k] = (s_row, e_row)
+    # every polygon's rows in two arrays (rows without a crossing: the empty span 0, 0)
+    base = offsets(rows_of)
+    s_all = np.zeros(int(base[-1]), np.int64)
+    e_all = np.zeros(int(base[-1]), np.int64)
+    s_all[base[pown] + prow], e_all[base[pown] + prow] = start, stop
+    b = base.tolist()
+    for k in np.flatnonzero(~more).tolist():
+        out[k] = (s_all[b[k]:b[k + 1]], e_all[b[k]:b[k + 1]])
     return out
 
 
@@ -439,6 +438,30 @@ def _convex_simple(ring: np.ndarray) -> bool:
         return False
     turn = np.arctan2(cross, e[:, 0] * f[:, 0] + e[:, 1] * f[:, 1])
     return bool(abs(abs(turn.sum()) - 2 * np.pi) < 1e-6)
+
+
+def convex_simple_rings(xy: np.ndarray, offs: np.ndarray) -> np.ndarray:
+    """(R,) bool: :func:`_convex_simple` of every ring of the ragged vertices ``xy`` (V, 2),
+    ring i = ``xy[offs[i]:offs[i + 1]]``, in one pass (rings of fewer than 3 vertices: False).
+    What validating many plots costs when they are convex (most are)."""
+    lens = np.diff(offs)
+    out = np.zeros(len(lens), bool)
+    full = np.flatnonzero(lens >= 3)
+    if not len(full):
+        return out
+    sub = np.concatenate([np.arange(offs[i], offs[i + 1]) for i in full]) \
+        if len(full) < len(lens) else np.arange(len(xy))
+    o = offsets(lens[full])
+    p = np.asarray(xy, np.float64)[sub, :2]
+    nxt = cyclic_next(o)
+    e = p[nxt] - p
+    f = e[nxt]
+    cross = e[:, 0] * f[:, 1] - e[:, 1] * f[:, 0]
+    starts = o[:-1]
+    lo, hi = np.minimum.reduceat(cross, starts), np.maximum.reduceat(cross, starts)
+    turn = np.add.reduceat(np.arctan2(cross, e[:, 0] * f[:, 0] + e[:, 1] * f[:, 1]), starts)
+    out[full] = ((lo > 0) | (hi < 0)) & (np.abs(np.abs(turn) - 2 * np.pi) < 1e-6)
+    return out
 
 
 def self_intersections(rings: Rings, max_report: int = 1) -> List[Tuple[float, float]]:

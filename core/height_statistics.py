@@ -53,6 +53,39 @@ def statistic_of(values, statistic: str, percentile: float = 50.0) -> float:
     raise EasyIDPError(f"Unknown statistic {statistic!r}: use one of {', '.join(STATISTICS)}.")
 
 
+def statistics_of(groups: List[np.ndarray], statistic: str, percentile: float = 50.0) -> np.ndarray:
+    """:func:`statistic_of` of every array of ``groups`` (the values of many ROIs): mean, min,
+    max and std in one pass over all values (numpy's reductions, run by run), the others group
+    by group. NaN for a group without a finite value."""
+    if statistic not in ("mean", "min", "max", "std"):
+        return np.array([statistic_of(g, statistic, percentile) for g in groups], np.float64)
+    out = np.full(len(groups), np.nan)
+    v = np.concatenate([np.asarray(g).ravel() for g in groups]) if groups else np.zeros(0)
+    counts = np.array([np.asarray(g).size for g in groups], np.int64)
+    finite = np.isfinite(v)
+    if not finite.all():
+        owner = np.repeat(np.arange(len(groups)), counts)
+        v, counts = v[finite], np.bincount(owner[finite], minlength=len(groups))
+    v = v.astype(np.float64)
+    has = np.flatnonzero(counts)
+    if not len(has):
+        return out
+    starts = (np.cumsum(counts) - counts)[has]
+    n = counts[has]
+    if statistic == "min":
+        out[has] = np.minimum.reduceat(v, starts)
+    elif statistic == "max":
+        out[has] = np.maximum.reduceat(v, starts)
+    else:
+        mean = np.add.reduceat(v, starts) / n
+        if statistic == "mean":
+            out[has] = mean
+        else:
+            d = v - np.repeat(mean, n)
+            out[has] = np.sqrt(np.add.reduceat(d * d, starts) / n)
+    return out
+
+
 @dataclass
 class HeightResult:
     """Heights of an :class:`~.roi.ROISet`, aligned with its order (duplicate names are safe).

@@ -3,12 +3,15 @@ from qgis.core import (QgsCoordinateTransform, QgsCsException, QgsFeatureRequest
                        QgsProcessingException, QgsProcessingParameterFeatureSource,
                        QgsProcessingParameterField, QgsProject, QgsWkbTypes)
 
-from ..core.roi import ROISet, roi_from_coordinates
-from .compat import GeometryType, ProcessingSourceType
+from ..core.roi import roi_from_coordinates, rois_from_wkb
+from .compat import GeometryType, ProcessingSourceType, WkbType
 from .crs import crs_string, has_crs
 from .geometries import polygon_coordinates
 from .progress import feedback_progress
 from .values import is_null
+
+PLAIN_POLYGONS = (WkbType.Polygon, WkbType.MultiPolygon)
+"""The flat geometry types read from their WKB in one pass by the core (curves: by QGIS)."""
 
 
 def add_roi_parameters(alg, name_field: bool = True):
@@ -52,16 +55,21 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
                                            if context is not None else
                                            QgsProject.instance().transformContext())
         out_crs = crs
-    rois, features = [], []
+    names, blobs, others, features = [], [], {}, []
+    flat_type = QgsWkbTypes.flatType
     total = max(source.featureCount(), 1)
     progress = feedback_progress(feedback, 0, 5) if feedback is not None else None
     for k, feat in enumerate(source.getFeatures(QgsFeatureRequest())):
         if feedback is not None and feedback.isCanceled():
             break
-        name = feat[name_field] if name_field else feat.id()
-        name = str(feat.id()) if is_null(name) else str(name)
-        geom = QgsGeometry(feat.geometry())
+        if name_field:
+            name = feat[name_field]
+            name = str(feat.id()) if is_null(name) else str(name)
+        else:
+            name = str(feat.id())
+        geom = feat.geometry()
         if transform is not None and not geom.isNull():
+            geom = QgsGeometry(geom)
             try:
                 geom.transform(transform)
             except QgsCsException as exc:
@@ -70,11 +78,21 @@ def rois_from_source(source, name_field: str, label: str, feedback=None, crs=Non
                     f"transformed from {source.sourceCrs().authid() or source.sourceCrs().description()}"
                     f" to {crs.authid() or crs.description()} ({exc}). Check that the layer's CRS "
                     "is set correctly.") from None
-        rois.append(roi_from_coordinates(name, "MultiPolygon", polygon_coordinates(geom)))
+        names.append(name)
+        if geom.isNull():
+            blobs.append(None)
+        elif flat_type(geom.wkbType()) in PLAIN_POLYGONS:        # all at once, below
+            blobs.append(bytes(geom.asWkb()))
+        else:                                           # curves: QGIS's own vertices
+            blobs.append(None)
+            others[k] = roi_from_coordinates(name, "MultiPolygon", polygon_coordinates(geom))
         features.append(feat)
-        if feedback is not None:
+        if feedback is not None and k % 1000 == 0:
             progress.set(100.0 * k / total)
-    return ROISet(rois, crs_string(out_crs)), features
+    rois = rois_from_wkb(names, blobs, crs_string(out_crs))
+    for k, roi in others.items():
+        rois.rois[k] = roi
+    return rois, features
 
 
 

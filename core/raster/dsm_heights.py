@@ -7,12 +7,16 @@ or polygon without any valid pixel gets NaN and is reported, never 0.
 import numpy as np
 
 from ..deprecation import renamed_parameters
-from ..height_statistics import HeightResult, check_heights_args, statistic_of, vertex_result
+from ..height_statistics import (HeightResult, check_heights_args, statistic_of, statistics_of,
+                                 vertex_result)
 from ..progress import as_progress
 from ..roi import ROI, ROISet
 from .dsm import as_dsm, valid_heights
-from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs
+from .roi_pixels import NO_PIXEL, place_rois, require_overlap, rois_in_raster_crs, span_pixels
 from .sweep import sweep_windows
+
+STATS_BATCH = 512     # ROIs whose pixels wait for their statistics (one numpy pass per batch)
+PIXEL_CHUNK = 4096    # ROIs whose pixel indices are listed at once (roi_pixels.span_pixels)
 
 
 @renamed_parameters(dsm_crs="source_crs")
@@ -75,14 +79,44 @@ def dsm_roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "
     require_overlap(placed, skipped, local, tif)
     result = HeightResult("polygon", [np.nan] * len(local), dict(skipped), list(tif.notes))
 
+    pending = {}         # ROI index → its valid pixels, their statistics taken in batches
+
+    def flush() -> None:
+        for i, v in zip(pending, statistics_of(list(pending.values()), statistic, percentile)):
+            result.values[i] = float(v)
+        pending.clear()
+
+    chunks: dict = {}    # the small ROIs' pixel indices, listed PIXEL_CHUNK ROIs at a time
+    left = [min(PIXEL_CHUNK, len(placed) - c) for c in range(0, len(placed), PIXEL_CHUNK)]
+
+    def pixels_of(k: int):
+        c = k // PIXEL_CHUNK
+        if c not in chunks:
+            chunks[c] = span_pixels(placed[c * PIXEL_CHUNK:(c + 1) * PIXEL_CHUNK])
+        idx = chunks[c][k - c * PIXEL_CHUNK]
+        left[c] -= 1
+        if not left[c]:
+            del chunks[c]
+        return idx
+
     def consume(k: int, arr: np.ndarray) -> None:
         p = placed[k]
         a = arr[..., 0]
-        mask = p.mask()
-        sel = mask & valid_heights(tif, a)
-        if sel.any():
-            result.values[p.index] = statistic_of(a[sel], statistic, percentile)
-        elif not mask.any():
+        idx = pixels_of(k)
+        if idx is not None:             # the ROI's pixels by index, then the valid ones
+            v = a.ravel()[idx]
+            v = v[valid_heights(tif, v)]
+            some, inside = len(v) > 0, len(idx) > 0
+        else:
+            mask = p.mask()
+            sel = mask & valid_heights(tif, a)
+            some = bool(sel.any())
+            v, inside = (a[sel] if some else None), some or bool(mask.any())
+        if some:
+            pending[p.index] = v
+            if len(pending) >= STATS_BATCH:
+                flush()
+        elif not inside:
             result.missing[p.index] = NO_PIXEL if p.buffer >= 0 else (
                 f"the buffer of {p.buffer:g} (DSM map units) shrinks it to nothing: it is "
                 f"narrower than {-2 * p.buffer:g}; use a smaller negative buffer")
@@ -90,6 +124,7 @@ def dsm_roi_heights(dsm, rois: ROISet, mode: str = "polygon", statistic: str = "
             result.missing[p.index] = "all DSM pixels inside it are nodata"
 
     sweep_windows(tif, [p.window for p in placed], consume, prog)
+    flush()
     return result
 
 

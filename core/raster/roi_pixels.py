@@ -1,13 +1,14 @@
 """ROIs on a raster's pixel grid: reprojection, pixel windows and masks (shared by crop and stats)."""
-import math
 from dataclasses import dataclass
 from typing import List, Optional, Tuple
 
 import numpy as np
 
 from .. import geometry
+from ..ragged import offsets, position_in_run, ranges
 from ..crs import same_crs
 from ..errors import InputError, ROIError
+from ..gc_pause import paused_gc
 from .geotiff import GeoTiff
 from .sweep import Window
 from ..roi import ROI, ROISet
@@ -69,26 +70,6 @@ def rois_in_raster_crs(rois: ROISet, tif: GeoTiff) -> ROISet:
     return rois.to_crs(tif.crs)
 
 
-def _window_of(tif: GeoTiff, rings_px, grow: float) -> Optional[Window]:
-    allxy = np.concatenate(rings_px)
-    x0, y0 = allxy.min(axis=0) - grow
-    x1, y1 = allxy.max(axis=0) + grow
-    c0, r0 = max(math.floor(x0), 0), max(math.floor(y0), 0)
-    c1, r1 = min(math.ceil(x1), tif.width), min(math.ceil(y1), tif.height)
-    if c1 <= c0 or r1 <= r0:
-        return None
-    return Window(r0, c0, r1 - r0, c1 - c0)
-
-
-def to_pixels(tif: GeoTiff, roi: ROI) -> List[np.ndarray]:
-    """The ROI's rings in pixel coordinates (col, row), corner origin."""
-    out = []
-    for ring in roi.rings:
-        c, r = tif.map_to_pixel(ring[:, 0], ring[:, 1])
-        out.append(np.column_stack([c, r]))
-    return out
-
-
 def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: float = 0.0,
                ) -> Tuple[List[PixelROI], dict]:
     """The ROIs on the raster grid; ROIs whose envelope misses the raster are returned as skipped.
@@ -99,17 +80,37 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
     ``-buffer`` from its boundary).
     Returns (placed ROIs, {ROI index: reason} for the ROIs skipped).
     """
+    with paused_gc():
+        return _place(tif, rois, all_touched, buffer)
+
+
+def _place(tif: GeoTiff, rois: ROISet, all_touched: bool, buffer: float):
     placed, skipped = [], {}
     size = (abs(tif.geotransform[1]), abs(tif.geotransform[5]))
     grow_px = max(buffer, 0.0) / min(size)
-    for i, roi in enumerate(rois):
-        rings = to_pixels(tif, roi)
-        win = _window_of(tif, rings, grow_px)
-        if win is None:
+    # every vertex of every ROI to pixels at once, then each ROI's window from its extent
+    rings = [ring for roi in rois for ring in roi.rings]
+    ring_offs = offsets([len(r) for r in rings])
+    roi_rings = offsets([len(roi.rings) for roi in rois])
+    xy = np.concatenate(rings) if rings else np.zeros((0, 2))
+    px = np.column_stack(tif.map_to_pixel(xy[:, 0], xy[:, 1]))
+    starts = ring_offs[roi_rings[:-1]]
+    lo = np.floor(np.minimum.reduceat(px, starts, axis=0) - grow_px) if len(px) else px
+    hi = np.ceil(np.maximum.reduceat(px, starts, axis=0) + grow_px) if len(px) else px
+    c0, r0 = np.maximum(lo, 0).astype(np.int64).T
+    c1 = np.minimum(hi[:, 0], tif.width).astype(np.int64)
+    r1 = np.minimum(hi[:, 1], tif.height).astype(np.int64)
+    px -= np.repeat(np.column_stack([c0, r0]), np.diff(ring_offs[roi_rings]), axis=0)
+    cuts = ring_offs.tolist()
+    px_rings = [px[a:b] for a, b in zip(cuts[:-1], cuts[1:])]
+    per_roi = roi_rings.tolist()
+    for i, (roi, row, col, rows, cols) in enumerate(zip(rois, r0.tolist(), c0.tolist(),
+                                                        (r1 - r0).tolist(), (c1 - c0).tolist())):
+        if rows <= 0 or cols <= 0:
             skipped[i] = "outside the raster"
             continue
-        placed.append(PixelROI(i, roi, win, [r - (win.col, win.row) for r in rings],
-                               all_touched, buffer, size))
+        placed.append(PixelROI(i, roi, Window(row, col, rows, cols),
+                               px_rings[per_roi[i]:per_roi[i + 1]], all_touched, buffer, size))
     if buffer == 0.0 and not all_touched:     # the one-ring ROIs' masks, a few passes
         simple = [p for p in placed if len(p.rings) == 1]
         work = np.cumsum([p.window.rows * len(p.rings[0]) for p in simple])
@@ -123,6 +124,33 @@ def place_rois(tif: GeoTiff, rois: ROISet, all_touched: bool = False, buffer: fl
                                                         for p in group])):
                 p.spans = sp
     return placed, skipped
+
+
+SMALL_WINDOW = 4096        # pixels: the windows whose pixels :func:`span_pixels` lists
+
+
+def span_pixels(placed: List[PixelROI]) -> List[Optional[np.ndarray]]:
+    """Per placed ROI, the flat indices (row-major in its window, int32) of its pixels, from
+    its row spans, all computed in one pass; None for an ROI without spans or with a window
+    of more than :data:`SMALL_WINDOW` pixels (its :meth:`PixelROI.mask` says). Reading
+    ``window.ravel()[indices]`` costs less per small ROI than building its mask."""
+    out: List[Optional[np.ndarray]] = [None] * len(placed)
+    have = [k for k, p in enumerate(placed) if p.spans is not None
+            and p.window.rows * p.window.cols <= SMALL_WINDOW]
+    if not have:
+        return out
+    start = np.concatenate([placed[k].spans[0] for k in have])
+    stop = np.concatenate([placed[k].spans[1] for k in have])
+    rows = np.array([placed[k].window.rows for k in have], np.int64)
+    cols = np.repeat(np.array([placed[k].window.cols for k in have], np.int64), rows)
+    row = position_in_run(rows)
+    stop = np.maximum(stop, start)
+    flat = ranges(row * cols + start, row * cols + stop).astype(np.int32)
+    per_roi = np.add.reduceat(stop - start, offsets(rows)[:-1]) if len(start) else rows * 0
+    cuts = offsets(per_roi).tolist()
+    for j, k in enumerate(have):
+        out[k] = flat[cuts[j]:cuts[j + 1]]
+    return out
 
 
 def require_overlap(placed, skipped, rois: ROISet, tif: GeoTiff) -> None:

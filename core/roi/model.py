@@ -14,6 +14,7 @@ from pyproj import CRS
 from .. import geometry
 from ..crs import as_crs, same_crs, transform_xy
 from ..errors import ROIError
+from ..ragged import offsets
 
 
 @dataclass
@@ -171,7 +172,24 @@ class ROISet(Sequence[ROI]):
         key = tuple(map(id, self.rois))
         if getattr(self, "_validated", None) == key:
             return self
-        for r in self.rois:
+        for r in _not_plainly_valid(self.rois):
             r.validate()
         self._validated = key
         return self
+
+
+def _not_plainly_valid(rois: Sequence[ROI]) -> List[ROI]:
+    """The ROIs :meth:`ROI.validate` has to look at one by one: all but those of one finite,
+    strictly convex ring (valid by :func:`geometry.convex_simple_rings`, checked for all at
+    once: the per-ROI cost of validating thousands of plots)."""
+    single = [r for r in rois if len(r.parts) == 1 and len(r.parts[0]) == 1
+              and len(r.parts[0][0]) >= 3]
+    if not single:
+        return list(rois)
+    rings = [r.parts[0][0] for r in single]
+    xy = np.concatenate(rings)
+    offs = offsets([len(r) for r in rings])
+    finite = np.logical_and.reduceat(np.isfinite(xy).all(axis=1), offs[:-1])
+    ok = geometry.convex_simple_rings(np.where(np.isfinite(xy), xy, 0.0), offs) & finite
+    plain = {id(r) for r, good in zip(single, ok) if good}
+    return [r for r in rois if id(r) not in plain]

@@ -13,10 +13,10 @@ from .. import presentation
 from ..compat import (FeatureSinkFlag, FieldType, ProcessingNumberParameterType,
                       ProcessingParameterFlag, ProcessingSourceType, WkbType)
 from ..crs import crs_string
-from ..geometries import multipolygon
+from ..geometries import from_wkb, multipolygon
 from ..progress import feedback_progress
 from ..rasters import geotiff_source
-from ..rois import rois_parameter
+from ..rois import PLAIN_POLYGONS, rois_parameter
 from ..sinks import BATCH, close_sink
 from .base import CoreStep, EasyIDPAlgorithm, translatable
 
@@ -79,6 +79,13 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
             self.OUTPUT, self.tr("ROIs with heights"), ProcessingSourceType.VectorPolygon))
         self.add_overwrite_parameter()
 
+    def run_tool(self, parameters, context, feedback):
+        """The run with Python's cyclic collector paused (``core.gc_pause``): reading,
+        placing and writing 100,000 plots builds that many features and ROIs."""
+        from ...core.gc_pause import paused_gc
+        with paused_gc():
+            return super().run_tool(parameters, context, feedback)
+
     def core_step(self, parameters, context, feedback):
         from ...core.raster import DSM, dsm_roi_heights, vertex_heights
 
@@ -132,12 +139,14 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
                                              source.sourceCrs())
         if sink is None:
             raise QgsProcessingException(self.invalidSinkError(parameters, self.OUTPUT))
+        geoms = _flat_z_all(features, [h for h, _ in per_feature]) \
+            if "rings" not in step.inputs else \
+            [_with_z(_rings(f.geometry()), h, zs) for f, (h, zs) in zip(features, per_feature)]
         batch = []
-        for feat, (height, zs) in zip(features, per_feature):
+        for feat, (height, _), geom in zip(features, per_feature, geoms):
             out = QgsFeature(fields)
             out.setAttributes(feat.attributes() + [None if math.isnan(height) else height])
-            out.setGeometry(_flat_z(feat.geometry(), height) if zs is None else
-                            _with_z(_rings(feat.geometry()), height, zs))
+            out.setGeometry(geom)
             batch.append(out)
             if len(batch) == BATCH:
                 sink.addFeatures(batch, FeatureSinkFlag.FastInsert)
@@ -176,6 +185,19 @@ def _rings(geom):
     """Polygons → rings → (x, y) tuples, closing vertices included, as QGIS stores them."""
     polys = geom.asMultiPolygon() if geom.isMultipart() else [geom.asPolygon()]
     return [[[(p.x(), p.y()) for p in ring] for ring in poly] for poly in polys]
+
+
+def _flat_z_all(features, heights):
+    """:func:`_flat_z` of every feature: the polygons' WKB made Z by the core in one pass
+    (``core.roi.wkb_with_height``), curved geometries by QGIS one by one."""
+    from ...core.roi import wkb_with_height
+    geoms = [f.geometry() for f in features]
+    flat = QgsWkbTypes.flatType
+    plain = [g.isNull() or flat(g.wkbType()) in PLAIN_POLYGONS for g in geoms]
+    wkbs = wkb_with_height([bytes(g.asWkb()) if ok else None for g, ok in zip(geoms, plain)],
+                           heights)
+    return [from_wkb(w) if ok else _flat_z(g, h)
+            for g, h, ok, w in zip(geoms, heights, plain, wkbs)]
 
 
 def _flat_z(geom, height):

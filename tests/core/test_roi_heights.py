@@ -182,3 +182,58 @@ def test_a_negative_buffer_larger_than_the_roi_blames_the_buffer(tmp_path):
     res = dsm_roi_heights(path, ROISet([ROI("p", [[ring]])], 32654), buffer=-1000)
     assert np.isnan(res.values[0]) and "buffer of -1000" in res.missing[0]
     assert "smaller negative buffer" in res.missing[0]
+
+
+def test_statistics_of_many_groups_equal_numpy_group_by_group():
+    """[independent] The batched statistics (one pass over many ROIs' pixels) equal numpy's
+    own on each group: float32 values, NaN and inf ignored, a group with no finite value NaN."""
+    from easyidp_toolbox.core.height_statistics import statistics_of
+    rng = np.random.default_rng(3)
+    groups = [rng.normal(95, 2, rng.integers(1, 300)).astype(np.float32) for _ in range(50)]
+    groups[3][::2] = np.nan
+    groups[7][0] = np.inf
+    groups.insert(10, np.array([np.nan], np.float32))
+    for stat, fn in (("mean", np.mean), ("min", np.min), ("max", np.max), ("std", np.std),
+                     ("median", np.median)):
+        got = statistics_of(groups, stat)
+        want = [fn(g[np.isfinite(g)].astype(np.float64)) if np.isfinite(g).any() else np.nan
+                for g in groups]
+        np.testing.assert_allclose(got, want, rtol=1e-12, atol=1e-12, equal_nan=True)
+
+
+def test_span_pixels_are_the_rasterized_pixels(tmp_path):
+    """[independent] The pixel indices listed from row spans (the per-polygon fast path) are
+    the pixels geometry.rasterize (the even-odd toggle rasterizer) sets, for rotated
+    rectangles, triangles and slivers, some cut by the raster edge; a window larger than
+    SMALL_WINDOW gets None (its mask is used)."""
+    from easyidp_toolbox.core.geometry import rasterize
+    from easyidp_toolbox.core.raster.geotiff import open_geotiff
+    from easyidp_toolbox.core.raster.roi_pixels import SMALL_WINDOW, place_rois, span_pixels
+    path = write_tif(str(tmp_path / "r.tif"), np.zeros((120, 120), np.float32), origin=O,
+                     pixel=1.0)
+    rng = np.random.default_rng(11)
+    rois = []
+    for k in range(300):
+        c = rng.uniform(-5, 125, 2)
+        n = 3 if k % 3 == 0 else 4
+        t = np.sort(rng.uniform(0, 2 * np.pi, n)) if n == 3 else \
+            rng.uniform(0, np.pi) + np.array([0, 0.5, 1, 1.5]) * np.pi
+        r = rng.uniform(0.3, 9 if k % 7 else 60)
+        ring = np.column_stack([O[0] + c[0] + r * np.cos(t), O[1] - c[1] + (1.0 if k % 7 == 0 else 0.4) * r * np.sin(t)])
+        rois.append(ROI(f"p{k}", [[ring]]))
+    placed, _ = place_rois(open_geotiff(path), ROISet(rois, 32654))
+    got = span_pixels(placed)
+    checked = big = 0
+    for p, idx in zip(placed, got):
+        w = p.window
+        if p.spans is None:
+            assert idx is None
+            continue
+        if w.rows * w.cols > SMALL_WINDOW:
+            assert idx is None
+            big += 1
+            continue
+        want = np.flatnonzero(rasterize(p.rings, (w.rows, w.cols)))
+        assert idx.tolist() == want.tolist(), p.roi.name
+        checked += 1
+    assert checked > 200 and big > 0

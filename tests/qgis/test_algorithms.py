@@ -126,6 +126,33 @@ def test_heights_output_geometry_of_every_polygon_kind(provider, tmp_path):
         assert feat["height"] == pytest.approx(10 + src.centroid().asPoint().x() / 100, abs=0.02), name
 
 
+
+def test_heights_of_a_curved_roi_and_plain_ones_in_one_layer(provider, tmp_path):
+    """[independent] A layer mixing a curved polygon (read through QGIS's vertices, not the
+    one-pass WKB reader) with plain ones: every ROI gets the mean of a plane DSM written here
+    (z = 10 + x/100) over its pixel centres, within the plane's range at its x extent, and a
+    MultiPolygonZ with Z = that height."""
+    x0, y1 = 368000, 3956000
+    cols = np.arange(60) + 0.5
+    z = (10 + (x0 + cols) / 100)[None, :].repeat(60, axis=0).astype(np.float64)
+    dsm = write_tif(str(tmp_path / "plane.tif"), z, pixel=1.0, origin=(x0, y1))
+    wkts = [("curve", "CURVEPOLYGON(CIRCULARSTRING(368010 3955980, 368020 3955990, 368030 "
+                      "3955980, 368020 3955970, 368010 3955980))", (368010, 368030)),
+            ("square", "POLYGON((368040 3955990, 368050 3955990, 368050 3955980, 368040 3955980, "
+                       "368040 3955990))", (368040, 368050)),
+            ("tri", "MULTIPOLYGON(((368002 3955950, 368008 3955950, 368005 3955956, "
+                    "368002 3955950)))", (368002, 368008))]
+    rois = memory_layer("EPSG:32654", [(n, w) for n, w, _ in wkts], kind="CurvePolygon")
+    res = _run("easyidp:roiheightsfromdsm", {"ROIS": rois, "DSM": dsm, "OUTPUT": "memory:"})
+    got = {f["name"]: f for f in res["OUTPUT"].getFeatures()}
+    for name, wkt, (xa, xb) in wkts:
+        f = got[name]
+        assert 10 + xa / 100 < f["height"] < 10 + xb / 100, name
+        g = f.geometry()
+        assert QgsWkbTypes.hasZ(g.wkbType()) and g.isMultipart(), name
+        assert all(v.z() == pytest.approx(f["height"]) for v in g.vertices()), name
+    assert got["square"]["height"] == pytest.approx(10 + 368045 / 100, abs=1e-9)
+
 # ---- bad input ---------------------------------------------------------------------------------
 
 def _crop(src, rois, out, **kw):
