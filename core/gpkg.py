@@ -206,14 +206,15 @@ def _sql(v):
 
 
 def _sql_column(values) -> Sequence[object]:
-    """:func:`_sql` of a column of values, the column itself when it needs nothing (no numpy
-    scalar, no NaN or infinity: one sum over its floats tells)."""
+    """:func:`_sql` of a column of values, the column itself when it needs nothing: no numpy
+    scalar, and no NaN or infinity, which one sum over a numeric column tells (in C: 47,477
+    values in 1 ms; a sum that overflows only costs the pass value by value)."""
     kinds = set(map(type, values))
-    if any(issubclass(k, np.generic) for k in kinds):
-        return [_sql(v) for v in values]
-    if float in kinds and not math.isfinite(sum(v for v in values if type(v) is float)):
-        return [_sql(v) for v in values]        # (a sum that overflows only costs this pass)
-    return values
+    if float not in kinds and not any(issubclass(k, np.generic) for k in kinds):
+        return values
+    if kinds <= {float, int, bool, type(None)} and math.isfinite(sum(filter(None, values))):
+        return values
+    return [_sql(v) for v in values]
 
 
 def _encoded_blobs(geoms: EncodedMultipolygons, srs_id: int) -> List[bytes]:
