@@ -205,3 +205,34 @@ def test_photo_pixels_go_to_the_viewer_not_to_the_map(provider, survey, load_res
     assert layer.name() not in in_tree and not layer.crs().isValid()
     assert layer.source().startswith(str(tmp_path / "pixels.gpkg")) and layer.featureCount() > 40
     assert layer.renderer().type() == "RuleRenderer"
+
+
+def test_geopackage_file_written_by_the_engine_is_what_qgis_writes(provider, survey, tmp_path):
+    """[independent] QGIS's own writer is the truth: a GeoPackage file output is written by the
+    engine (core.gpkg), a layer added into a GeoPackage ('ogr:dbname=… table=…') still by a
+    QGIS feature sink; both hold the same fields (names, types), values (NULLs included),
+    geometries and undefined CRS, and the engine's file has no spatial index."""
+    import sqlite3
+    params = {"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+              "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.5,
+              "MIN_VISIBLE": 0}
+    ours = _run(dict(params, OUTPUT=str(tmp_path / "ours.gpkg")))["OUTPUT"]
+    sink = tmp_path / "sink.gpkg"
+    theirs = _run(dict(params, OUTPUT=f"ogr:dbname='{sink}' table=\"pixels\" (geom)"))["OUTPUT"]
+    assert ours == str(tmp_path / "ours.gpkg") and "layername=pixels" in theirs
+    a, b = QgsVectorLayer(ours, "a", "ogr"), QgsVectorLayer(theirs, "b", "ogr")
+    assert a.isValid() and b.isValid() and a.featureCount() == b.featureCount() > 40
+    assert [(f.name(), f.typeName()) for f in a.fields()] == \
+        [(f.name(), f.typeName()) for f in b.fields()]
+    assert a.wkbType() == b.wkbType() and a.crs() == b.crs()
+    fa = sorted(a.getFeatures(), key=lambda f: f.id())
+    fb = sorted(b.getFeatures(), key=lambda f: f.id())
+    nulls = 0
+    for x, y in zip(fa, fb):
+        assert x.attributes()[1:] == y.attributes()[1:], x.id()
+        assert x.geometry().equals(y.geometry()), x.id()
+        nulls += sum(1 for v in x.attributes() if v is None or (hasattr(v, "isNull") and v.isNull()))
+    assert nulls >= len(fa)               # occluded_fraction and uncertainty_px are NULL here
+    con = sqlite3.connect(ours)
+    assert not [n for (n,) in con.execute("SELECT name FROM sqlite_master") if "rtree" in n]
+    con.close()
