@@ -138,7 +138,7 @@ def _write(con, tables) -> None:
         table = quote_identifier(t.name)
         cols = "".join(f", {quote_identifier(n)} {ty}" for n, ty in t.fields)
         names = "".join(f", {quote_identifier(n)}" for n, _ in t.fields)
-        values = list(zip(*map(_sql_column, zip(*t.rows)))) if t.fields else [()] * len(t.rows)
+        columns = [_sql_column(col) for col in zip(*t.rows)] if t.fields else []
         if t.geometries is None:
             c.execute(f"CREATE TABLE {table} (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL{cols})")
             c.execute("INSERT INTO gpkg_contents (table_name, data_type, identifier, last_change) "
@@ -146,7 +146,7 @@ def _write(con, tables) -> None:
             if t.fields:
                 marks = ",".join("?" * len(t.fields))
                 sql = f"INSERT INTO {table} ({names[2:]}) VALUES ({marks})"  # nosec B608 -- quoted names
-                c.executemany(sql, values)
+                c.executemany(sql, zip(*columns))
             continue
         srs_id = _srs(t.crs, srs)
         c.execute(f"CREATE TABLE {table} (fid INTEGER PRIMARY KEY AUTOINCREMENT NOT NULL, "
@@ -161,16 +161,16 @@ def _write(con, tables) -> None:
             pts = [ring for g in t.geometries for part in g for ring in part]
             allxy = np.vstack(pts)[:, :2] if pts else np.zeros((1, 2))
             box = (allxy[:, 0].min(), allxy[:, 1].min(), allxy[:, 0].max(), allxy[:, 1].max())
-        if len(blobs) != len(values):
+        if len(blobs) != len(t.rows):
             raise ValueError(f"GeoPackage table {t.name}: {len(blobs)} geometries for "
-                             f"{len(values)} rows")
+                             f"{len(t.rows)} rows")
         c.execute("INSERT INTO gpkg_contents VALUES (?,?,?,?,?,?,?,?,?,?)",
                   (t.name, "features", t.name, "", LAST_CHANGE, *map(float, box), srs_id))
         c.execute("INSERT INTO gpkg_geometry_columns VALUES (?,?,?,?,?,?)",
                   (t.name, "geom", "MULTIPOLYGON", srs_id, 0, 0))
         marks = ",".join("?" * (len(t.fields) + 1))
         sql = f"INSERT INTO {table} (geom{names}) VALUES ({marks})"  # nosec B608 -- quoted names
-        c.executemany(sql, [(g, *row) for g, row in zip(blobs, values)])
+        c.executemany(sql, zip(blobs, *columns))
     c.executemany("INSERT INTO gpkg_spatial_ref_sys VALUES (?,?,?,?,?,?)",
                   [(v[0], k, v[1], v[2], v[3], v[4]) for k, v in sorted(srs.items())])
 

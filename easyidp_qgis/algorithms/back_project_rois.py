@@ -226,8 +226,9 @@ class BackProjectROIs(EasyIDPAlgorithm):
         # column by column: numpy → Python values once per column, geometries in one pass
         sizes = np.asarray(result.image_sizes, np.int64).reshape(-1, 2)[result.photo_index]
         paths = [p or "" for p in paths]
-        columns = [[result.roi_names[k] for k in result.roi.tolist()],
-                   [str(p) for p in result.photo.tolist()],
+        photos = [str(p) for p in result.photo.tolist()]
+        uncertainty = {p: _num(result.uncertainty_px.get(p)) for p in set(photos)}
+        columns = [[result.roi_names[k] for k in result.roi.tolist()], photos,
                    [paths[j] for j in result.photo_index.tolist()],
                    np.asarray(result.rank).astype(int).tolist(),
                    *(_numbers(c) for c in (result.score, result.view_angle, result.gsd,
@@ -235,7 +236,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
                                            result.centre_distance)),
                    np.asarray(result.clipped, bool).tolist(),
                    sizes[:, 0].tolist(), sizes[:, 1].tolist(),
-                   [_num(result.uncertainty_px.get(str(p))) for p in result.photo.tolist()]]
+                   [uncertainty[p] for p in photos]]
         path = geopackage_file(self, parameters, self.OUTPUT, context)
         if path:
             # a new GeoPackage file: the engine writes it (atomically, no QgsFeature per pair,
