@@ -23,7 +23,8 @@ Bytecode: our modules run from cached bytecode, as in a user's installation (Pyt
 ``PYTHONDONTWRITEBYTECODE`` would make every QGIS process compile the plugin's modules again
 (about 0.2 s of CPU), so our children run with ``PYTHONPYCACHEPREFIX`` in
 bench_output/backward_wait/pycache, filled by one warm-up run of each; easyidp's environment
-has its bytecode from pip.
+has its bytecode from pip. The row "qgis_process, no bytecode cache" runs the same command with
+the Makefile's environment, for comparison (no target).
 """
 import argparse
 import os
@@ -148,7 +149,9 @@ def main(argv=None) -> int:
     w = wheat_case_inputs(a.quick)
     params = tool_params(w["rois"])
     env = our_env(dict(os.environ, PROJ_DATA=os.environ.get("PROJ_DATA", "/usr/share/proj")))
-    qp_env = our_env(qgis_process_env(str(_fresh(OUT / "profile"))))
+    qp_plain = qgis_process_env(str(_fresh(OUT / "profile")))
+    qp_plain["PYTHONDONTWRITEBYTECODE"] = "1"
+    qp_env = our_env(qp_plain)
     ref = REF_PYTHON.exists() and not a.no_ref
     if not ref and not a.no_ref:
         print(f"(easyidp reference environment not found at {REF_PYTHON}: run `make env-ref`)")
@@ -157,7 +160,7 @@ def main(argv=None) -> int:
 
     run_desktop(env, params, runs=1)                 # warm-up: the bytecode cache
     run_qgis_process(EXE, qp_env, params)
-    rounds = {"easyidp": [], "desktop": [], "desktop2": [], "qgis_process": []}
+    rounds = {"easyidp": [], "desktop": [], "desktop2": [], "qgis_process": [], "compiling": []}
     walls = {k: [] for k in rounds}
     kept = {}
     for k in range(a.pairs):
@@ -174,6 +177,9 @@ def main(argv=None) -> int:
         r = run_qgis_process(EXE, qp_env, params)
         rounds["qgis_process"].append(r.cpu)
         walls["qgis_process"].append(r.wall)
+        r = run_qgis_process(EXE, qp_plain, params)
+        rounds["compiling"].append(r.cpu)
+        walls["compiling"].append(r.wall)
         print(f"  round {k + 1}: " + ", ".join(f"{n} {v[-1]:.2f} s" for n, v in rounds.items() if v),
               flush=True)
 
@@ -182,7 +188,8 @@ def main(argv=None) -> int:
     labels = {"easyidp": "easyidp 2.0.4 script (import … write JSON)",
               "desktop": "desktop: the tool's first run in QGIS (GeoPackage outputs)",
               "desktop2": "desktop: its second run",
-              "qgis_process": "qgis_process run easyidp:backprojectrois (GeoPackage outputs)"}
+              "qgis_process": "qgis_process run easyidp:backprojectrois (GeoPackage outputs)",
+              "compiling": "the same, no bytecode cache (make's PYTHONDONTWRITEBYTECODE)"}
     rows = [[labels[n], med[n], min(walls[n]) if walls[n] else None,
              ratio(ref_cpu, med[n]) if n != "easyidp" else None] for n in rounds]
     n_plots = 400 if a.quick else 1600
