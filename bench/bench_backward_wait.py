@@ -33,7 +33,7 @@ import statistics
 import sys
 from pathlib import Path
 
-from .bench_backward import WHEAT
+from .bench_backward import REF_ROIS, WHEAT
 from .common import REF_PYTHON, print_targets, ratio, reference_env, run_child, run_json_child
 from .common import table, target
 
@@ -43,21 +43,10 @@ TIMEOUT = 3600
 DESKTOP_GOAL, QGIS_PROCESS_GOAL = 2.0, 1.3
 
 # argv: PROJECT ROIS_JSON OUT_JSON; EasyIDP's own script, start to end
-REF_SCRIPT = r"""
-import json, logging, sys, warnings
-warnings.filterwarnings("ignore")
-logging.disable(logging.CRITICAL)
-import numpy as np, pyproj
-import easyidp as idp
-project, rois_path, out_json = sys.argv[1:4]
-d = json.load(open(rois_path))
-roi = idp.ROI()
-for k, v in d["rois"].items():
-    roi[k] = np.array(v, dtype=float)
-roi.crs = pyproj.CRS.from_user_input(d["crs"])
+REF_SCRIPT = REF_ROIS + r"""
 ms = idp.Metashape(project, chunk_id=0, check_img_existance=False)
 out = ms.back2raw(roi)
-idp.jsonfile.save_json(out, out_json)
+idp.jsonfile.save_json(out, sys.argv[3])
 print(json.dumps({"kept": sum(len(v) for v in out.values())}))
 """
 
