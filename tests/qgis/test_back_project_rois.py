@@ -236,3 +236,27 @@ def test_geopackage_file_written_by_the_engine_is_what_qgis_writes(provider, sur
     con = sqlite3.connect(ours)
     assert not [n for (n,) in con.execute("SELECT name FROM sqlite_master") if "rtree" in n]
     con.close()
+
+
+def test_the_engines_geopackage_never_replaces_an_input_or_a_users_file(provider, survey, tmp_path):
+    """The GeoPackage the engine writes obeys the output policy as a sink does: onto the ROI
+    layer's own file, or onto a user's file without OVERWRITE, the run is refused and the file
+    is untouched (its bytes); with OVERWRITE the file is replaced whole, no temporary file left."""
+    import hashlib
+    import shutil
+    rois = tmp_path / "plots.gpkg"
+    shutil.copy(survey.plots_gpkg, rois)
+    digest = hashlib.sha256(rois.read_bytes()).hexdigest()
+    params = {"ROIS": str(rois), "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+              "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.5, "MAX_IMAGES": 1}
+    with pytest.raises(QgsProcessingException, match="is also the input 'ROIs"):
+        _run(dict(params, OUTPUT=str(rois)))
+    assert hashlib.sha256(rois.read_bytes()).hexdigest() == digest
+    mine = tmp_path / "mine.gpkg"
+    mine.write_bytes(b"a user's file")
+    with pytest.raises(QgsProcessingException, match="mine.gpkg already exists and nothing was written"):
+        _run(dict(params, OUTPUT=str(mine)))
+    assert mine.read_bytes() == b"a user's file"
+    res = _run(dict(params, OUTPUT=str(mine), OVERWRITE=True))
+    assert res["OUTPUT"] == str(mine) and QgsVectorLayer(str(mine), "m", "ogr").featureCount() == 40
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mine.gpkg", "plots.gpkg"]
