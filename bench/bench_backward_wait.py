@@ -21,7 +21,7 @@ medians of ``--pairs`` rounds (3). Ratios are easyidp's CPU over ours, from the 
 Bytecode: our modules run from cached bytecode, as in a user's installation (Python writes
 ``__pycache__`` beside an installed plugin at its first run). The Makefile's
 ``PYTHONDONTWRITEBYTECODE`` would make every QGIS process compile the plugin's modules again
-(about 0.2 s of CPU), so our children run with ``PYTHONPYCACHEPREFIX`` in
+(0.14–0.2 s of CPU), so our children run with ``PYTHONPYCACHEPREFIX`` in
 bench_output/backward_wait/pycache, filled by one warm-up run of each; easyidp's environment
 has its bytecode from pip. The row "qgis_process, no bytecode cache" runs the same command with
 the Makefile's environment, for comparison (no target).
