@@ -63,8 +63,8 @@ print(json.dumps({"seconds": t1 - t0, "examined": len(rois) * len(recon.aligned_
                   "kept": len(res)}))
 """
 
-REF_PROJECT = r"""
-import json, logging, sys, time, warnings
+REF_ROIS = r"""
+import json, logging, os, sys, time, warnings
 warnings.filterwarnings("ignore")
 logging.disable(logging.CRITICAL)
 import numpy as np, pyproj
@@ -75,6 +75,10 @@ roi = idp.ROI()
 for k, v in d["rois"].items():
     roi[k] = np.array(v, dtype=float)
 roi.crs = pyproj.CRS.from_user_input(d["crs"])
+"""
+"""The start of every easyidp 2.0.4 child: argv PROJECT ROIS_JSON; the ROIs read into ``roi``."""
+
+REF_PROJECT = REF_ROIS + r"""
 ms = idp.Metashape(project, chunk_id=0, check_img_existance=False)
 t0 = time.perf_counter()
 out = ms.back2raw(roi)
@@ -99,18 +103,8 @@ print(json.dumps({"seconds": t2 - t0, "project_s": t1 - t0, "crop_s": t2 - t1,
                   "crops": len(out.files), "skipped": len(out.skipped_photos)}))
 """
 
-REF_CROPS = r"""
-import json, logging, os, sys, time, warnings
-warnings.filterwarnings("ignore")
-logging.disable(logging.CRITICAL)
-import numpy as np, pyproj
-import easyidp as idp
-project, rois_path, folder = sys.argv[1:4]
-d = json.load(open(rois_path))
-roi = idp.ROI()
-for k, v in d["rois"].items():
-    roi[k] = np.array(v, dtype=float)
-roi.crs = pyproj.CRS.from_user_input(d["crs"])
+REF_CROPS = REF_ROIS + r"""
+folder = sys.argv[3]
 t0 = time.perf_counter()
 ms = idp.Metashape(project, chunk_id=0)
 out = ms.back2raw(roi, save_folder=folder)

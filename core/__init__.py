@@ -14,14 +14,10 @@ CRS axis order and heights follow the one set of
 __version__ = "0.3.0"
 
 import os
-from typing import Optional
+from typing import TYPE_CHECKING, Optional
 
 from .errors import Cancelled, EasyIDPError, InputError, ROIError
 from .deprecation import renamed_parameters
-from .pointcloud import (CloudCropResult, PointCloud, canopy_summary, cloud_roi_heights,
-                         crop_point_cloud, read_point_cloud, write_point_cloud)
-from .plotgrid import (FieldBookJoin, GridAnchor, GridLayout, Numbering, PlotGrid,
-                       create_plot_grid, fit_plot_grid)
 from .progress import Progress
 from .projection import (back_project, camera_footprints, crop_photos, draw_previews,
                          export_training_set, forward_project, forward_project_photos,
@@ -30,7 +26,39 @@ from .raster import RasterCropResult, crop_raster_by_rois, dsm_roi_heights, open
 from .reconstruction import Reconstruction, open_reconstruction
 from .roi import ROI, ROISet, read_geojson, roi_from_coordinates
 from .roi import open_rois as _open_rois
-from .season import run_season
+
+if TYPE_CHECKING:
+    from .plotgrid import (FieldBookJoin, GridAnchor, GridLayout, Numbering, PlotGrid,
+                           create_plot_grid, fit_plot_grid)
+    from .pointcloud import (CloudCropResult, PointCloud, canopy_summary, cloud_roi_heights,
+                             crop_point_cloud, read_point_cloud, write_point_cloud)
+    from .season import run_season
+
+_ON_FIRST_USE = {name: package for package, names in (
+    ("pointcloud", ("CloudCropResult", "PointCloud", "canopy_summary", "cloud_roi_heights",
+                    "crop_point_cloud", "read_point_cloud", "write_point_cloud")),
+    ("plotgrid", ("FieldBookJoin", "GridAnchor", "GridLayout", "Numbering", "PlotGrid",
+                  "create_plot_grid", "fit_plot_grid")),
+    ("season", ("run_season",))) for name in names}
+"""The facade's names whose package is imported when one is first used (PEP 562), not with
+the facade: every QGIS tool imports the facade when QGIS loads the plugin (``qgis_process``
+too, at each run), and these packages are the ones the other tools do not need (0.05 s of
+CPU at each start)."""
+
+
+def __getattr__(name: str):
+    package = _ON_FIRST_USE.get(name)
+    if package is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    import importlib
+    value = getattr(importlib.import_module(f".{package}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_ON_FIRST_USE))
+
 
 __all__ = [
     "__version__", "Cancelled", "EasyIDPError", "InputError", "ROIError", "Progress",

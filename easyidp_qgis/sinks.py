@@ -1,9 +1,12 @@
 """Feature sinks the tools write: the "ROI fields plus extra fields" layers, the index layer of
-the tools that write one file per ROI, and closing a sink before anything opens its file."""
+the tools that write one file per ROI, closing a sink before anything opens its file, and a
+sink output written as a GeoPackage by the engine (:func:`geopackage_file`)."""
+import os
+
 from qgis.core import (QgsFeature, QgsField, QgsFields, QgsProcessingException,
                        QgsProcessingParameterFeatureSink, QgsProcessingUtils)
 
-from .compat import FeatureSinkFlag, ProcessingSourceType
+from .compat import FeatureSinkFlag, FieldType, ProcessingSourceType
 
 
 def close_sink(sink) -> None:
@@ -29,6 +32,31 @@ def fields_of(spec) -> QgsFields:
     for name, kind in spec:
         fields.append(QgsField(name, kind))
     return fields
+
+
+GPKG_TYPES = {FieldType.QString: "TEXT", FieldType.Int: "MEDIUMINT", FieldType.Double: "REAL",
+              FieldType.Bool: "BOOLEAN", FieldType.LongLong: "INTEGER"}
+"""The GeoPackage column type QGIS's writer (GDAL) gives each field type (``core.gpkg``)."""
+
+
+def geopackage_file(alg, parameters, name: str, context):
+    """The file of the sink output ``name`` when it is a new GeoPackage file (an absolute path
+    ending in ``.gpkg``, not a layer added to an existing GeoPackage, not a temporary layer),
+    which the engine writes (``core.gpkg.write_geopackage``: atomically, in one pass, without
+    QgsFeatures) instead of a feature sink; QGIS is told to load it on completion as it would
+    a sink's output (``parameterAsOutputLayer``). None otherwise: write a sink."""
+    from .outputs import scratch_context
+    dest = alg.parameterAsOutputLayer(parameters, name, scratch_context(context))
+    if not (isinstance(dest, str) and dest.lower().endswith(".gpkg") and os.path.isabs(dest)
+            and "|" not in dest):
+        return None
+    return alg.parameterAsOutputLayer(parameters, name, context)
+
+
+def gpkg_fields(spec) -> list:
+    """``[(name, GeoPackage type)]`` of ``[(name, compat.FieldType member)]`` (as QGIS's writer
+    types them, :data:`GPKG_TYPES`)."""
+    return [(n, GPKG_TYPES[kind]) for n, kind in spec]
 
 
 BATCH = 10000

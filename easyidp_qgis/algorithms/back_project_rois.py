@@ -22,9 +22,19 @@ from ..progress import feedback_progress
 from ..projects import add_project_parameters, open_project_parameter
 from ..rasters import dsm_parameter
 from ..rois import add_roi_parameters, rois_parameter
-from ..sinks import fields_of, write_features, write_roi_layer
+from ..sinks import fields_of, geopackage_file, gpkg_fields, write_features, write_roi_layer
 from ..vertex_heights import add_height_parameters, height_source_parameter
 from .base import CoreStep, EasyIDPAlgorithm
+
+
+PIXEL_FIELDS = (("roi", FieldType.QString), ("photo", FieldType.QString),
+                ("photo_path", FieldType.QString), ("rank", FieldType.Int),
+                ("score", FieldType.Double), ("view_angle", FieldType.Double),
+                ("gsd", FieldType.Double), ("visible_fraction", FieldType.Double),
+                ("occluded_fraction", FieldType.Double), ("centre_distance", FieldType.Double),
+                ("clipped", FieldType.Bool), ("photo_width", FieldType.Int),
+                ("photo_height", FieldType.Int), ("uncertainty_px", FieldType.Double))
+"""The fields of the ROIs in photo pixels (OUTPUT), one feature per ROI × photo."""
 
 
 class BackProjectROIs(EasyIDPAlgorithm):
@@ -226,20 +236,12 @@ class BackProjectROIs(EasyIDPAlgorithm):
         return outputs
 
     def _write_pixels(self, parameters, context, result, paths):
-        fields = fields_of((("roi", FieldType.QString), ("photo", FieldType.QString),
-                            ("photo_path", FieldType.QString), ("rank", FieldType.Int),
-                            ("score", FieldType.Double), ("view_angle", FieldType.Double),
-                            ("gsd", FieldType.Double), ("visible_fraction", FieldType.Double),
-                            ("occluded_fraction", FieldType.Double),
-                            ("centre_distance", FieldType.Double), ("clipped", FieldType.Bool),
-                            ("photo_width", FieldType.Int), ("photo_height", FieldType.Int),
-                            ("uncertainty_px", FieldType.Double)))
-
         # column by column: numpy → Python values once per column, geometries in one pass
         sizes = np.asarray(result.image_sizes, np.int64).reshape(-1, 2)[result.photo_index]
         paths = [p or "" for p in paths]
-        columns = [[result.roi_names[k] for k in result.roi.tolist()],
-                   [str(p) for p in result.photo.tolist()],
+        photos = [str(p) for p in result.photo.tolist()]
+        uncertainty = {p: _num(result.uncertainty_px.get(p)) for p in set(photos)}
+        columns = [[result.roi_names[k] for k in result.roi.tolist()], photos,
                    [paths[j] for j in result.photo_index.tolist()],
                    np.asarray(result.rank).astype(int).tolist(),
                    *(_numbers(c) for c in (result.score, result.view_angle, result.gsd,
@@ -247,7 +249,18 @@ class BackProjectROIs(EasyIDPAlgorithm):
                                            result.centre_distance)),
                    np.asarray(result.clipped, bool).tolist(),
                    sizes[:, 0].tolist(), sizes[:, 1].tolist(),
-                   [_num(result.uncertainty_px.get(str(p))) for p in result.photo.tolist()]]
+                   [uncertainty[p] for p in photos]]
+        path = geopackage_file(self, parameters, self.OUTPUT, context)
+        if path:
+            # a new GeoPackage file: the engine writes it (atomically, no QgsFeature per pair,
+            # no spatial index; 47,477 pairs: about 0.2 s of CPU, the sink about 0.8 s). QGIS's
+            # sink would give it the undefined Cartesian CRS too (srs_id -1).
+            from ...core.gpkg import GpkgTable, encoded_multipolygons, write_geopackage
+            write_geopackage(path, [GpkgTable(
+                os.path.splitext(os.path.basename(path))[0], gpkg_fields(PIXEL_FIELDS),
+                list(zip(*columns)), encoded_multipolygons(result.polygons, flip_y=True))])
+            return path
+        fields = fields_of(PIXEL_FIELDS)
         rows = zip(map(list, zip(*columns)), pixel_geometries(result.polygons))
         dest = write_features(self, parameters, self.OUTPUT, context, fields, WkbType.MultiPolygon,
                               pixel_crs(), rows)

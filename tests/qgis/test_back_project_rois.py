@@ -257,3 +257,56 @@ def test_values_without_crops_say_so(provider, survey):
                          "OUTPUT": "memory:", "OUTPUT_SUMMARY": "memory:"},
                    context=QgsProcessingContext(), feedback=feedback)
     assert "apply to the crops and previews only" in feedback.textLog()
+def test_geopackage_file_written_by_the_engine_is_what_qgis_writes(provider, survey, tmp_path):
+    """[independent] QGIS's own writer is the truth: a GeoPackage file output is written by the
+    engine (core.gpkg), a layer added into a GeoPackage ('ogr:dbname=… table=…') still by a
+    QGIS feature sink; both hold the same fields (names, types), values (NULLs included),
+    geometries and undefined CRS, and the engine's file has no spatial index."""
+    import sqlite3
+    params = {"ROIS": survey.plots_gpkg, "NAME_FIELD": "plot_id",
+              "PROJECT": survey.metashape_project, "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.5,
+              "MIN_VISIBLE": 0}
+    ours = _run(dict(params, OUTPUT=str(tmp_path / "ours.gpkg")))["OUTPUT"]
+    sink = tmp_path / "sink.gpkg"
+    theirs = _run(dict(params, OUTPUT=f"ogr:dbname='{sink}' table=\"pixels\" (geom)"))["OUTPUT"]
+    assert ours == str(tmp_path / "ours.gpkg") and "layername=pixels" in theirs
+    a, b = QgsVectorLayer(ours, "a", "ogr"), QgsVectorLayer(theirs, "b", "ogr")
+    assert a.isValid() and b.isValid() and a.featureCount() == b.featureCount() > 40
+    assert [(f.name(), f.typeName()) for f in a.fields()] == \
+        [(f.name(), f.typeName()) for f in b.fields()]
+    assert a.wkbType() == b.wkbType() and a.crs() == b.crs()
+    fa = sorted(a.getFeatures(), key=lambda f: f.id())
+    fb = sorted(b.getFeatures(), key=lambda f: f.id())
+    nulls = 0
+    for x, y in zip(fa, fb):
+        assert x.attributes()[1:] == y.attributes()[1:], x.id()
+        assert x.geometry().equals(y.geometry()), x.id()
+        nulls += sum(1 for v in x.attributes() if v is None or (hasattr(v, "isNull") and v.isNull()))
+    assert nulls >= len(fa)               # occluded_fraction and uncertainty_px are NULL here
+    con = sqlite3.connect(ours)
+    assert not [n for (n,) in con.execute("SELECT name FROM sqlite_master") if "rtree" in n]
+    con.close()
+
+
+def test_the_engines_geopackage_never_replaces_an_input_or_a_users_file(provider, survey, tmp_path):
+    """The GeoPackage the engine writes obeys the output policy as a sink does: onto the ROI
+    layer's own file, or onto a user's file without OVERWRITE, the run is refused and the file
+    is untouched (its bytes); with OVERWRITE the file is replaced whole, no temporary file left."""
+    import hashlib
+    import shutil
+    rois = tmp_path / "plots.gpkg"
+    shutil.copy(survey.plots_gpkg, rois)
+    digest = hashlib.sha256(rois.read_bytes()).hexdigest()
+    params = {"ROIS": str(rois), "NAME_FIELD": "plot_id", "PROJECT": survey.metashape_project,
+              "HEIGHT_SOURCE": 3, "GROUND_HEIGHT": 95.5, "MAX_IMAGES": 1}
+    with pytest.raises(QgsProcessingException, match="is also the input 'ROIs"):
+        _run(dict(params, OUTPUT=str(rois)))
+    assert hashlib.sha256(rois.read_bytes()).hexdigest() == digest
+    mine = tmp_path / "mine.gpkg"
+    mine.write_bytes(b"a user's file")
+    with pytest.raises(QgsProcessingException, match="mine.gpkg already exists and nothing was written"):
+        _run(dict(params, OUTPUT=str(mine)))
+    assert mine.read_bytes() == b"a user's file"
+    res = _run(dict(params, OUTPUT=str(mine), OVERWRITE=True))
+    assert res["OUTPUT"] == str(mine) and QgsVectorLayer(str(mine), "m", "ogr").featureCount() == 40
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["mine.gpkg", "plots.gpkg"]
