@@ -93,7 +93,7 @@ def main(argv=None) -> int:
                                 f"{n} cameras, no occlusion") if n == max(counts) else (None, None)
             last = n == max(counts)
             rows.append([f"back-projection with occlusion, {n:,} cameras",
-                         info and info["seconds"], run.peak_mb,
+                         info and info["seconds"], run.cpu, run.peak_mb,
                          info and f"{info['records']:,} records, {info['plots_seen']:,} plots",
                          ref and ref["seconds"], ref_run and ref_run.peak_mb,
                          f"≤ {BACK_SECONDS:g} s, ≤ {BACK_MIB:g} MiB" if last else "-"])
@@ -109,7 +109,7 @@ def main(argv=None) -> int:
         run, info = step([WORKERS, "crop", folder, runs / "crop"], "ours", runs / "crop")
         ref_run, ref = step([CROP_WORKERS, "floor_procs", paths["ortho"], paths["plots"],
                              runs / "floor"], "all-core floor", runs / "floor")
-        rows.append(["crop raster", info and info["seconds"], run.peak_mb,
+        rows.append(["crop raster", info and info["seconds"], run.cpu, run.peak_mb,
                      info and f"{info['files']:,} files", ref and ref["loop_s"],
                      ref_run.peak_mb, f"≤ {CROP_FLOOR:g} × floor"])
         checks.append(target("crop raster / all-core floor (crop seconds)",
@@ -120,30 +120,35 @@ def main(argv=None) -> int:
     if "stats" in steps:
         print(f"  photo statistics ({views}):", flush=True)
         run, info = step([WORKERS, "stats", folder], "photo statistics")
-        rows.append([f"photo statistics ({views})", info and info["seconds"], run.peak_mb,
-                     info and f"{info['records']:,} views of {info['plots']:,} plots",
+        rows.append([f"photo statistics ({views})", info and info["seconds"], run.cpu,
+                     run.peak_mb,
+                     info and f"{info['used']:,} of {info['records']:,} views used, "
+                             f"{info['plots']:,} plots",
                      None, None, "-"])
     if "crops" in steps:
         print(f"  raw-photo crops ({views}):", flush=True)
         run, info = step([WORKERS, "crops", folder, runs / "crops"], "crops", runs / "crops")
-        rows.append([f"raw-photo crops ({views})", info and info["seconds"], run.peak_mb,
+        rows.append([f"raw-photo crops ({views})", info and info["seconds"], run.cpu,
+                     run.peak_mb,
                      info and f"{info['files']:,} crops", None, None, "-"])
     if "training" in steps:
         print(f"  training set ({views}):", flush=True)
         run, info = step([WORKERS, "training", folder, runs / "training"], "training set",
                          runs / "training")
-        rows.append([f"training-set export ({views})", info and info["seconds"], run.peak_mb,
+        rows.append([f"training-set export ({views})", info and info["seconds"], run.cpu,
+                     run.peak_mb,
                      info and f"{info['images']:,} images, {info['files']:,} files", None, None,
                      "-"])
     shutil.rmtree(runs, ignore_errors=True)
 
     print()
-    print(table(["step", "seconds", "peak MiB", "output", "reference s", "reference MiB",
+    print(table(["step", "seconds", "cpu s", "peak MiB", "output", "reference s", "reference MiB",
                  "target"], rows))
     print_targets(checks)
     print("\nseconds: inside the measured call (photo statistics and crops: after their "
           "back-projection, 3 views per plot on the photos that exist); peak: the child "
-          "process's largest resident set. References: back-projection without the occlusion "
+          "process's largest resident set; cpu s: its user + system seconds (start-up "
+          "included), steadier than seconds on a busy machine. References: back-projection without the occlusion "
           "test (same cameras); crop raster: the all-core floor of bench_crop_raster.")
     return 0
 

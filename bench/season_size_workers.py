@@ -69,7 +69,8 @@ def stats(folder):
     res = photo_statistics(views)
     t2 = time.perf_counter()
     print(json.dumps(dict(seconds=t2 - t1, project_s=t1 - t0, records=len(views),
-                          plots=len(set(views.roi.tolist())))), flush=True)
+                          plots=len(set(views.roi.tolist())), used=int(res.used.sum()))),
+          flush=True)
 
 
 def crops(folder, out):
