@@ -80,7 +80,7 @@ def main(argv=None) -> int:
     print(f"  inputs in {folder} ({'ready' if made < 5 else f'generated in {made:.0f} s'}): "
           f"{gib(disk_use(folder))} on disk (DSM {gib(sizes['dsm'])}, orthomosaic "
           f"{gib(sizes['ortho'])}, photos {gib(disk_use(folder / 'photos'))})", flush=True)
-    runs = OUT / "runs"
+    runs = OUT / f"runs_{os.getpid()}"   # outputs of this run only, removed after each step
     rows, checks = [], []
     full = spec is FULL and not a.cameras
 

@@ -105,7 +105,10 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
     C = np.array([c.C for c in cams])
     n_in = np.zeros(len(rec_roi), np.int64)
     blocked = np.zeros(len(rec_roi), np.int64)
+    band = _roi_bands(need, starts, xy, surface, len(rois)) if banded else \
+        np.zeros(len(rois), np.int64)
     state = {"undecided": 0, "surface": surface}
+    del surface                       # a replaced surface must not stay referenced here
     pending: List[Tuple[np.ndarray, np.ndarray, np.ndarray]] = []
     queued = [0]
 
@@ -130,8 +133,6 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
         blocked[:] += np.bincount(owner[hits.status == HIT], minlength=len(rec_roi))
         state["undecided"] += int((hits.status == NODATA).sum())
 
-    band = _roi_bands(need, starts, xy, surface, len(rois)) if banded else \
-        np.zeros(len(rois), np.int64)
     key = band[rec_roi] * (int(rec_cam.max(initial=0)) + 1) + rec_cam
     order = np.argsort(key, kind="stable")
     groups = np.split(order, np.flatnonzero(np.diff(key[order])) + 1) if len(order) else []

@@ -82,21 +82,31 @@ def _segment_hits_box(P, C):
     return (tmax > np.maximum(tmin, 1e-9)) & (tmin < 1.0)
 
 
-def test_box_occludes_the_roi_behind_it_within_two_percent(box_scene):
-    recon, rois, dsm = box_scene
-    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0,
-                       occlusion_samples=400)
+def _behind_truth(recon, rois):
+    """photo label -> the analytic occluded share of a dense ground grid over the ROI behind
+    the box, among its points inside that photo."""
     ring = rois[0].rings[0] - OFFSET[:2]
     g = (np.arange(300) + 0.5) / 300
     gx, gy = np.meshgrid(2.1 + 5.9 * g, -3.0 + 6.0 * g)
     pts = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
     assert points_in_rings(pts[:, 0], pts[:, 1], [ring]).all()
     proj = recon.project_points(pts + OFFSET, UTM)
+
+    def truth(photo):
+        j = proj.camera_labels.index(photo)
+        seen = proj.status[j] == INSIDE
+        return _segment_hits_box(pts[seen], recon.cameras[j].C).mean()
+    return truth
+
+
+def test_box_occludes_the_roi_behind_it_within_two_percent(box_scene):
+    recon, rois, dsm = box_scene
+    res = back_project(rois, recon, heights=0.0, occlusion_dsm=DSM(dsm), min_visible=0,
+                       occlusion_samples=400)
+    truth_of = _behind_truth(recon, rois)
     checked = 0
     for i in res.records_of("behind"):
-        j = proj.camera_labels.index(res.photo[i])
-        seen = proj.status[j] == INSIDE
-        truth = _segment_hits_box(pts[seen], recon.cameras[j].C).mean()
+        truth = truth_of(res.photo[i])
         print(f"\n{res.photo[i]}: occluded {res.occluded_fraction[i]:.4f}, truth {truth:.4f}")
         assert res.occluded_fraction[i] == pytest.approx(truth, abs=0.02)
         checked += 1
@@ -135,17 +145,9 @@ def test_a_dsm_over_the_tile_budget_is_tested_band_by_band(box_scene, monkeypatc
     assert len(made) >= 3                    # one surface per band: three bands of ROIs
     assert banded.photo.tolist() == whole.photo.tolist()
     np.testing.assert_array_equal(banded.occluded_fraction, whole.occluded_fraction)
-    ring = rois[0].rings[0] - OFFSET[:2]
-    g = (np.arange(300) + 0.5) / 300
-    gx, gy = np.meshgrid(2.1 + 5.9 * g, -3.0 + 6.0 * g)
-    pts = np.column_stack([gx.ravel(), gy.ravel(), np.zeros(gx.size)])
-    assert points_in_rings(pts[:, 0], pts[:, 1], [ring]).all()
-    proj = recon.project_points(pts + OFFSET, UTM)
+    truth_of = _behind_truth(recon, rois)
     for i in banded.records_of("behind"):
-        j = proj.camera_labels.index(banded.photo[i])
-        seen = proj.status[j] == INSIDE
-        truth = _segment_hits_box(pts[seen], recon.cameras[j].C).mean()
-        assert banded.occluded_fraction[i] == pytest.approx(truth, abs=0.02)
+        assert banded.occluded_fraction[i] == pytest.approx(truth_of(banded.photo[i]), abs=0.02)
 
 
 def test_roi_is_not_occluded_by_its_own_canopy(box_scene):
