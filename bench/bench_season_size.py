@@ -82,7 +82,6 @@ def main(argv=None) -> int:
           f"{gib(sizes['ortho'])}, photos {gib(disk_use(folder / 'photos'))})", flush=True)
     runs = OUT / f"runs_{os.getpid()}"   # outputs of this run only, removed after each step
     rows, checks = [], []
-    full = spec is FULL and not a.cameras
 
     if "backproject" in steps:
         print("  back-projection (heights from the DSM):", flush=True)
@@ -98,7 +97,7 @@ def main(argv=None) -> int:
                          ref and ref["seconds"], ref_run and ref_run.peak_mb,
                          f"≤ {BACK_SECONDS:g} s, ≤ {BACK_MIB:g} MiB" if last else "-"])
             if last:
-                note = "" if full else f" ({spec.cameras:,} of 2,000 cameras: quick)"
+                note = "" if n >= FULL.cameras else f" ({n:,} of {FULL.cameras:,} cameras)"
                 checks.append(target(f"back-projection with occlusion, seconds{note}",
                                      info and info["seconds"], BACK_SECONDS, False))
                 checks.append(target(f"back-projection with occlusion, peak MiB{note}",
