@@ -174,9 +174,14 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
     return out, notes
 
 
+def _tile_bytes(tile: int, dtype) -> int:
+    """Bytes of one ray-surface tile (its cell corners and cell maxima)."""
+    return ((tile + 1) ** 2 + tile ** 2) * np.dtype(dtype).itemsize
+
+
 def surface_bytes(surface) -> int:
-    """Bytes of the DSM tiles a ray surface holds (cell corners and cell maxima)."""
-    return surface.loaded * ((surface.T + 1) ** 2 + surface.T ** 2) * np.dtype(surface.dtype).itemsize
+    """Bytes of the DSM tiles a ray surface holds."""
+    return surface.loaded * _tile_bytes(surface.T, surface.dtype)
 
 
 def _ray_surface(dsm):
@@ -184,8 +189,8 @@ def _ray_surface(dsm):
     in SURFACE_BYTES; else one of this call only, replaced band by band as it fills."""
     tif, t = dsm.tif, RAY_TILE
     tiles = -(-(tif.width + 1) // t) * -(-(tif.height + 1) // t)
-    itemsize = 8 if tif.dtype == np.float64 else 4
-    if tiles * ((t + 1) ** 2 + t ** 2) * itemsize <= SURFACE_BYTES:
+    dtype = np.float64 if tif.dtype == np.float64 else np.float32   # as RaySurface keeps them
+    if tiles * _tile_bytes(t, dtype) <= SURFACE_BYTES:
         return dsm.ray_surface(), False
     return RaySurface(tif), True
 
