@@ -4,10 +4,9 @@
 centres inside the polygon, in the DSM's CRS) and placed **on the DSM surface** (bilinear
 between pixel centres, the surface the rays are cast on). A sample seen by a photo (inside its
 frame) is *occluded* when the line of sight from the camera centre to the sample meets the
-surface more than ``tolerance`` before the sample (:func:`core.raster.first_hits`, cast
-from ``tolerance`` above the sample towards the camera: the same segment, and only the DSM
-tiles around the samples are read). ``occluded_fraction`` is the share of the in-frame
-samples that are occluded.
+surface more than ``tolerance`` before the sample (:func:`core.raster.first_hits`
+with the ray ended at ``distance − tolerance``). ``occluded_fraction`` is the share of the
+in-frame samples that are occluded.
 
 **Memory.** When the DSM's tiles would take more than :data:`SURFACE_BYTES` as a ray surface
 (a season's DSM), the ROIs are tested band by band of the DSM (:data:`BAND_TILES` tile rows),
@@ -120,16 +119,11 @@ def occluded_fractions(rois, rec_roi: np.ndarray, rec_cam: np.ndarray, recon, ca
         cam_of = np.concatenate([p[2] for p in pending])
         pending.clear()
         queued[0] = 0
-        # cast from the sample (moved ``tol`` towards the camera) up to the camera: the same
-        # segment as from the camera down, but the rays read only the tiles around the samples
-        # (they leave the surface's height range within a few metres), not along their whole way
-        p = model[target]
-        d = C[cam_of] - p
+        o = C[cam_of]
+        d = model[target] - o
         dist = np.linalg.norm(d, axis=1)
-        d /= dist[:, None]
-        step = np.minimum(tol, dist)
-        hits = first_hits(state["surface"], recon.frame, p + d * step[:, None], d,
-                          max_distance=dist - step, is_cancelled=prog.cancelled)
+        hits = first_hits(state["surface"], recon.frame, o, d / dist[:, None],
+                          max_distance=np.maximum(dist - tol, 0.0), is_cancelled=prog.cancelled)
         blocked[:] += np.bincount(owner[hits.status == HIT], minlength=len(rec_roi))
         state["undecided"] += int((hits.status == NODATA).sum())
 
