@@ -69,6 +69,8 @@ def main(argv=None) -> int:
     counts = [int(c) for c in a.cameras.split(",")] if a.cameras else \
         [spec.cameras // 4, spec.cameras // 2, spec.cameras]
     steps = a.steps.split(",")
+    if set(steps) - {"backproject", "crop", "stats", "crops", "training"}:
+        ap.error(f"--steps: unknown {sorted(set(steps) - {'backproject', 'crop', 'stats', 'crops', 'training'})}")
     OUT.mkdir(parents=True, exist_ok=True)
     print(f"Season size: {spec.cameras:,} cameras of 20 MP, {spec.plots:,} plots, "
           f"{spec.raster:,}² DSM and orthomosaic ({spec.pixel * 100:g} cm), {spec.photos} photos "
