@@ -183,9 +183,6 @@ def main(out: str) -> int:
           f"(next lines); the round trip's object visibility: {CONS} (generator's camera):")
     for line in photo_stats:
         print(line)
-    print(f"  {IND} multispectral NDVI against the demo's reflectance field under the plot outlines "
-          f"(digital numbers written by the generator's own inverse of MicaSense's model; the "
-          f"outlines projected by OpenCV):")
     for line in multispectral:
         print(line)
     for line in thermal:

@@ -84,4 +84,6 @@ def run_multispectral_demo(steps, s, out, features, *, views: int = 3) -> list:
             f"project, DLS 2, a passing cloud, per-band auto-exposure), through the tool: NDVI from "
             f"reflectance within {e_ndvi.max():.4f} (mean {e_ndvi.mean():.4f}) of the truth over "
             f"{len(e_ndvi)} plots; NDVI from the stored digital numbers off by up to "
-            f"{e_dn.max():.3f} (mean {e_dn.mean():.3f}){note}"]
+            f"{e_dn.max():.3f} (mean {e_dn.mean():.3f}){note}; truth: the demo's reflectance field "
+            f"under the plot outlines projected by OpenCV (digital numbers written by the "
+            f"generator's own inverse of MicaSense's model)"]
