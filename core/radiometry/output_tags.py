@@ -8,8 +8,8 @@ band's unit type (``UNITTYPE``, e.g. ``degC``) and description (the band name, e
 Pixels without a value (invalid: saturated, unreadable; or outside what the file shows) are
 NaN, which GDAL's nodata tag (42113) states.
 """
+from html import escape
 from typing import List, Sequence, Tuple
-from xml.sax.saxutils import escape, quoteattr
 
 from .values import PhotoValues
 
@@ -30,7 +30,8 @@ def gdal_metadata(values: str, photo_values: PhotoValues, extra_bands: Sequence[
         items.append(("UNITTYPE", photo_values.unit, f' sample="{k}" role="unittype"'))
     for k, band in enumerate(extra_bands, start=len(photo_values.bands)):
         items.append(("DESCRIPTION", band, f' sample="{k}" role="description"'))
-    body = "".join(f"<Item name={quoteattr(n)}{attrs}>{escape(v)}</Item>" for n, v, attrs in items)
+    # html.escape: &, <, > and both quotes, which is XML's escaping of text and attribute values
+    body = "".join(f'<Item name="{escape(n)}"{attrs}>{escape(v)}</Item>' for n, v, attrs in items)
     # TIFF text is 7-bit ASCII: "°C" as a character reference (XML readers and GDAL decode it)
     return f"<GDALMetadata>{body}</GDALMetadata>".encode("ascii", "xmlcharrefreplace").decode()
 
