@@ -30,6 +30,7 @@ from ..errors import InputError, reads_file
 from .frame_model import Calibration
 from .geodesy import GeocentricFrame, LocalFrame, is_local
 from .model import Camera, Marker, Reconstruction, Sensor
+from .project_reader import OpenOptions, ProjectReader
 from ..rotations import rotation_vector
 from ..safe_xml import Element, XMLError, parse_xml
 from .rolling_shutter import RollingShutter
@@ -496,3 +497,21 @@ def _open_metashape(path: Path, chunk, crs=None) -> Reconstruction:
     e = _choose_chunk(_chunk_entries(src, doc), chunk, str(path))
     where = src.where(e["path"]) if e["path"] else str(path)
     return read_chunk(e["_doc"], where, path, src, e["path"], e["id"], crs)
+
+
+# --- the reader of open_reconstruction (readers.py) ---------------------------------------------
+SUFFIXES = (".psx", ".psz", ".xml")
+
+
+def recognises(path: Path) -> bool:
+    """A ``.psx``, ``.psz`` or cameras ``.xml`` path, by its suffix alone (a missing one too:
+    :func:`open_metashape` then says it is missing)."""
+    return path.suffix.lower() in SUFFIXES
+
+
+def _open(path: Path, options: OpenOptions) -> Reconstruction:
+    return open_metashape(path, options.chunk, options.source_crs)
+
+
+READER = ProjectReader("Metashape", "a .psx or .psz project, or a cameras .xml (File > Export "
+                       "Cameras)", recognises, _open)

@@ -41,6 +41,7 @@ from ..photo_files import PhotoFiles, photo_key
 from ..raster import open_geotiff
 from .geodesy import GeocentricFrame, LocalFrame, ModelFrame, OffsetFrame, geocentric_of
 from .model import Camera, Marker, Reconstruction, Sensor
+from .project_reader import OpenOptions, ProjectReader
 from .opensfm import (camera_table, choose, load_json, normalised_to_pixels, read_gcp_json,
                       read_reconstruction_list, reference_lla, shot_counts, shot_pose)
 
@@ -421,3 +422,13 @@ def _markers(layout: _Layout, frame, map_crs, cameras, sensors, lla) -> List[Mar
                 obs[shot] = (float(u), float(v))
         out.append(Marker(p["id"], p["id"], ref, ref is not None, obs))
     return out
+
+
+# --- the reader of open_reconstruction (readers.py) ---------------------------------------------
+def _open(path: Path, options: OpenOptions) -> Reconstruction:
+    return open_opensfm(path, options.chunk, options.source_crs)
+
+
+READER = ProjectReader("OpenDroneMap / OpenSfM", "an ODM project folder (opensfm/, odm_*/), an "
+                       "OpenSfM dataset folder or its reconstruction.json", is_opensfm_input,
+                       _open)

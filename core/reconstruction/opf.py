@@ -49,6 +49,7 @@ from ..photo_files import file_name, is_windows_path
 from .frame_model import FISHEYE, Calibration
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
+from .project_reader import OpenOptions, ProjectReader
 
 PYOPF_HINT = "pip install pyopf"
 PROJECT_SUFFIX = ".opf"
@@ -276,3 +277,19 @@ def open_opf(path, crs=None) -> Reconstruction:
     label = getattr(raw, "name", None) or opf.stem
     return Reconstruction(source=opf, software="opf", label=label, crs=crs_, frame=frame,
                           sensors=sensors, cameras=cameras, notes=notes)
+
+
+# --- the reader of open_reconstruction (readers.py) ---------------------------------------------
+def recognises(path: Path) -> bool:
+    """An ``.opf`` path (a missing one too: :func:`open_opf` says so), or a folder holding one
+    (several: :func:`find_project_opf` refuses them)."""
+    return path.suffix.lower() == PROJECT_SUFFIX or (path.is_dir()
+                                                     and find_project_opf(path) is not None)
+
+
+def _open(path: Path, options: OpenOptions) -> Reconstruction:
+    return open_opf(path, options.source_crs)
+
+
+READER = ProjectReader("OPF (PIX4Dmatic)", "a project.opf or the folder that holds it (needs "
+                       "pyopf)", recognises, _open)

@@ -22,6 +22,7 @@ from ..photo_tags import read_photo_tags
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
 from .photo_poses import ANGLE_STD_DEG, CAMERA_HEIGHTS, PhotoPose, gimbal_rotation, photo_pose
+from .project_reader import OpenOptions, ProjectReader
 
 __all__ = ["open_photos", "is_photo_input", "list_photo_files", "utm_crs", "convergence"]
 
@@ -207,3 +208,14 @@ def _uncertainty_px(p: PhotoPose) -> float:
     agl = p.relative_height if p.relative_height and p.relative_height > 1 else 100.0
     dist = agl / max(np.cos(off_nadir), 0.2)
     return float(f * np.hypot(np.radians(ANGLE_STD_DEG), p.std_h / dist))
+
+
+# --- the reader of open_reconstruction (readers.py) ---------------------------------------------
+def _open(path, options: OpenOptions) -> Reconstruction:
+    return open_photos(path, options.source_crs, camera_heights=options.camera_heights,
+                       takeoff_height=options.takeoff_height)
+
+
+READER = ProjectReader("Photos", "a folder of JPEG/TIFF drone photos with no project file in "
+                       "it, or a list of photo paths (cameras from their EXIF and XMP tags)",
+                       is_photo_input, _open, photo_tags=True)

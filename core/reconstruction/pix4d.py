@@ -29,6 +29,7 @@ convention as ours, so no half-pixel shift is applied. Distortion acts on normal
 coordinates about the calibrated principal point, tangential in OpenCV order:
 x' = x·rad + 2T1xy + T2(r² + 2x²) → in our model p1 = T2, p2 = T1.
 """
+import os
 import re
 from pathlib import Path
 from typing import Dict, List, Optional, Tuple
@@ -42,6 +43,7 @@ from ..safe_xml import XMLError, parse_xml
 from .frame_model import Calibration
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
+from .project_reader import OpenOptions, ProjectReader
 
 
 def _numbers(tokens: List[str], where: str, line_no: int) -> np.ndarray:
@@ -361,3 +363,34 @@ def _image_size(K: np.ndarray, cam_file: Optional[Path]) -> Tuple[int, int]:
             return int(round(float(m.group(1)))), int(round(float(m.group(2))))
     raise InputError(f"{cam_file or 'params folder'}: the image size is unknown (no "
                      "*_calibrated_camera_parameters.txt and no .cam with 'Image size').")
+
+
+# --- the reader of open_reconstruction (readers.py) ---------------------------------------------
+PARAM_FILES = ("_pmatrix.txt", "_offset.xyz", "_calibrated_camera_parameters.txt",
+               "_calibrated_internal_camera_parameters.cam", "_wkt.prj")
+"""Files of a params folder: any of them stands for its folder."""
+
+
+def recognises(path: Path) -> bool:
+    """A ``.p4d`` path (a missing one too: :func:`open_pix4d` says so), a file of a params folder
+    (:data:`PARAM_FILES`), or a folder that looks like Pix4D's: a ``params`` folder, one holding
+    ``1_initial``, a ``.p4d`` or params files, or one with a ``.p4d`` of its name beside it."""
+    if path.suffix.lower() == ".p4d":
+        return True
+    if path.is_file():
+        return path.name.endswith(PARAM_FILES)
+    if not path.is_dir():
+        return False
+    if path.name == "params" or (path / "1_initial").is_dir() \
+            or path.with_name(path.name + ".p4d").is_file():
+        return True
+    return any(n.lower().endswith(".p4d") or n.endswith(PARAM_FILES) for n in os.listdir(path))
+
+
+def _open(path: Path, options: OpenOptions) -> Reconstruction:
+    folder = path.parent if path.is_file() and path.name.endswith(PARAM_FILES) else path
+    return open_pix4d(folder, options.source_crs)
+
+
+READER = ProjectReader("Pix4D", "a .p4d, the project folder (1_initial/params) or the params "
+                       "folder (*_offset.xyz, *_pmatrix.txt), or a file of it", recognises, _open)
