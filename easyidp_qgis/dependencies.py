@@ -3,12 +3,15 @@
 Everything about dependencies derives from ``DEPENDENCIES``: the message bar of the desktop
 (``installer.py``), the message of a tool run headless (``algorithms/base.py``), the install hint,
 and the command that installs them. To add a package, add a row: the import name, the pip
-requirement (lower bounds: the oldest versions the tests ran with, see ARCHITECTURE.md), and the
-tools that need it (algorithm ``NAME`` values; ``ALL`` for the plugin itself; ``()`` for the
-script-only extras of ``easyidp_toolbox.core``, installed with the others but never blocking
-anything); e.g. ``Dependency("skimage", "scikit-image>=0.22", ("seasontraits",))``. Also add it to
-``requirements/qgis.txt`` (the test environment; a test checks both, and that every package the
-code imports has a row).
+requirement (lower bounds: the oldest versions the tests ran with, see ARCHITECTURE.md), and who
+needs it: ``ALL`` for the plugin itself, ``TOOLS`` for the tools that name it in their
+``REQUIRES`` (each algorithm class in ``algorithms/`` declares the import names it needs; which
+tools need a row is derived from them, :func:`tools_requiring`), ``EXTRA`` for the script-only
+extras of ``easyidp_toolbox.core``, installed with the others but never blocking anything; e.g.
+``Dependency("skimage", "scikit-image>=0.22", TOOLS)`` and ``REQUIRES = (…, "skimage")`` in the
+tools that use it. Also add it to ``requirements/qgis.txt`` (the test environment; a test checks
+both, that every package the code imports has a row, and that every name in a ``REQUIRES`` has
+one).
 
 *Install* installs the releases the tests ran with (``TESTED``, the pins of
 ``requirements/qgis.txt``; a test keeps them equal), per Python: a Python the tests ran on gets
@@ -24,6 +27,7 @@ loads. QGIS's own environment is never changed: numpy and GDAL are QGIS's (``PRO
 never installed by the plugin; pyproj and PyQt (``KEPT``) are never replaced, only installed where
 QGIS has none (``install_packages.py`` pins them all to the installed versions).
 """
+import functools
 import importlib.metadata
 import importlib.util
 import os
@@ -36,25 +40,33 @@ from typing import Dict, List, Optional, Sequence, Tuple, Union
 
 from qgis.PyQt.QtCore import QCoreApplication
 
-ALL = "*"
-RASTER_TOOLS = ("croprasterbyrois", "roiheightsfromdsm", "camerafootprints",
-                "pointcloudroistatistics", "createdemosurvey", "seasontraits", "backprojectrois",
-                "forwardprojectpolygons", "orthorectifyrois", "photostatistics", "fitplotgrid",
-                "exporttrainingset")
-CLOUD_TOOLS = ("croppointcloudbyrois", "pointcloudroistatistics", "createdemosurvey",
-               "seasontraits")
+ALL = "*"          # the plugin itself (the provider imports it): every tool needs it
+TOOLS = "tools"    # the tools whose REQUIRES name it
+EXTRA = ()         # a script-only extra of the engine: installed along, never blocking a tool
 
 
 @dataclass(frozen=True)
 class Dependency:
     module: str                          # the name imported
     requirement: str                     # pip requirement: distribution name, extras, specifier
-    tools: Union[str, Tuple[str, ...]]   # ALL, algorithm NAMEs, or () for script-only extras
+    scope: Union[str, Tuple[()]]         # ALL, TOOLS or EXTRA
     # (distribution, specifier) a package QGIS ships must meet for this one to install beside it
     # (pyopf asks for Pillow >= 10); where QGIS's copy does not, the row is left out of the checks
     # and installs (the code that needs it says so when run)
     needs_shipped: Tuple[str, str] = ()
     python: str = ""                     # the Pythons it has releases for (e.g. ">=3.10"), if not all
+
+    def __post_init__(self):
+        if self.scope not in (ALL, TOOLS, EXTRA):
+            raise ValueError(f"{self.module}: scope must be ALL, TOOLS or EXTRA, not "
+                             f"{self.scope!r} (the tools that need a package say so in their "
+                             "REQUIRES)")
+
+    @property
+    def tools(self) -> Union[str, Tuple[str, ...]]:
+        """``ALL``; the ``NAME`` of every tool whose ``REQUIRES`` names the module (``TOOLS``);
+        or ``()`` (``EXTRA``)."""
+        return tools_requiring(self.module) if self.scope == TOOLS else self.scope
 
     @property
     def distribution(self) -> str:
@@ -79,29 +91,48 @@ class Dependency:
             return True          # not shipped: pip installs a version that fits
 
     def needed_by(self, tool: Optional[str]) -> bool:
-        """Whether ``tool`` needs it (``tool=None``: whether any tool does)."""
-        if self.tools == ALL:
-            return True
-        return bool(self.tools) if tool is None else tool in self.tools
+        """Whether ``tool`` (an algorithm ``NAME``) needs it (``tool=None``: whether any tool
+        does: a ``TOOLS`` row is there because one does, and answers without importing the
+        algorithms, as the plugin's start does)."""
+        if self.scope != TOOLS:
+            return self.scope == ALL
+        return tool is None or tool in self.tools
+
+
+def tools_requiring(module: str) -> Tuple[str, ...]:
+    """The ``NAME`` of every algorithm whose ``REQUIRES`` names ``module``, in the provider's
+    order."""
+    return _requirements().get(module, ())
+
+
+@functools.lru_cache(maxsize=None)
+def _requirements() -> Dict[str, Tuple[str, ...]]:
+    """{import name: tool NAMEs} from the algorithms' ``REQUIRES``. The algorithms are imported
+    here, when a tool asks (they import this module; the plugin's start never needs them)."""
+    from .algorithms import ALGORITHMS
+    found: Dict[str, List[str]] = {}
+    for cls in ALGORITHMS:
+        for module in cls.REQUIRES:
+            found.setdefault(module, []).append(cls.NAME)
+    return {module: tuple(names) for module, names in found.items()}
 
 
 DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("numpy", "numpy>=1.24", ALL),                    # arrays (QGIS's own)
     Dependency("pyproj", "pyproj>=3.4", ALL),                   # CRSs (QGIS ships it on Debian)
-    Dependency("tifffile", "tifffile>=2023.7.10", RASTER_TOOLS),   # GeoTIFF reading, writing
-    Dependency("imagecodecs", "imagecodecs>=2023.3.16", RASTER_TOOLS),  # LZW/JPEG/ZSTD, JPEG
-    Dependency("laspy", "laspy>=2.5.3", CLOUD_TOOLS),           # LAS/LAZ
-    Dependency("lazrs", "lazrs>=0.5.2", CLOUD_TOOLS),           # LAZ compression for laspy
-    Dependency("plyfile", "plyfile>=1.0.3", CLOUD_TOOLS),       # PLY
-    Dependency("shapefile", "pyshp>=3.1.6", ()),                # core.open_rois on shapefiles
-    Dependency("scipy", "scipy>=1.10", ("orthorectifyrois",)),  # map_coordinates resampling
-    Dependency("shapely", "shapely>=2.0", ("forwardprojectpolygons",)),  # merging the views
-    Dependency("skimage", "scikit-image>=0.22", ("seasontraits", "photostatistics",
-                                                     "forwardprojectpolygons")),  # Otsu; fuse contours
-    Dependency("PIL", "pillow>=9.4", ("photostatistics",)),             # preview captions
-    Dependency("matplotlib", "matplotlib>=3.6", ("seasontraits",)),      # growth curves
-    Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)
-    Dependency("pyopf", "pyopf>=1.4.1", (), ("pillow", ">=10"), ">=3.10"),  # OPF projects
+    Dependency("tifffile", "tifffile>=2023.7.10", TOOLS),       # GeoTIFF reading, writing
+    Dependency("imagecodecs", "imagecodecs>=2023.3.16", TOOLS),  # LZW/JPEG/ZSTD, JPEG
+    Dependency("laspy", "laspy>=2.5.3", TOOLS),                 # LAS/LAZ
+    Dependency("lazrs", "lazrs>=0.5.2", TOOLS),                 # LAZ compression for laspy
+    Dependency("plyfile", "plyfile>=1.0.3", TOOLS),             # PLY
+    Dependency("shapefile", "pyshp>=3.1.6", EXTRA),             # core.open_rois on shapefiles
+    Dependency("scipy", "scipy>=1.10", TOOLS),                  # map_coordinates resampling
+    Dependency("shapely", "shapely>=2.0", TOOLS),               # merging the views
+    Dependency("skimage", "scikit-image>=0.22", TOOLS),         # Otsu; fuse contours
+    Dependency("PIL", "pillow>=9.4", TOOLS),                    # preview captions
+    Dependency("matplotlib", "matplotlib>=3.6", TOOLS),         # growth curves
+    Dependency("dask", "dask[distributed]>=2024.1", EXTRA),     # Dask clusters (optional)
+    Dependency("pyopf", "pyopf>=1.4.1", EXTRA, ("pillow", ">=10"), ">=3.10"),  # OPF projects
 )
 
 # The releases the tests ran with, by Python (requirements/qgis.txt, where the QGIS matrix runs
@@ -169,14 +200,15 @@ class Missing:
 def missing(tool: Optional[str] = None, include_extras: bool = False) -> List[Missing]:
     """The packages ``tool`` needs (``None``: any tool) that are absent or too old, table order.
 
-    ``include_extras`` adds the script-only extras (``tools=()``), which the installer installs
+    ``include_extras`` adds the script-only extras (``EXTRA``), which the installer installs
     along with the rest. Rows that do not fit this QGIS (``needs_shipped``) are left out. Importability is checked without importing (``find_spec``); the version
     comes from the distribution metadata found first on ``sys.path``, as the import would.
     """
     importlib.invalidate_caches()
     found = []
     for dep in DEPENDENCIES:
-        if not (dep.needed_by(tool) or (include_extras and not dep.tools)) or not dep.fits_here():
+        if not (dep.needed_by(tool) or (include_extras and dep.scope == EXTRA)) \
+                or not dep.fits_here():
             continue
         state = _state(dep)
         if state is not True:

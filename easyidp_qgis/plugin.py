@@ -42,7 +42,7 @@ class EasyIDPPlugin:
         try:
             from .provider import EasyIDPProvider
         except ImportError as exc:  # a package every tool needs is missing or broken
-            required = [m for m in dependencies.missing() if m.dependency.tools == dependencies.ALL]
+            required = [m for m in dependencies.missing() if m.dependency.scope == dependencies.ALL]
             self.load_error = "EasyIDP: the tools could not load. " + (
                 f"{exc}. " + dependencies.tool_message("EasyIDP", required, headless=True)
                 if required else dependencies.import_error_message(exc))

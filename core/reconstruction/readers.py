@@ -6,8 +6,9 @@ Each reader module says whether a path is its (``READER.recognises``); the first
 * OpenDroneMap before OPF, photos and Pix4D: an ODM project folder may also hold an ``.opf``,
   photos or anything else; its ``opensfm/`` and ``odm_*`` folders decide.
 * OPF before photos: a folder with a ``project.opf`` and the photos beside it is the project.
-* Photos before Pix4D: a folder of photos is the photos' (the photo reader leaves a folder
-  holding a project file, a ``1_initial`` folder or params files to the project readers).
+* Photos before Pix4D: a folder of photos with a stray Pix4D file (``*_offset.xyz``) is the
+  photos'; the photo reader itself leaves a folder holding a project file (``.p4d``, ``.psx``,
+  ``.psz``, ``.opf``), a ``1_initial`` folder or a ``*_pmatrix.txt`` to the project readers.
 
 Metashape claims only ``.psx``, ``.psz`` and ``.xml`` paths, which no other reader claims.
 Adding a reader: a module with its ``READER`` (:class:`~.project_reader.ProjectReader`) and

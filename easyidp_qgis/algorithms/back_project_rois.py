@@ -62,6 +62,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
     PREVIEW_FOLDER = "PREVIEW_FOLDER"
 
     NAME = "backprojectrois"
+    REQUIRES = ("tifffile", "imagecodecs")  # the DSM, the photos
     DISPLAY = "Back-project ROIs"
     GROUP = "Projection"
     GROUP_ID = "projection"

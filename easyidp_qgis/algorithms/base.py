@@ -2,7 +2,7 @@
 translation."""
 import os
 import threading
-from typing import Callable, NamedTuple
+from typing import Callable, NamedTuple, Tuple
 
 from qgis.core import QgsProcessingAlgorithm, QgsProcessingException, QgsProcessingParameterBoolean
 from qgis.PyQt.QtCore import QCoreApplication
@@ -55,12 +55,15 @@ class CoreStep(NamedTuple):
 
 
 class EasyIDPAlgorithm(QgsProcessingAlgorithm):
-    """Subclasses set NAME, DISPLAY, GROUP, GROUP_ID, HELP and implement ``core_step`` (the
-    parameters → the core call, testable without running it, as the GDAL provider's
+    """Subclasses set NAME, REQUIRES, DISPLAY, GROUP, GROUP_ID, HELP and implement ``core_step``
+    (the parameters → the core call, testable without running it, as the GDAL provider's
     ``getConsoleCommands``) and ``write_outputs`` (the result → the outputs); ``run_tool``
     chains the two (all 14 tools are split so)."""
 
     NAME = ""
+    REQUIRES: Tuple[str, ...] = ()
+    """The import names of the packages of ``dependencies.DEPENDENCIES`` the tool needs beyond the
+    plugin's own (numpy, pyproj); the table's tools are derived from them."""
     DISPLAY = ""
     GROUP = ""
     GROUP_ID = ""

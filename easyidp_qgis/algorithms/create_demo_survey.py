@@ -33,6 +33,7 @@ class CreateDemoSurvey(EasyIDPAlgorithm):
     FIELD_MESS = "FIELD_MESS"
 
     NAME = "createdemosurvey"
+    REQUIRES = ("tifffile", "imagecodecs", "laspy", "lazrs", "plyfile")  # its rasters and clouds
     DISPLAY = "Create demo survey"
     GROUP = "Demo data"
     GROUP_ID = "demo"

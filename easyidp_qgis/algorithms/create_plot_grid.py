@@ -76,6 +76,7 @@ class CreatePlotGrid(EasyIDPAlgorithm):
     OUTPUT = "OUTPUT"
 
     NAME = "createplotgrid"
+    REQUIRES = ()  # numpy and pyproj only (the plugin's own)
     DISPLAY = "Create plot grid"
     GROUP = "ROIs"
     GROUP_ID = "rois"

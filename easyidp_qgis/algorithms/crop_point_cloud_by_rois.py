@@ -42,6 +42,7 @@ class CropPointCloudByROIs(EasyIDPAlgorithm):
     MISSED = "MISSED"
 
     NAME = "croppointcloudbyrois"
+    REQUIRES = ("laspy", "lazrs", "plyfile")  # LAS/LAZ, PLY
     DISPLAY = "Crop point cloud by ROIs"
     GROUP = "Cropping"
     GROUP_ID = "cropping"

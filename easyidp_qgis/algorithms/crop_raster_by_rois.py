@@ -25,6 +25,7 @@ class CropRasterByROIs(EasyIDPAlgorithm):
     SKIPPED = "SKIPPED"
 
     NAME = "croprasterbyrois"
+    REQUIRES = ("tifffile", "imagecodecs")  # GeoTIFF reading, writing
     DISPLAY = "Crop raster by ROIs"
     GROUP = "Cropping"
     GROUP_ID = "cropping"

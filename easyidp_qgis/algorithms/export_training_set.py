@@ -57,6 +57,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
     OUTPUT_FOLDER = "OUTPUT_FOLDER"
 
     NAME = "exporttrainingset"
+    REQUIRES = ("tifffile", "imagecodecs")  # orthomosaic tiles, photos
     DISPLAY = "Export a training set"
     GROUP = "Projection"
     GROUP_ID = "projection"

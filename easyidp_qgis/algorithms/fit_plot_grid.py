@@ -44,6 +44,7 @@ class FitPlotGrid(EasyIDPAlgorithm):
     OUTPUT = "OUTPUT"
 
     NAME = "fitplotgrid"
+    REQUIRES = ("tifffile", "imagecodecs")  # the orthomosaic
     DISPLAY = "Fit plot grid to crop rows"
     GROUP = "ROIs"
     GROUP_ID = "rois"

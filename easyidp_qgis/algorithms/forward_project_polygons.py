@@ -37,6 +37,8 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
     OUTPUT = "OUTPUT"
 
     NAME = "forwardprojectpolygons"
+    # the DSM; merging the views, fused contours
+    REQUIRES = ("tifffile", "imagecodecs", "shapely", "skimage")
     DISPLAY = "Forward-project polygons"
     GROUP = "Projection"
     GROUP_ID = "projection"

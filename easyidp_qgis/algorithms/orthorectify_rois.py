@@ -39,6 +39,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     MASK = "MASK"
 
     NAME = "orthorectifyrois"
+    REQUIRES = ("tifffile", "imagecodecs", "scipy")  # rasters; map_coordinates resampling
     DISPLAY = "Orthorectify ROIs"
     GROUP = "Projection"
     GROUP_ID = "projection"

@@ -58,6 +58,7 @@ class PhotoStatisticsAlgorithm(EasyIDPAlgorithm):
     PREVIEW_FOLDER = "PREVIEW_FOLDER"
 
     NAME = "photostatistics"
+    REQUIRES = ("tifffile", "imagecodecs", "skimage", "PIL")  # photos; Otsu; preview captions
     DISPLAY = "Plot statistics from photos"
     GROUP = "Projection"
     GROUP_ID = "projection"

@@ -42,6 +42,7 @@ class PointCloudROIStatistics(EasyIDPAlgorithm):
     OUTPUT = "OUTPUT"
 
     NAME = "pointcloudroistatistics"
+    REQUIRES = ("tifffile", "imagecodecs", "laspy", "lazrs", "plyfile")  # the DSM, the cloud
     DISPLAY = "Point cloud statistics per ROI"
     GROUP = "Heights"
     GROUP_ID = "heights"

@@ -38,6 +38,7 @@ class ROIHeightsFromDSM(EasyIDPAlgorithm):
     OUTPUT = "OUTPUT"
 
     NAME = "roiheightsfromdsm"
+    REQUIRES = ("tifffile", "imagecodecs")  # the DSM
     DISPLAY = "ROI heights from DSM"
     GROUP = "Heights"
     GROUP_ID = "heights"

@@ -44,6 +44,8 @@ class SeasonTraits(EasyIDPAlgorithm):
     OUTPUT_CURVES = "OUTPUT_CURVES"
 
     NAME = "seasontraits"
+    # rasters, clouds; Otsu; growth curves
+    REQUIRES = ("tifffile", "imagecodecs", "laspy", "lazrs", "plyfile", "skimage", "matplotlib")
     DISPLAY = "Plot traits over a season"
     GROUP = "Time series"
     GROUP_ID = "timeseries"

@@ -75,10 +75,71 @@ def test_version_comparison_agrees_with_packaging():
 
 
 def test_requirement_parts():
-    row = deps.Dependency("distributed", "dask[distributed]>=2024.1", ("x",))
+    row = deps.Dependency("distributed", "dask[distributed]>=2024.1", deps.TOOLS)
     assert (row.distribution, row.specifier) == ("dask", ">=2024.1")
     assert deps.Dependency("shapefile", "pyshp>=2.3", ()).needed_by(None) is False
     assert deps.Dependency("numpy", "numpy", deps.ALL).needed_by("anything")
+
+
+# The table before the tools declared REQUIRES (dependencies.py, 2026-12-03): which tools each
+# row named. Frozen here as data, for the derived table to give the same answers.
+_RASTER = ("croprasterbyrois", "roiheightsfromdsm", "camerafootprints", "pointcloudroistatistics",
+           "createdemosurvey", "seasontraits", "backprojectrois", "forwardprojectpolygons",
+           "orthorectifyrois", "photostatistics", "fitplotgrid", "exporttrainingset")
+_CLOUD = ("croppointcloudbyrois", "pointcloudroistatistics", "createdemosurvey", "seasontraits")
+OLD_TOOLS = {
+    "numpy": deps.ALL, "pyproj": deps.ALL, "tifffile": _RASTER, "imagecodecs": _RASTER,
+    "laspy": _CLOUD, "lazrs": _CLOUD, "plyfile": _CLOUD, "shapefile": (),
+    "scipy": ("orthorectifyrois",), "shapely": ("forwardprojectpolygons",),
+    "skimage": ("seasontraits", "photostatistics", "forwardprojectpolygons"),
+    "PIL": ("photostatistics",), "matplotlib": ("seasontraits",), "dask": (), "pyopf": (),
+}
+
+
+def test_the_derived_table_answers_as_the_old_one():
+    """[consistency only: the old table, frozen above] For every tool and every row, whether the
+    tool needs the package, and what ``missing`` checks for it, are as before."""
+    assert {d.module for d in deps.DEPENDENCIES} == set(OLD_TOOLS)
+    for dep in deps.DEPENDENCIES:
+        old = OLD_TOOLS[dep.module]
+        assert dep.needed_by(None) == (old == deps.ALL or bool(old)), dep.module
+        if old == deps.ALL or old == ():
+            assert dep.tools == old, dep.module
+        else:
+            assert set(dep.tools) == set(old), dep.module
+        for cls in ALGORITHMS:
+            assert dep.needed_by(cls.NAME) == (old == deps.ALL or cls.NAME in old), \
+                (dep.module, cls.NAME)
+            assert dep.needed_by(cls.NAME) == (dep.module in cls.REQUIRES
+                                               or dep.scope == deps.ALL), (dep.module, cls.NAME)
+
+
+def test_every_tool_declares_its_packages_and_each_has_a_row():
+    """[consistency only] Each algorithm class sets its own REQUIRES (a tuple of import names),
+    every name has a TOOLS row, and every TOOLS row is required by some tool."""
+    rows = {d.module: d for d in deps.DEPENDENCIES}
+    for cls in ALGORITHMS:
+        assert "REQUIRES" in vars(cls), f"{cls.__name__} does not declare REQUIRES"
+        assert isinstance(cls.REQUIRES, tuple) and len(set(cls.REQUIRES)) == len(cls.REQUIRES)
+        for module in cls.REQUIRES:
+            assert module in rows and rows[module].scope == deps.TOOLS, (cls.NAME, module)
+    for dep in deps.DEPENDENCIES:
+        assert (dep.scope == deps.TOOLS) == bool(deps.tools_requiring(dep.module)), dep.module
+    with pytest.raises(ValueError, match="REQUIRES"):
+        deps.Dependency("laspy", "laspy>=2", ("croppointcloudbyrois",))
+
+
+def test_the_plugin_start_checks_without_importing_the_tools():
+    """The desktop's start (the message bar: ``missing()``) and the provider's load failure
+    (ALL rows) never need the algorithms, which may be what failed to import."""
+    code = ("import sys; from easyidp_toolbox.easyidp_qgis import dependencies as d; "
+            "d.missing(); d.missing(include_extras=True); d.install_hint(); "
+            "print(any(m.startswith('easyidp_toolbox.easyidp_qgis.algorithms') "
+            "for m in sys.modules))")
+    import subprocess
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         cwd=ROOT.parent, check=True)
+    assert out.stdout.strip() == "False", out.stderr
 
 
 def test_nothing_missing_in_the_test_environment():
@@ -88,7 +149,7 @@ def test_nothing_missing_in_the_test_environment():
 def test_missing_and_too_old_are_reported(monkeypatch):
     rows = (deps.Dependency("easyidp_no_such_module", "easyidp-no-such-package>=1", deps.ALL),
             deps.Dependency("numpy", "numpy>=99", deps.ALL),
-            deps.Dependency("laspy", "laspy>=99", ("croppointcloudbyrois",)))
+            deps.Dependency("laspy", "laspy>=99", deps.TOOLS))
     monkeypatch.setattr(deps, "DEPENDENCIES", rows)
     found = deps.missing()
     assert [m.dependency.module for m in found] == ["easyidp_no_such_module", "numpy", "laspy"]
@@ -127,7 +188,7 @@ def test_a_row_that_does_not_fit_this_qgis_is_left_out(monkeypatch):
 
 
 def test_a_tool_refuses_to_run_and_names_the_package(plugin, realdata, tmp_path, monkeypatch):
-    rows = tuple(deps.Dependency(d.module, "tifffile>=9999", d.tools) if d.module == "tifffile"
+    rows = tuple(deps.Dependency(d.module, "tifffile>=9999", d.scope) if d.module == "tifffile"
                  else d for d in deps.DEPENDENCIES)
     monkeypatch.setattr(deps, "DEPENDENCIES", rows)
     import processing
