@@ -12,8 +12,7 @@ from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, border_pixels, pr
 from .geodesy import enu_rotation
 from .metashape import list_chunks, open_metashape
 from .odm import list_reconstructions, open_opensfm
-from .model import (Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints,
-                    fit_sensors_to_photos)
+from .model import Camera, Marker, Projection, Reconstruction, Sensor, VisiblePoints
 from .opf import open_opf
 from .photo_folder import open_photos
 from .pix4d import open_pix4d
