@@ -382,7 +382,7 @@ def recognises(path: Path) -> bool:
     if not path.is_dir():
         return False
     if path.name == "params" or (path / "1_initial").is_dir() \
-            or path.with_name(path.name + ".p4d").is_file():
+            or (path.parent / (path.name + ".p4d")).is_file():
         return True
     return any(n.lower().endswith(".p4d") or n.endswith(PARAM_FILES) for n in os.listdir(path))
 

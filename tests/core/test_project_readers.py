@@ -99,6 +99,10 @@ def test_precedence_of_the_other_overlaps(tmp_path):
     assert not photo_folder.READER.recognises(params) and reader_for(params) is pix4d.READER
     assert reader_for(params / "p_offset.xyz") is pix4d.READER      # a file of a params folder
     assert reader_for([params / "IMG_0001.JPG"]) is photo_folder.READER
+    named = tmp_path / "survey"                  # a Pix4D project folder beside its .p4d
+    (named / "other").mkdir(parents=True)
+    (tmp_path / "survey.p4d").write_text("<pix4dmapper/>")
+    assert reader_for(named) is pix4d.READER
     for name, reader in (("a.PSX", metashape.READER), ("a.psz", metashape.READER),
                          ("cams.xml", metashape.READER), ("r.json", odm.READER),
                          ("p.opf", opf.READER), ("p.p4d", pix4d.READER)):
