@@ -96,9 +96,10 @@ OLD_TOOLS = {
 }
 
 
-def test_the_derived_table_answers_as_the_old_one():
+def test_the_derived_table_answers_as_the_old_one(monkeypatch):
     """[consistency only: the old table, frozen above] For every tool and every row, whether the
-    tool needs the package, and what ``missing`` checks for it, are as before."""
+    tool needs the package, and what ``missing`` reports for it when every package is too old,
+    are as before."""
     assert {d.module for d in deps.DEPENDENCIES} == set(OLD_TOOLS)
     for dep in deps.DEPENDENCIES:
         old = OLD_TOOLS[dep.module]
@@ -112,6 +113,14 @@ def test_the_derived_table_answers_as_the_old_one():
                 (dep.module, cls.NAME)
             assert dep.needed_by(cls.NAME) == (dep.module in cls.REQUIRES
                                                or dep.scope == deps.ALL), (dep.module, cls.NAME)
+    rows = tuple(deps.Dependency(d.module, f"{d.distribution}>=9999", d.scope, d.needs_shipped,
+                                 d.python) for d in deps.DEPENDENCIES)
+    monkeypatch.setattr(deps, "DEPENDENCIES", rows)
+    for tool in [cls.NAME for cls in ALGORITHMS] + [None]:
+        expected = [d.module for d in rows if d.fits_here() and (
+            OLD_TOOLS[d.module] == deps.ALL or (tool in OLD_TOOLS[d.module] if tool
+                                                 else bool(OLD_TOOLS[d.module])))]
+        assert [m.dependency.module for m in deps.missing(tool)] == expected, tool
 
 
 def test_every_tool_declares_its_packages_and_each_has_a_row():
