@@ -105,10 +105,13 @@ def jpeg_facts(path) -> Dict[str, object]:
         if _magic(path)[:2] != JPEG_MAGIC:
             return {}
         with open_header(path, ("JPEG",)) as im:
-            exif = im.getexif()
-            make, orientation = exif.get(EXIF_MAKE), exif.get(EXIF_ORIENTATION)
             app1 = jpeg_segments(im, "APP1")
             app3 = bool(jpeg_segments(im, "APP3"))
+            try:
+                exif = im.getexif()
+            except HEADER_ERRORS:                       # a damaged EXIF block: as none
+                exif = {}
+            make, orientation = exif.get(EXIF_MAKE), exif.get(EXIF_ORIENTATION)
     except HEADER_ERRORS:
         return {}
     make = make.split("\x00")[0].strip() if isinstance(make, str) else ""
