@@ -98,7 +98,9 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("shapely", "shapely>=2.0", ("forwardprojectpolygons",)),  # merging the views
     Dependency("skimage", "scikit-image>=0.22", ("seasontraits", "photostatistics",
                                                      "forwardprojectpolygons")),  # Otsu; fuse contours
-    Dependency("PIL", "pillow>=9.4", ("photostatistics",)),             # preview captions
+    Dependency("PIL", "pillow>=9.4", ("photostatistics", "backprojectrois", "camerafootprints",
+                                      "exporttrainingset", "forwardprojectpolygons",
+                                      "orthorectifyrois")),  # photo headers (core.photos), captions
     Dependency("matplotlib", "matplotlib>=3.6", ("seasontraits",)),      # growth curves
     Dependency("dask", "dask[distributed]>=2024.1", ()),                 # Dask clusters (optional)
     Dependency("pyopf", "pyopf>=1.4.1", (), ("pillow", ">=10"), ">=3.10"),  # OPF projects
