@@ -17,7 +17,7 @@ from typing import Optional, Sequence
 import numpy as np
 
 from ..errors import InputError
-from .headers import scale_to
+from .headers import JPEG_MAGIC, TIFF_MAGIC, scale_to
 from .lookup import file_name
 
 
@@ -28,11 +28,11 @@ def read_photo(path) -> np.ndarray:
     try:
         with open(path, "rb") as fh:
             head = fh.read(4)
-        if head[:2] == b"\xff\xd8":                      # JPEG: libjpeg-turbo, straight
+        if head[:2] == JPEG_MAGIC:                       # JPEG: libjpeg-turbo, straight
             import imagecodecs
             with open(path, "rb") as fh:
                 arr = imagecodecs.jpeg_decode(fh.read())
-        elif head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
+        elif head[:4] in TIFF_MAGIC:
             import tifffile
             with tifffile.TiffFile(path) as tif:
                 page = tif.pages.first
