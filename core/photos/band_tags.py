@@ -1,4 +1,5 @@
-"""The tags of one photo: its XMP packet and its TIFF/EXIF tags, read once.
+"""The band tags of one multispectral photo (MicaSense, DJI): its XMP packet and its TIFF/EXIF
+tags, read once (radiometry's reflectance reads them).
 
 XMP is parsed with :func:`..safe_xml.parse_xml` (no DTD, no entity). Properties are keyed
 ``"prefix:Name"`` with the vendors' usual prefixes, found by namespace URI (not by the prefix the
