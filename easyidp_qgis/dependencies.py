@@ -129,7 +129,7 @@ DEPENDENCIES: Tuple[Dependency, ...] = (
     Dependency("scipy", "scipy>=1.10", TOOLS),                  # map_coordinates resampling
     Dependency("shapely", "shapely>=2.0", TOOLS),               # merging the views
     Dependency("skimage", "scikit-image>=0.22", TOOLS),         # Otsu; fuse contours
-    Dependency("PIL", "pillow>=9.4", TOOLS),                    # preview captions
+    Dependency("PIL", "pillow>=9.4", TOOLS),                    # photo headers; captions
     Dependency("matplotlib", "matplotlib>=3.6", TOOLS),         # growth curves
     Dependency("dask", "dask[distributed]>=2024.1", EXTRA),     # Dask clusters (optional)
     Dependency("pyopf", "pyopf>=1.4.1", EXTRA, ("pillow", ">=10"), ">=3.10"),  # OPF projects

@@ -10,7 +10,7 @@ by the tile index a tiled training set writes (:mod:`.tiles`).
 from .coco import read_coco
 from .labelme import read_labelme
 from .model import LINE, POINT, POLYGON, PhotoAnnotations, PhotoShape
-from .photos import PhotoIndex, detect_format, read_annotations
+from .matching import PhotoIndex, detect_format, read_annotations
 from .tiles import TILE_INDEX, TileIndex, read_tile_index, tile_index_document
 from .writers import (LabelledImage, LabelledShape, write_coco, write_labelme, write_yolo_labels,
                       yolo_data_yaml)

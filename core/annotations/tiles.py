@@ -20,7 +20,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import load_json
-from ..photo_files import photo_key
+from ..photos import photo_key
 from .model import PhotoAnnotations
 
 TILE_INDEX = "tiles.json"

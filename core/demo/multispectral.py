@@ -32,7 +32,7 @@ from typing import Dict, List, Tuple
 import numpy as np
 
 from ..files import write_bytes
-from ..projection.photos import read_photo
+from ..photos import read_photo
 from .field import FieldMess, plot_corners
 from .flight import make_camera, plan_flight, project_still
 from .pix4d_writer import write_pix4d

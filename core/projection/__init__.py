@@ -34,7 +34,7 @@ from .ortho import OrthoResult, orthorectify_rois
 from .photo_crops import PhotoCropResult, crop_photos, draw_previews
 from .photo_stats import PhotoStatistics, photo_statistics
 from .roi_photo_stats import roi_photo_statistics
-from .photos import DecodedPhotos, read_photo, resolve_photos
+from ..photos import DecodedPhotos, read_photo, resolve_photos
 from .forward_photos import PhotosToMap, forward_project_photos
 from .photo_finder import POINT_SIDE, PhotoFinder
 from ..geometry import FlatPolygons

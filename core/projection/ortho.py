@@ -31,13 +31,13 @@ from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
 from ..geometry import rasterize
 from ..naming import unique_names
+from ..photos import DecodedPhotos, resolve_photos
 from ..progress import as_progress
 from ..radiometry import NODATA_TEXT, PhotoValues, gdal_metadata, photo_decoder
 from ..raster import (HIT, MISS, TAG_GDAL_METADATA, RaySurface, as_dsm, first_hits,
                       rois_in_raster_crs, write_geotiff)
 from ..roi import ROISet
 from .backward import back_project
-from .photos import DecodedPhotos, resolve_photos
 
 SELECTIONS = ("best", "all", "photo")
 MAX_PIXELS = 50_000_000        # output pixels per ROI image

@@ -1,6 +1,6 @@
 """Crops of the raw photos for a :class:`BackProjection`, and preview sheets per ROI.
 
-One pass over the photos (:class:`.photos.DecodedPhotos`, shared with the plot statistics):
+One pass over the photos (:class:`..photos.DecodedPhotos`, shared with the plot statistics):
 each photo is decoded **once** (a pool of threads decodes ahead) and every ROI the result keeps
 in it is cut out; the files are encoded and written by a second pool, atomically. Memory holds at most ``workers + 1`` decoded photos, the crops waiting to be
 written, and the preview tiles of ROIs whose best views are not all decoded yet (spilled to
@@ -40,9 +40,9 @@ from ..errors import InputError
 from ..files import OutputFolder, atomic_output, write_bytes, write_json
 from ..geometry import densify, rasterize
 from ..naming import unique_names
+from ..photos import DecodedPhotos, photo_stems, resolve_photos
 from ..progress import as_progress
 from ..radiometry import PhotoValues, photo_decoder, tiff_extratags
-from .photos import DecodedPhotos, photo_stems, resolve_photos
 from .result import PIXEL_CONVENTION, BackProjection
 
 MAX_PENDING_WRITES = 64
@@ -156,7 +156,7 @@ def crop_photos(result: BackProjection, output_folder, photos_folder=None, *, ma
 
 def _crop_all(result, out, used, found, roi_dirs, out_folder, previews_folder, preview_views,
               margin, workers, prog, decoding=("stored", None)) -> None:
-    """One pass over the photos (:class:`.photos.DecodedPhotos`: each decoded once, threads
+    """One pass over the photos (:class:`..photos.DecodedPhotos`: each decoded once, threads
     ahead of the cutting) writing each photo's crops and previews; ``decoding``: (values,
     decoder of :func:`..radiometry.photo_decoder`)."""
     stems = dict(zip(result.photo_labels, photo_stems(result.photo_labels)))

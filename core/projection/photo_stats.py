@@ -51,12 +51,11 @@ from ..deprecation import renamed_parameters
 from ..errors import EasyIDPError, InputError
 from ..files import OutputFolder
 from ..geometry import rasterize
+from ..photos import DecodedPhotos, photo_notes, resolve_photos
 from ..progress import as_progress
 from ..radiometry import VALUES, PhotoValues, photo_decoder
-from ..photo_files import photo_notes
 from .across_views import aggregate_views
 from .capture_stats import band_columns, band_layout, capture_views, combine_bands
-from .photos import DecodedPhotos, resolve_photos
 from .result import BackProjection
 from .stat_previews import StatSheets
 from .stats_table import PhotoStatistics

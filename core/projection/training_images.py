@@ -10,9 +10,9 @@ import numpy as np
 
 from ..errors import InputError
 from ..files import atomic_output, write_bytes
+from ..photos import DecodedPhotos
 from ..radiometry import PhotoValues, tiff_extratags
 from .photo_crops import PNG_FAST, TIFF_LEVEL
-from .photos import DecodedPhotos
 
 IMAGE_MAGIC = (b"\xff\xd8", b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+", b"\x89PNG",
                b"\x00\x00\x00\x0cjP  ", b"\xff\x4f\xff\x51", b"RIFF", b"BM")

@@ -77,7 +77,7 @@ from ..errors import InputError
 from ..files import OutputFolder, write_bytes, write_json
 from ..geometry import orient, polygons_area
 from ..naming import unique_names
-from ..photo_files import PHOTO_EXTENSIONS, file_name
+from ..photos import PHOTO_EXTENSIONS, file_name, resolve_photos
 from ..progress import as_progress
 from ..radiometry import UNITS, photo_decoder
 from ..raster import as_dsm
@@ -85,7 +85,6 @@ from ..roi import ROI, ROISet
 from .backward import back_project
 from .clip import clip_convex, rectangle
 from .object_occlusion import outside_hidden_fractions
-from .photos import resolve_photos
 from .training_folder import MANIFEST, TrainingFolder
 from .training_images import decodable_photos, write_images
 from .training_split import SPLIT_MODES, SPLITS, assign_images, split_warnings
@@ -133,7 +132,7 @@ def photo_stem(path: str) -> str:
     """The stem exported images and labels of a photo are named after: the photo file's own
     name without its photo extension, case kept (``…/DJI_0002.JPG`` → ``DJI_0002``), so that
     ``DJI_0002.jpg``, ``.json`` and ``.txt`` match the photo again by
-    :func:`..photo_files.photo_key`; never ``DJI_0002.JPG.jpg``."""
+    :func:`..photos.photo_key`; never ``DJI_0002.JPG.jpg``."""
     base = file_name(path)
     stem, ext = os.path.splitext(base)
     return stem if ext.lower() in PHOTO_EXTENSIONS else base

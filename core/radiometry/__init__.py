@@ -18,8 +18,9 @@ from typing import Optional
 import numpy as np
 
 from ..errors import EasyIDPError
+from ..photos import read_band_tags as read_photo_tags  # the band tags, by their old name
+from ..photos import read_photo
 from .acquisition import acquisition_time
-from .decode import read_photo
 from .flir import FlirPhoto, read_flir
 from .planck import KELVIN, OBJECT_PARAMETERS, ThermalParameters, celsius_to_raw, raw_to_celsius
 from .thermal import DJI_RJPEG, TEMPERATURE_PRESETS, scale_offset, temperature_values
@@ -28,7 +29,6 @@ from .values import PhotoValues
 from .output_tags import NODATA_TEXT, gdal_metadata, tiff_extratags
 from .multispectral import (SUPPORTED_CAMERAS, Capture, ReflectanceOptions, band_key,
                             capture_key, group_captures, reflectance_values)
-from .photo_tags import read_photo_tags
 
 VALUES = ("stored", "temperature", "reflectance")
 UNITS = {"stored": "stored", "temperature": "degC", "reflectance": "reflectance"}

@@ -21,22 +21,22 @@ from typing import Optional, Tuple
 import numpy as np
 
 from ..errors import InputError
-from .photo_tags import PhotoTags
+from ..photos import BandTags
 
 __all__ = ["is_dji_multispectral", "dji_signal", "dji_irradiance"]
 
 FULL_SCALE = 65535.0
 
 
-def is_dji_multispectral(tags: PhotoTags) -> bool:
+def is_dji_multispectral(tags: BandTags) -> bool:
     return any(k.startswith("drone-dji:") for k in tags.xmp) and "Camera:BandName" in tags.xmp
 
 
-def _first(tags: PhotoTags, *keys) -> Optional[str]:
+def _first(tags: BandTags, *keys) -> Optional[str]:
     return next((k for k in keys if k in tags.xmp), None)
 
 
-def dji_signal(raw: np.ndarray, tags: PhotoTags) -> Tuple[np.ndarray, str]:
+def dji_signal(raw: np.ndarray, tags: BandTags) -> Tuple[np.ndarray, str]:
     """``pCam · X_camera`` (float64, the shape of ``raw``): the band's signal in the units in which
     ``drone-dji:Irradiance`` gives the light, and a note of the corrections."""
     poly_key = _first(tags, "drone-dji:VignettingData", "drone-dji:VignettingPolynomial",
@@ -82,7 +82,7 @@ def dji_signal(raw: np.ndarray, tags: PhotoTags) -> Tuple[np.ndarray, str]:
     return signal, note
 
 
-def dji_irradiance(tags: PhotoTags) -> Tuple[Optional[float], str]:
+def dji_irradiance(tags: BandTags) -> Tuple[Optional[float], str]:
     """The sunlight sensor's compensated irradiance (``drone-dji:Irradiance``), or (None, why)."""
     value = tags.number("drone-dji:Irradiance")
     if value is None or value <= 0:

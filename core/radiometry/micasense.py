@@ -33,7 +33,7 @@ import numpy as np
 
 from ..errors import InputError
 from ..sun import sun_position
-from .photo_tags import PhotoTags
+from ..photos import BandTags
 
 __all__ = ["is_micasense", "micasense_radiance", "micasense_irradiance", "sub_seconds", "capture_time",
            "gps_position", "fresnel_transmission"]
@@ -45,11 +45,11 @@ DIFFUSE_SHARE = 1.0 / 6.0         # clear-sky diffuse/direct ratio the DLS 1 mod
 DIFFUSER = (1.000277, 1.6, 1.38)  # refractive indices: air, polycarbonate, PTFE
 
 
-def is_micasense(tags: PhotoTags) -> bool:
+def is_micasense(tags: BandTags) -> bool:
     return "Camera:RadiometricCalibration" in tags.xmp or str(tags.tiff.get("Make", "")).startswith("MicaSense")
 
 
-def _missing(tags: PhotoTags, xmp_keys, tiff_keys) -> None:
+def _missing(tags: BandTags, xmp_keys, tiff_keys) -> None:
     missing = [k for k in xmp_keys if k not in tags.xmp] + [f"EXIF {k}" for k in tiff_keys
                                                             if k not in tags.tiff]
     if missing:
@@ -58,7 +58,7 @@ def _missing(tags: PhotoTags, xmp_keys, tiff_keys) -> None:
                          f"camera's original band file (firmware 2.1.0 or later writes them)")
 
 
-def exposure_and_gain(tags: PhotoTags) -> Tuple[float, float]:
+def exposure_and_gain(tags: BandTags) -> Tuple[float, float]:
     """(exposure time in s, gain) of a MicaSense band file."""
     iso = tags.tiff.get("ISOSpeed", tags.tiff.get("ISOSpeedRatings"))
     if iso is None or "ExposureTime" not in tags.tiff:
@@ -66,7 +66,7 @@ def exposure_and_gain(tags: PhotoTags) -> Tuple[float, float]:
     return float(tags.tiff["ExposureTime"]), float(iso) / 100.0
 
 
-def micasense_radiance(raw: np.ndarray, tags: PhotoTags) -> Tuple[np.ndarray, str]:
+def micasense_radiance(raw: np.ndarray, tags: BandTags) -> Tuple[np.ndarray, str]:
     """Spectral radiance (W/m²/sr/nm, float64, the shape of ``raw``) of one MicaSense band file,
     and a note of the corrections."""
     _missing(tags, REQUIRED, ("BlackLevel", "BitsPerSample"))
@@ -91,7 +91,7 @@ def micasense_radiance(raw: np.ndarray, tags: PhotoTags) -> Tuple[np.ndarray, st
     return radiance, note
 
 
-def _scale(tags: PhotoTags) -> float:
+def _scale(tags: BandTags) -> float:
     for key in ("DLS:IrradianceScaleToSIUnits", "Camera:IrradianceScaleToSIUnits"):
         value = tags.number(key)
         if value is not None:
@@ -99,7 +99,7 @@ def _scale(tags: PhotoTags) -> float:
     return 0.01 if "DLS:HorizontalIrradiance" in tags.xmp else 1.0
 
 
-def _horizontal_valid(tags: PhotoTags) -> bool:
+def _horizontal_valid(tags: BandTags) -> bool:
     good = GOOD_HORIZONTAL.get(str(tags.tiff.get("Model", "")).strip("\x00 "))
     if good is None:
         return True
@@ -110,7 +110,7 @@ def _horizontal_valid(tags: PhotoTags) -> bool:
     return version >= good
 
 
-def micasense_irradiance(tags: PhotoTags) -> Tuple[Optional[float], str]:
+def micasense_irradiance(tags: BandTags) -> Tuple[Optional[float], str]:
     """Horizontal spectral irradiance (W/m²/nm) under the DLS at this band file's capture, and
     how it was found; (None, why) when the photo has no DLS reading."""
     scale = _scale(tags)
@@ -163,7 +163,7 @@ def fresnel_transmission(theta: float) -> float:
     return total
 
 
-def capture_time(tags: PhotoTags) -> datetime:
+def capture_time(tags: BandTags) -> datetime:
     """The UTC time of the capture (EXIF DateTimeOriginal + SubSecTime; MicaSense writes UTC)."""
     stamp = tags.tiff.get("DateTimeOriginal")
     if not stamp:
@@ -175,7 +175,7 @@ def capture_time(tags: PhotoTags) -> datetime:
     return when
 
 
-def sub_seconds(tags: PhotoTags) -> str:
+def sub_seconds(tags: BandTags) -> str:
     """The EXIF sub-second digits of the capture time ('' when absent; tifffile spells the tag
     ``SubsecTimeOriginal``)."""
     for key in ("SubsecTimeOriginal", "SubSecTimeOriginal", "SubsecTime", "SubSecTime"):
@@ -184,7 +184,7 @@ def sub_seconds(tags: PhotoTags) -> str:
     return ""
 
 
-def gps_position(tags: PhotoTags) -> Tuple[float, float]:
+def gps_position(tags: BandTags) -> Tuple[float, float]:
     """(latitude, longitude) in degrees from the EXIF GPS tags."""
     gps = tags.tiff.get("GPSTag")
     if not isinstance(gps, dict) or "GPSLatitude" not in gps or "GPSLongitude" not in gps:
@@ -200,7 +200,7 @@ def gps_position(tags: PhotoTags) -> Tuple[float, float]:
             degrees(gps["GPSLongitude"], gps.get("GPSLongitudeRef", "E"), "W"))
 
 
-def _sun(tags: PhotoTags) -> Tuple[float, float]:
+def _sun(tags: BandTags) -> Tuple[float, float]:
     """(elevation, azimuth) of the sun in degrees at the photo's time and place."""
     lat, lon = gps_position(tags)
     zenith, azimuth = sun_position(capture_time(tags), lon, lat)

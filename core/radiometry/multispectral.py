@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import InputError
 from .dji_multispectral import dji_irradiance, dji_signal, is_dji_multispectral
 from .micasense import is_micasense, micasense_irradiance, micasense_radiance, sub_seconds
-from .photo_tags import PhotoTags, read_photo_tags, read_raw_band
+from ..photos import BandTags, read_band_tags, read_raw_band
 from .values import PhotoValues
 
 __all__ = ["ReflectanceOptions", "reflectance_values", "Capture", "group_captures", "band_key",
@@ -74,7 +74,7 @@ class ReflectanceOptions:
                 tuple(self.panel_region) if self.panel_region else None)
 
 
-def _vendor(tags: PhotoTags) -> str:
+def _vendor(tags: BandTags) -> str:
     if is_micasense(tags):
         return "micasense"
     if is_dji_multispectral(tags):
@@ -85,7 +85,7 @@ def _vendor(tags: PhotoTags) -> str:
                      f"software and measure them as stored")
 
 
-def _band_name(tags: PhotoTags) -> str:
+def _band_name(tags: BandTags) -> str:
     name = tags.xmp.get("Camera:BandName")
     if not name or isinstance(name, list):
         raise InputError(f"{tags.path}: no band name tag (XMP Camera:BandName); bands are matched "
@@ -99,9 +99,9 @@ MICASENSE_LWIR = ("{path}: the LWIR band of a MicaSense Altum or Altum-PT is its
                   "(K × 100)")
 
 
-def _signal(path) -> Tuple[PhotoTags, np.ndarray, np.ndarray, str]:
+def _signal(path) -> Tuple[BandTags, np.ndarray, np.ndarray, str]:
     """(tags, signal, saturated, note): the vendor's radiance-like signal of one band file."""
-    tags = read_photo_tags(path)
+    tags = read_band_tags(path)
     if band_key(tags.xmp.get("Camera:BandName") or "") == "lwir":
         raise InputError(MICASENSE_LWIR.format(path=tags.path))
     vendor = _vendor(tags)
@@ -115,7 +115,7 @@ def _signal(path) -> Tuple[PhotoTags, np.ndarray, np.ndarray, str]:
     return tags, signal, saturated, note
 
 
-def _panel_mask(tags: PhotoTags, shape, region) -> np.ndarray:
+def _panel_mask(tags: BandTags, shape, region) -> np.ndarray:
     rows, cols = shape
     if region is not None:
         c0, r0, c1, r1 = (int(v) for v in region)
@@ -225,7 +225,7 @@ class Capture:
     bands: Dict[str, str] = field(default_factory=dict)
 
 
-def capture_key(tags: PhotoTags) -> str:
+def capture_key(tags: BandTags) -> str:
     """The capture a band file belongs to: its capture id (MicaSense ``CaptureId``, DJI
     ``CaptureUUID``), else its capture time to the sub-second."""
     for k in ("MicaCamera:CaptureId", "Camera:CaptureId", "drone-dji:CaptureUUID"):
@@ -246,7 +246,7 @@ def group_captures(paths: Sequence) -> List[Capture]:
     captures: Dict[str, Capture] = {}
     for path in paths:
         path = os.fspath(path)
-        tags = read_photo_tags(path)
+        tags = read_band_tags(path)
         key = capture_key(tags)
         band = _band_name(tags)
         capture = captures.setdefault(key, Capture(key))

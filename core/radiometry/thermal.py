@@ -12,8 +12,7 @@ from typing import Dict, Optional, Tuple
 import numpy as np
 
 from ..errors import EasyIDPError, InputError
-from ..photo_files import jpeg_facts
-from .decode import read_photo
+from ..photos import jpeg_facts, read_photo
 from .flir import FLIR_MAGIC, read_flir
 from .planck import raw_to_celsius
 from .values import PhotoValues

@@ -18,7 +18,7 @@ import numpy as np
 from pyproj import CRS
 
 from ..errors import EasyIDPError
-from ..photo_files import photo_key, photo_size, resolve_photos, scale_to
+from ..photos import photo_key, photo_size, resolve_photos, scale_to
 from ..progress import as_progress
 from .frame_model import BEHIND, INSIDE, OUTSIDE, Calibration, project_block
 from .geodesy import ModelFrame, is_local
@@ -161,7 +161,7 @@ class Reconstruction:
 
     def camera(self, label: str) -> Camera:
         """The camera labelled ``label``, else the one photo it names by
-        :func:`~..photo_files.photo_key` (``dji_0018.jpg`` finds ``DJI_0018``)."""
+        :func:`~..photos.photo_key` (``dji_0018.jpg`` finds ``DJI_0018``)."""
         for c in self.cameras:
             if c.label == label:
                 return c

@@ -37,7 +37,7 @@ from pyproj import CRS
 
 from ..crs import as_crs, same_crs, transformer
 from ..errors import InputError, reads_file
-from ..photo_files import PhotoFiles, photo_key
+from ..photos import PhotoFiles, photo_key
 from ..raster import open_geotiff
 from .geodesy import GeocentricFrame, LocalFrame, ModelFrame, OffsetFrame, geocentric_of
 from .model import Camera, Marker, Reconstruction, Sensor

@@ -45,7 +45,7 @@ import numpy as np
 
 from ..crs import project_crs
 from ..errors import InputError
-from ..photo_files import file_name, is_windows_path
+from ..photos import file_name, is_windows_path
 from .frame_model import FISHEYE, Calibration
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor

@@ -17,8 +17,7 @@ from pyproj import CRS
 
 from ..crs import as_crs, transformer
 from ..errors import InputError
-from ..photo_files import PHOTO_EXTENSIONS
-from ..photo_tags import read_photo_tags
+from ..photos import PHOTO_EXTENSIONS, read_photo_tags
 from .geodesy import OffsetFrame
 from .model import Camera, Reconstruction, Sensor
 from .photo_poses import ANGLE_STD_DEG, CAMERA_HEIGHTS, PhotoPose, gimbal_rotation, photo_pose
@@ -28,7 +27,7 @@ __all__ = ["open_photos", "is_photo_input", "list_photo_files", "utm_crs", "conv
 
 WGS84 = CRS.from_epsg(4326)
 TAGGED_EXTENSIONS = (".jpg", ".jpeg", ".tif", ".tiff")
-"""Photo kinds whose tags are read (:func:`~..photo_tags.read_photo_tags`)."""
+"""Photo kinds whose tags are read (:func:`~..photos.read_photo_tags`)."""
 PROJECT_MARKERS = (".p4d", ".psx", ".psz", ".opf")
 
 

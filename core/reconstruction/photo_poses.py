@@ -35,8 +35,7 @@ from typing import List, Optional, Tuple
 
 import numpy as np
 
-from ..photo_files import scale_to
-from ..photo_tags import CAMERA_NS, DJI, SENSEFLY, PhotoTags
+from ..photos import CAMERA_NS, DJI, SENSEFLY, PhotoTags, scale_to
 from .frame_model import Calibration
 
 __all__ = ["PhotoPose", "photo_pose", "gimbal_rotation", "gimbal_angles", "CAMERA_HEIGHTS",

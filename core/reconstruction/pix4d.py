@@ -37,7 +37,7 @@ from typing import Dict, List, Optional, Tuple
 import numpy as np
 
 from ..crs import as_crs, project_crs
-from ..photo_files import file_name, is_windows_path, photo_key
+from ..photos import file_name, is_windows_path, photo_key
 from ..errors import InputError, reads_file
 from ..safe_xml import XMLError, parse_xml
 from .frame_model import Calibration

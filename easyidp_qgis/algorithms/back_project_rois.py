@@ -62,7 +62,7 @@ class BackProjectROIs(EasyIDPAlgorithm):
     PREVIEW_FOLDER = "PREVIEW_FOLDER"
 
     NAME = "backprojectrois"
-    REQUIRES = ("tifffile", "imagecodecs")  # the DSM, the photos
+    REQUIRES = ("tifffile", "imagecodecs", "PIL")  # the DSM; the photos and their headers
     DISPLAY = "Back-project ROIs"
     GROUP = "Projection"
     GROUP_ID = "projection"

@@ -30,7 +30,7 @@ class CameraFootprints(EasyIDPAlgorithm):
     OUTPUT_FOOTPRINTS = "OUTPUT_FOOTPRINTS"
 
     NAME = "camerafootprints"
-    REQUIRES = ("tifffile", "imagecodecs")  # the DSM
+    REQUIRES = ("tifffile", "imagecodecs", "PIL")  # the DSM; the photos' headers
     DISPLAY = "Cameras and footprints"
     GROUP = "Photogrammetry projects"
     GROUP_ID = "projects"

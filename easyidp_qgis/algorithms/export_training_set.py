@@ -57,7 +57,7 @@ class ExportTrainingSet(EasyIDPAlgorithm):
     OUTPUT_FOLDER = "OUTPUT_FOLDER"
 
     NAME = "exporttrainingset"
-    REQUIRES = ("tifffile", "imagecodecs")  # orthomosaic tiles, photos
+    REQUIRES = ("tifffile", "imagecodecs", "PIL")  # orthomosaic tiles; photos, headers
     DISPLAY = "Export a training set"
     GROUP = "Projection"
     GROUP_ID = "projection"

@@ -38,7 +38,7 @@ class ForwardProjectPolygons(EasyIDPAlgorithm):
 
     NAME = "forwardprojectpolygons"
     # the DSM; merging the views, fused contours
-    REQUIRES = ("tifffile", "imagecodecs", "shapely", "skimage")
+    REQUIRES = ("tifffile", "imagecodecs", "shapely", "skimage", "PIL")
     DISPLAY = "Forward-project polygons"
     GROUP = "Projection"
     GROUP_ID = "projection"

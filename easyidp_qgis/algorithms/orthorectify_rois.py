@@ -39,7 +39,7 @@ class OrthorectifyROIs(EasyIDPAlgorithm):
     MASK = "MASK"
 
     NAME = "orthorectifyrois"
-    REQUIRES = ("tifffile", "imagecodecs", "scipy")  # rasters; map_coordinates resampling
+    REQUIRES = ("tifffile", "imagecodecs", "scipy", "PIL")  # rasters; resampling; headers
     DISPLAY = "Orthorectify ROIs"
     GROUP = "Projection"
     GROUP_ID = "projection"

@@ -37,8 +37,9 @@ PACKAGE = "easyidp_toolbox"       # the repository root is the plugin package
 # other, without a cycle. "core" is the face of the whole engine (core/__init__.py).
 LAYERS: Tuple[Tuple[str, ...], ...] = (
     ("basics",),                     # errors, crs, progress, geometry, ragged, rotations, wkb,
-                                     # files, naming, gpkg, indices, photo_files,
+                                     # files, naming, gpkg, indices,
                                      # height_statistics (the heights vocabulary), safe_xml
+    ("photos",),                     # raw photos as files: lookup, headers, tags, decoding
     ("annotations", "radiometry"),   # shapes on raw photos (LabelMe, COCO, YOLO), pixel space;
                                      # raw photos in physical units (thermal, reflectance)
     ("roi",),                        # ROI, ROISet and their readers (LabelMe via annotations)

@@ -333,7 +333,7 @@ def test_demo_multispectral_camera_reads_back_to_its_truth(demo, tmp_path):
     reflectance; the product's reader recovers that reflectance pixel by pixel, glints masked,
     while the stored digital numbers differ between captures by the light and the settings."""
     from easyidp_toolbox.core.demo.multispectral import true_reflectance, write_multispectral_flight
-    from easyidp_toolbox.core.projection.photos import read_photo
+    from easyidp_toolbox.core.photos import read_photo
     photos = demo.photos[10:14]
     flight = write_multispectral_flight(photos, tmp_path / "ms")
     captures = group_captures(sorted((tmp_path / "ms").iterdir()))

@@ -18,7 +18,7 @@ from easyidp_toolbox.core import Cancelled, InputError
 from easyidp_toolbox.core.geometry import points_in_rings
 from easyidp_toolbox.core.projection import back_project, crop_photos, draw_previews
 from easyidp_toolbox.core.projection import photo_crops
-from easyidp_toolbox.core.projection import photos as photos_module
+from easyidp_toolbox.core.photos import decode as photos_module
 from easyidp_toolbox.core.reconstruction import Calibration, Camera, Reconstruction, Sensor
 from easyidp_toolbox.core.reconstruction.geodesy import OffsetFrame
 from easyidp_toolbox.core.roi import ROI, ROISet

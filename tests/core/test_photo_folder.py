@@ -18,7 +18,7 @@ from PIL import Image
 
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.errors import InputError
-from easyidp_toolbox.core.photo_tags import DJI, XMP_NS, read_photo_tags
+from easyidp_toolbox.core.photos import DJI, XMP_NS, read_photo_tags
 from easyidp_toolbox.core.projection import back_project, camera_footprints
 from easyidp_toolbox.core.raster import DSM
 from easyidp_toolbox.core.reconstruction import open_photos

@@ -1,4 +1,4 @@
-"""Photos found as real photo sets leave them (issue 24): one lookup, core.photo_files, by file
+"""Photos found as real photo sets leave them (issue 24): one lookup, core.photos, by file
 stem and any case, over several folders, from Windows paths; moved, renamed and missing photos
 each with a clear reason. Checks are by construction (files the test creates)."""
 import os
@@ -8,7 +8,7 @@ import pytest
 
 from easyidp_toolbox.core import open_reconstruction
 from easyidp_toolbox.core.errors import InputError
-from easyidp_toolbox.core.photo_files import PhotoFiles, photo_key, resolve_photos
+from easyidp_toolbox.core.photos import PhotoFiles, photo_key, resolve_photos
 
 
 def _touch(path):

@@ -140,7 +140,7 @@ def test_dji_thermal_rjpeg_is_said_to_be_a_palette(folder, tmp_path):
     """A DJI R-JPEG (EXIF Make DJI, APP3 thermal segments): measured as the colours it stores,
     and the notes say plainly that they are a palette, not temperatures; an ordinary DJI JPEG
     (no APP3) gets no such note."""
-    from easyidp_toolbox.core.photo_files import jpeg_facts
+    from easyidp_toolbox.core.photos import jpeg_facts
     dsm = str(folder / "odm_dem" / "dsm.tif")
     recon = open_reconstruction(folder)
     bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)
@@ -158,7 +158,7 @@ def test_dji_thermal_rjpeg_is_said_to_be_a_palette(folder, tmp_path):
 def test_exif_rotated_photos_are_read_as_stored(folder, tmp_path):
     """Stated behaviour: a photo with EXIF orientation 6 is decoded as stored (912 rows ×
     1368 columns, the pixels the project measured), not turned upright, and the notes say so."""
-    from easyidp_toolbox.core.photo_files import jpeg_facts
+    from easyidp_toolbox.core.photos import jpeg_facts
     dsm = str(folder / "odm_dem" / "dsm.tif")
     recon = open_reconstruction(folder)
     bp = back_project(rs.roi_set(), recon, heights=DSM(dsm), min_visible=0.0)

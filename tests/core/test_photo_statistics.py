@@ -28,7 +28,7 @@ from pyproj import CRS
 from easyidp_toolbox.core import indices as ix
 from easyidp_toolbox.core.errors import Cancelled, EasyIDPError, InputError
 from easyidp_toolbox.core.projection import back_project, photo_statistics
-from easyidp_toolbox.core.projection import photos as photos_module
+from easyidp_toolbox.core.photos import decode as photos_module
 from easyidp_toolbox.core.projection.across_views import weighted_median
 from easyidp_toolbox.core.projection.order_stats import order_stats_float, order_stats_int
 from easyidp_toolbox.core.projection.result import BackProjection

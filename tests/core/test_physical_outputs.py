@@ -197,7 +197,7 @@ def test_crops_in_reflectance_equal_the_spectral_truth(demo, tmp_path):
     from easyidp_toolbox.core import open_reconstruction, read_geojson
     from easyidp_toolbox.core.demo.multispectral import true_reflectance, write_multispectral_flight
     from easyidp_toolbox.core.projection import back_project
-    from easyidp_toolbox.core.projection.photos import read_photo
+    from easyidp_toolbox.core.photos import read_photo
     from easyidp_toolbox.core.raster import DSM
     from easyidp_toolbox.core.roi import ROISet
     recon = open_reconstruction(demo.metashape_project)

@@ -288,7 +288,7 @@ def test_folder_and_photos_found_by_stem(demo, tmp_path):
     recon = open_reconstruction(Path(demo.opf_project).parent)
     assert recon.software == "opf" and recon.cameras[0].photo_path == str(
         (Path(demo.photo_folder) / "DJI_0001.JPG").resolve())
-    from easyidp_toolbox.core.photo_files import resolve_photos
+    from easyidp_toolbox.core.photos import resolve_photos
     moved = tmp_path / "moved"
     moved.mkdir()
     shutil.copy(Path(demo.photo_folder) / "DJI_0003.JPG", moved / "dji_0003.jpg")

@@ -17,7 +17,7 @@ import pytest
 
 from easyidp_toolbox.core.annotations import read_annotations
 from easyidp_toolbox.core.demo.plants import demo_objects, disc_ring
-from easyidp_toolbox.core.photo_files import PHOTO_EXTENSIONS
+from easyidp_toolbox.core.photos import PHOTO_EXTENSIONS
 from easyidp_toolbox.core.projection import export_training_set, forward_project_photos
 from easyidp_toolbox.core.projection.training_set import photo_stem
 from easyidp_toolbox.core.raster import DSM

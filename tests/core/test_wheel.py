@@ -117,7 +117,7 @@ def test_the_wheel_holds_the_engine_only(wheel):
     meta = zipfile.ZipFile(wheel).read(f"easyidp_toolbox-{version}.dist-info/METADATA").decode()
     requires = re.findall(r"^Requires-Dist: (.+)$", meta, re.MULTILINE)
     base = sorted(r.split(">")[0].split("=")[0] for r in requires if "extra ==" not in r)
-    assert base == ["imagecodecs", "numpy", "pyproj", "pyshp", "tifffile"]
+    assert base == ["imagecodecs", "numpy", "pillow", "pyproj", "pyshp", "tifffile"]
     extras = set(re.findall(r"^Provides-Extra: (.+)$", meta, re.MULTILINE))
     assert extras == {"cloud", "photos", "dask", "opf", "all"}
 

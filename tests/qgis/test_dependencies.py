@@ -92,7 +92,10 @@ OLD_TOOLS = {
     "laspy": _CLOUD, "lazrs": _CLOUD, "plyfile": _CLOUD, "shapefile": (),
     "scipy": ("orthorectifyrois",), "shapely": ("forwardprojectpolygons",),
     "skimage": ("seasontraits", "photostatistics", "forwardprojectpolygons"),
-    "PIL": ("photostatistics",), "matplotlib": ("seasontraits",), "dask": (), "pyopf": (),
+    # Pillow: the photo tools since core.photos reads headers with it (issue 39)
+    "PIL": ("photostatistics", "backprojectrois", "camerafootprints", "exporttrainingset",
+            "forwardprojectpolygons", "orthorectifyrois"),
+    "matplotlib": ("seasontraits",), "dask": (), "pyopf": (),
 }
 
 

@@ -1,4 +1,5 @@
-"""The tags of one photo: its XMP packet and its TIFF/EXIF tags, read once.
+"""The band tags of one multispectral photo (MicaSense, DJI): its XMP packet and its TIFF/EXIF
+tags, read once (radiometry's reflectance reads them).
 
 XMP is parsed with :func:`..safe_xml.parse_xml` (no DTD, no entity). Properties are keyed
 ``"prefix:Name"`` with the vendors' usual prefixes, found by namespace URI (not by the prefix the
@@ -14,12 +15,10 @@ import re
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Optional, Union
 
-import numpy as np
-
 from ..errors import InputError
 from ..safe_xml import XMLError, parse_xml
 
-__all__ = ["PhotoTags", "read_photo_tags", "read_raw_band", "xmp_properties"]
+__all__ = ["BandTags", "read_band_tags", "xmp_properties"]
 
 NAMESPACES = {
     "http://pix4d.com/camera/1.0/": "Camera",
@@ -32,7 +31,7 @@ _XMP_PACKET = re.compile(rb"<x:xmpmeta.*?</x:xmpmeta>", re.S)
 
 
 @dataclass
-class PhotoTags:
+class BandTags:
     """The tags of one photo file (``path``): ``xmp`` by ``"prefix:Name"``, ``tiff`` by tag name
     (EXIF sub-IFD included)."""
 
@@ -97,7 +96,7 @@ def _known(tag: str) -> Optional[str]:
     return f"{prefix}:{local}" if prefix else None
 
 
-def read_photo_tags(path) -> PhotoTags:
+def read_band_tags(path) -> BandTags:
     """Read the XMP and TIFF/EXIF tags of a TIFF photo; :class:`InputError` naming the photo when
     it is not a TIFF or its XMP is not well-formed."""
     import tifffile
@@ -124,17 +123,4 @@ def read_photo_tags(path) -> PhotoTags:
     except XMLError as exc:
         raise InputError(f"{path}: its XMP metadata is not readable ({exc}); use the camera's "
                          f"original file") from None
-    return PhotoTags(path, xmp, tiff)
-
-
-def read_raw_band(path) -> np.ndarray:
-    """The stored digital numbers of a single-band photo, (rows, cols), as stored."""
-    import tifffile
-    try:
-        arr = tifffile.imread(os.fspath(path))
-    except (OSError, ValueError, tifffile.TiffFileError) as exc:
-        raise InputError(f"{path}: its pixels cannot be decoded ({exc})") from None
-    if arr.ndim != 2:
-        raise InputError(f"{path}: {arr.shape} pixels, not one band; a multispectral band file "
-                         f"holds one band (give the camera's band files, not a stacked image)")
-    return arr
+    return BandTags(path, xmp, tiff)

@@ -2,7 +2,7 @@
 
 :func:`read_annotations` recognises a LabelMe JSON file or folder, a COCO JSON file, or a YOLO
 label file or folder, reads them with their reader, matches every image to a photo of the
-project (by :func:`..photo_files.photo_key`: file name, any case, photo extension ignored: LabelMe ``imagePath`` or the JSON
+project (by :func:`..photos.photo_key`: file name, any case, photo extension ignored: LabelMe ``imagePath`` or the JSON
 file's own name, COCO ``file_name``, the YOLO file's stem) and checks the declared image size
 against the camera's.
 """
@@ -12,7 +12,7 @@ import re
 from typing import Dict, List, Optional, Tuple
 
 from ..errors import InputError
-from ..photo_files import photo_key
+from ..photos import photo_key
 from .coco import read_coco
 from .labelme import read_labelme
 from .model import PhotoAnnotations
@@ -25,7 +25,7 @@ TILE_NAME = re.compile(r"^(.+)_r\d+_c\d+$", re.IGNORECASE)   # a training set's 
 
 def _stem(name: str) -> str:
     """The photo key of an annotated image name or of an annotation file's own name
-    (``DJI_0018.json`` → ``dji_0018``): :func:`..photo_files.photo_key`."""
+    (``DJI_0018.json`` → ``dji_0018``): :func:`..photos.photo_key`."""
     key = photo_key(name)
     return os.path.splitext(key)[0] if key.endswith((".json", ".txt")) else key
 

@@ -11,11 +11,11 @@ renamed in another case, a shot key without its extension) by key in that path's
 """
 import ntpath
 import os
-import struct
 from pathlib import Path
 from typing import Dict, List, Optional, Sequence, Tuple, Union
 
-from .errors import InputError
+from ..errors import InputError
+from ..naming import unique_names
 
 PHOTO_EXTENSIONS = (".jpg", ".jpeg", ".tif", ".tiff", ".png", ".dng", ".jp2", ".webp", ".bmp")
 """Photo file extensions (lower case), in the order preferred when one folder holds a photo
@@ -158,134 +158,10 @@ def resolve_photos(labels: Sequence[str], project_paths: Sequence[Optional[str]]
     return found, missing
 
 
-def photo_size(path) -> Optional[Tuple[int, int]]:
-    """(width, height) in pixels as stored (EXIF orientation not applied) from the file's
-    header (JPEG SOF, PNG IHDR, TIFF first page), or None when it cannot be told cheaply."""
-    try:
-        with open(path, "rb") as fh:
-            head = fh.read(32)
-            if head[:2] == b"\xff\xd8":                            # JPEG: walk the markers
-                fh.seek(2)
-                while True:
-                    b = fh.read(1)
-                    while b and b != b"\xff":
-                        b = fh.read(1)
-                    while b == b"\xff":
-                        b = fh.read(1)
-                    if not b:
-                        return None
-                    m = b[0]
-                    if m in (0xD8, 0x01) or 0xD0 <= m <= 0xD7:
-                        continue
-                    n = struct.unpack(">H", fh.read(2))[0]
-                    if 0xC0 <= m <= 0xCF and m not in (0xC4, 0xC8, 0xCC):
-                        h, w = struct.unpack(">xHH", fh.read(5))
-                        return int(w), int(h)
-                    fh.seek(n - 2, 1)
-            if head[:8] == b"\x89PNG\r\n\x1a\n":
-                w, h = struct.unpack(">II", head[16:24])
-                return int(w), int(h)
-            if head[:4] in (b"II*\x00", b"MM\x00*", b"II+\x00", b"MM\x00+"):
-                import tifffile
-                with tifffile.TiffFile(path) as tif:
-                    page = tif.pages.first
-                    return int(page.imagewidth), int(page.imagelength)
-    except (OSError, ValueError, struct.error, Exception):        # a damaged header: unknown
-        return None
-    return None
-
-
-def scale_to(sensor_size: Tuple[int, int], photo: Tuple[int, int]) -> Optional[float]:
-    """The factor s of a photo stored at ``photo`` (w, h) from a sensor of ``sensor_size``:
-    1 for the same size; s when both sides are the sensor's times s, rounded to whole pixels
-    (a resized copy, same aspect); None for another aspect ratio."""
-    (W, H), (w, h) = sensor_size, photo
-    if (w, h) == (W, H):
-        return 1.0
-    s = w / W
-    return s if abs(round(H * s) - h) <= 1 and abs(round(W * (h / H)) - w) <= 1 else None
-
-
-def jpeg_facts(path) -> Dict[str, object]:
-    """What a JPEG's header says that changes how its pixels read: ``make`` (EXIF Make),
-    ``orientation`` (EXIF Orientation, 1 when absent) and ``thermal`` (DJI R-JPEG: a DJI
-    photo carrying APP3 segments, where DJI keeps the raw thermal data; the image itself is a
-    false-colour palette rendering). {} for a file that is not a JPEG or cannot be read."""
-    out: Dict[str, object] = {}
-    try:
-        with open(path, "rb") as fh:
-            if fh.read(2) != b"\xff\xd8":
-                return out
-            out.update(make="", orientation=1, thermal=False)
-            app3 = False
-            while True:
-                mark = fh.read(2)
-                if len(mark) < 2 or mark[0] != 0xFF or mark[1] in (0xDA, 0xD9):
-                    break                                       # start of scan: header done
-                n = struct.unpack(">H", fh.read(2))[0]
-                if mark[1] == 0xE1:
-                    data = fh.read(n - 2)
-                    if data[:6] == b"Exif\x00\x00":
-                        out.update(_exif_ifd0(data[6:]))
-                    elif b"drone-dji" in data and not out["make"]:
-                        out["make"] = "DJI"
-                else:
-                    app3 |= mark[1] == 0xE3
-                    fh.seek(n - 2, 1)
-            out["thermal"] = app3 and str(out["make"]).upper().startswith("DJI")
-    except (OSError, struct.error):
-        return {}
-    return out
-
-
-def _exif_ifd0(tiff: bytes) -> Dict[str, object]:
-    """Make and Orientation from the first IFD of an EXIF TIFF block."""
-    order = "<" if tiff[:2] == b"II" else ">"
-    out: Dict[str, object] = {}
-    try:
-        (ifd,) = struct.unpack(order + "I", tiff[4:8])
-        (count,) = struct.unpack(order + "H", tiff[ifd:ifd + 2])
-        for k in range(count):
-            e = tiff[ifd + 2 + 12 * k: ifd + 14 + 12 * k]
-            tag, typ, num = struct.unpack(order + "HHI", e[:8])
-            if tag == 0x0112 and typ == 3:
-                out["orientation"] = struct.unpack(order + "H", e[8:10])[0]
-            elif tag == 0x010F and typ == 2:
-                if num <= 4:
-                    raw = e[8:8 + num]
-                else:
-                    (off,) = struct.unpack(order + "I", e[8:12])
-                    raw = tiff[off:off + num]
-                out["make"] = raw.split(b"\x00")[0].decode("latin-1").strip()
-    except (struct.error, IndexError):
-        pass
-    return out
-
-
-THERMAL_NOTE = ("{names}: DJI thermal R-JPEG; its stored image is a false-colour palette "
-                "rendering, not temperatures, so values measured on it are palette colours. "
-                "Convert the photos to temperature TIFFs first (DJI Thermal SDK, dji_irp) and "
-                "give those as the photos.")
-ORIENTATION_NOTE = ("{names}: EXIF orientation {values}: pixels are read as stored, not turned "
-                    "upright, as Metashape and Pix4D measure them (an OpenDroneMap project works "
-                    "on upright photos: see its notes)")
-
-
-def photo_notes(paths: Sequence[str]) -> List[str]:
-    """What to tell about a set of photo files before their pixels are used: DJI thermal
-    R-JPEGs (palette, not temperatures) and EXIF-rotated photos (read as stored)."""
-    thermal, rotated = [], {}
-    for p in paths:
-        facts = jpeg_facts(p) if p else {}
-        if facts.get("thermal"):
-            thermal.append(os.path.basename(p))
-        if facts.get("orientation", 1) not in (1, 0):
-            rotated[os.path.basename(p)] = facts["orientation"]
-    notes = []
-    short = lambda names: ", ".join(names[:3]) + (f" and {len(names) - 3} more" if len(names) > 3 else "")
-    if thermal:
-        notes.append(THERMAL_NOTE.format(names=short(thermal)))
-    if rotated:
-        notes.append(ORIENTATION_NOTE.format(names=short(list(rotated)),
-                                             values=sorted(set(rotated.values()))))
-    return notes
+def photo_stems(labels: List[str]) -> List[str]:
+    """Safe, unique file stems for photo labels (``DJI_0001.JPG`` → ``DJI_0001``)."""
+    stems = []
+    for lab in labels:
+        stem, ext = os.path.splitext(lab)
+        stems.append(stem if ext.lower() in PHOTO_EXTENSIONS else lab)
+    return unique_names(stems)

@@ -13,17 +13,17 @@
 EXIF values are keyed by their EXIF tag name (``FocalLength``, ``GPSLatitude``…): rationals
 as floats, GPS degrees/minutes/seconds as a tuple of floats. XMP values are keyed
 ``(namespace URI, local name)``, from attributes of ``rdf:Description`` and from simple child
-elements alike. XMP is parsed with :func:`~.safe_xml.parse_xml` (no DTD, no entity
+elements alike. XMP is parsed with :func:`~..safe_xml.parse_xml` (no DTD, no entity
 expansion): photos come from the user's disk.
 """
 import re
-import struct
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Dict, Optional, Tuple
 
-from .errors import InputError
-from .safe_xml import XMLError, parse_xml
+from ..errors import InputError
+from ..safe_xml import XMLError, parse_xml
+from .headers import HEADER_ERRORS, XMP_NS, jpeg_xmp, open_header
 
 __all__ = ["PhotoTags", "read_photo_tags", "DJI", "CAMERA_NS", "SENSEFLY", "XMP_NS"]
 
@@ -33,7 +33,6 @@ CAMERA_NS = "http://pix4d.com/camera/1.0/"
 """The ``Camera:`` namespace of MicaSense, Sentera and Parrot XMP (Pix4D's)."""
 SENSEFLY = "http://ns.sensefly.com/Camera/1.0/"
 """senseFly's camera namespace."""
-XMP_NS = b"http://ns.adobe.com/xap/1.0/\x00"
 _RDF = "http://www.w3.org/1999/02/22-rdf-syntax-ns#"
 
 _NUMBER = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
@@ -71,7 +70,7 @@ class PhotoTags:
 
 def read_photo_tags(path) -> PhotoTags:
     """The EXIF and XMP tags of the photo at ``path`` (JPEG or TIFF). Raises
-    :class:`~.errors.InputError` naming the file when it is neither or cannot be read."""
+    :class:`~..errors.InputError` naming the file when it is neither or cannot be read."""
     p = Path(path)
     try:
         with open(p, "rb") as fh:
@@ -87,10 +86,9 @@ def read_photo_tags(path) -> PhotoTags:
 
 # --- JPEG ------------------------------------------------------------------------------------
 def _read_jpeg(p: Path) -> PhotoTags:
-    from PIL import ExifTags, Image
-
     try:
-        with Image.open(p) as im:
+        with open_header(p, ("JPEG",)) as im:
+            from PIL import ExifTags                    # there: open_header imported Pillow
             size = im.size
             exif = im.getexif()
             out: Dict[str, object] = {}
@@ -101,26 +99,10 @@ def _read_jpeg(p: Path) -> PhotoTags:
                     name = names.get(tag)
                     if name and not isinstance(value, dict):
                         out[name] = _exif_value(value)
-    except (OSError, ValueError, SyntaxError) as exc:
+            xmp = jpeg_xmp(im)
+    except HEADER_ERRORS as exc:
         raise InputError(f"{p}: the JPEG cannot be read ({exc}).") from None
-    return PhotoTags(str(p), (int(size[0]), int(size[1])), "jpeg", out, _parse_xmp(_jpeg_xmp(p), p))
-
-
-def _jpeg_xmp(p: Path) -> bytes:
-    """The XMP packet of a JPEG's APP1 segment, b"" when it has none."""
-    try:
-        with open(p, "rb") as fh:
-            fh.seek(2)
-            while True:
-                mark = fh.read(2)
-                if len(mark) < 2 or mark[0] != 0xFF or mark[1] in (0xDA, 0xD9):
-                    return b""
-                n = struct.unpack(">H", fh.read(2))[0]
-                data = fh.read(n - 2)
-                if mark[1] == 0xE1 and data.startswith(XMP_NS):
-                    return data[len(XMP_NS):]
-    except (OSError, struct.error):
-        return b""
+    return PhotoTags(str(p), (int(size[0]), int(size[1])), "jpeg", out, _parse_xmp(xmp, p))
 
 
 def _exif_value(value):

@@ -1,30 +1,71 @@
-"""The raw photos of a project: where they are, and decoding them.
-
-Paths come from the project as its reader resolved them (Metashape: relative to the frame
-document, as Metashape does; Pix4D: the ``.p4d`` image paths; ODM: ``images/``). They are
-found by :func:`..photo_files.resolve_photos`, the one lookup (by file stem, any case; a
-``photos`` folder, with its subfolders, overrides the stored paths, EasyIDP's
-``change_photo_folder``).
+"""Decoding raw photos as stored, and the one pass over them that every consumer shares.
 
 Photos are decoded with tifffile (TIFF: 16-bit and multiband, e.g. multispectral) or imagecodecs
 (JPEG, PNG and the rest), as stored: pixel (0, 0) is the first stored row and column (the EXIF
 orientation tag is not applied, as Metashape and Pix4D do not apply it to their pixel
-coordinates either).
+coordinates either). :func:`read_photo` is the one decoder of raw photos; physical units
+(temperature, reflectance) are radiometry's (:func:`..radiometry.read_photo_values`), given to
+:class:`DecodedPhotos` as its ``decode``.
 
 :class:`DecodedPhotos` is the one pass over the photos that every consumer of pixels shares
 (crops and previews, plot statistics): each photo decoded once, by threads running ahead.
 """
 import os
 from concurrent.futures import ThreadPoolExecutor
-from typing import List, Optional, Sequence
+from typing import Optional, Sequence
 
 import numpy as np
 
 from ..errors import InputError
-from ..naming import unique_names
-from ..radiometry import read_photo  # noqa: F401 (the one decoder; re-exported)
-from ..photo_files import (PHOTO_EXTENSIONS, file_name, resolve_photos,  # noqa: F401 (the one lookup)
-                          scale_to)
+from .headers import JPEG_MAGIC, TIFF_MAGIC, scale_to
+from .lookup import file_name
+
+
+def read_photo(path) -> np.ndarray:
+    """Decode a photo to (rows, cols) or (rows, cols, bands); :class:`InputError` naming the
+    file when it cannot be decoded."""
+    path = os.fspath(path)
+    try:
+        with open(path, "rb") as fh:
+            head = fh.read(4)
+        if head[:2] == JPEG_MAGIC:                       # JPEG: libjpeg-turbo, straight
+            import imagecodecs
+            with open(path, "rb") as fh:
+                arr = imagecodecs.jpeg_decode(fh.read())
+        elif head[:4] in TIFF_MAGIC:
+            import tifffile
+            with tifffile.TiffFile(path) as tif:
+                page = tif.pages.first
+                arr = page.asarray()
+                if page.planarconfig == 2 and arr.ndim == 3:   # separate planes → bands last
+                    arr = np.moveaxis(arr, 0, -1)
+        else:
+            import imagecodecs
+            arr = imagecodecs.imread(path)
+    except (OSError, ValueError, RuntimeError, Exception) as exc:  # codec errors vary
+        if isinstance(exc, MemoryError):
+            raise
+        raise InputError(f"The photo {path} cannot be decoded ({type(exc).__name__}: "
+                         f"{str(exc)[:120]}).") from None
+    arr = np.asarray(arr)
+    if arr.ndim == 3 and arr.shape[2] == 1:
+        arr = arr[..., 0]
+    if arr.ndim not in (2, 3):
+        raise InputError(f"The photo {path} has {arr.ndim} dimensions; expected an image.")
+    return arr
+
+
+def read_raw_band(path) -> np.ndarray:
+    """The stored digital numbers of a single-band photo, (rows, cols), as stored."""
+    import tifffile
+    try:
+        arr = tifffile.imread(os.fspath(path))
+    except (OSError, ValueError, tifffile.TiffFileError) as exc:
+        raise InputError(f"{path}: its pixels cannot be decoded ({exc})") from None
+    if arr.ndim != 2:
+        raise InputError(f"{path}: {arr.shape} pixels, not one band; a multispectral band file "
+                         f"holds one band (give the camera's band files, not a stacked image)")
+    return arr
 
 
 def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
@@ -40,15 +81,6 @@ def check_size(arr: np.ndarray, width: int, height: int, path) -> Optional[str]:
         return f"{size}, another aspect ratio: not the photo the project was built from"
     return (f"{size}: a resized copy, found only now; put the photos where the project finds "
             "them (its calibration is then scaled to them when it is opened)")
-
-
-def photo_stems(labels: List[str]) -> List[str]:
-    """Safe, unique file stems for photo labels (``DJI_0001.JPG`` → ``DJI_0001``)."""
-    stems = []
-    for lab in labels:
-        stem, ext = os.path.splitext(lab)
-        stems.append(stem if ext.lower() in PHOTO_EXTENSIONS else lab)
-    return unique_names(stems)
 
 
 class DecodedPhotos:
